@@ -1,0 +1,3 @@
+fn main() {
+    eprintln!("conformance: no command yet");
+}

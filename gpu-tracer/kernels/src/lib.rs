@@ -1,0 +1,3 @@
+//! Compute kernels: thin `#[spirv]` entry points over plain functions that
+//! also run on the host.
+#![cfg_attr(target_arch = "spirv", no_std)]

@@ -1,0 +1,118 @@
+//! The one error type of the crate.
+
+use core::fmt;
+
+/// Which caller-provided buffer an [`Error::BufferSize`] is about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Buffer {
+    /// Last frame's pixel values: `width * height` entries, row-major.
+    Intensities,
+    /// Seeds read by a pass: `padded_width * padded_height` entries.
+    SeedsIn,
+    /// Seeds written by a pass: `padded_width * padded_height` entries.
+    SeedsOut,
+    /// The dither tile: `tile * tile` ranks.
+    DitherTile,
+    /// A retarget table: `tile * tile` packed offsets.
+    RetargetTable,
+}
+
+impl fmt::Display for Buffer {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Buffer::Intensities => "intensity buffer",
+            Buffer::SeedsIn => "input seed buffer",
+            Buffer::SeedsOut => "output seed buffer",
+            Buffer::DitherTile => "dither tile",
+            Buffer::RetargetTable => "retarget table",
+        })
+    }
+}
+
+/// Everything that can be wrong with the input of a pass. Carries the numbers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Error {
+    /// A buffer does not have the length the frame layout requires.
+    BufferSize {
+        /// Which buffer.
+        buffer: Buffer,
+        /// Required number of elements.
+        expected: usize,
+        /// Number of elements passed.
+        actual: usize,
+    },
+    /// Frame width or height is zero, or the padded frame exceeds `u32` indexing.
+    FrameSize {
+        /// Requested width in pixels.
+        width: u32,
+        /// Requested height in pixels.
+        height: u32,
+    },
+    /// Block size outside [`MIN_BLOCK`](crate::MIN_BLOCK)`..=`[`MAX_BLOCK`](crate::MAX_BLOCK).
+    BlockSize {
+        /// Requested block side in pixels.
+        block: u32,
+    },
+    /// Tile side is not a power of two in `2..=`[`MAX_TILE`](crate::MAX_TILE).
+    TileSize {
+        /// Requested tile side in texels.
+        tile: u32,
+    },
+    /// A retarget-table entry is malformed or moves a texel farther than
+    /// [`RETARGET_RADIUS`](crate::RETARGET_RADIUS).
+    RetargetOffset {
+        /// Row-major texel index in the tile.
+        texel: u32,
+        /// The packed entry found there.
+        packed: u32,
+    },
+    /// A retarget table is not a permutation of its tile: `texel` receives
+    /// `sources` seeds (0 means a seed would be lost, 2 or more duplicated).
+    RetargetNotBijective {
+        /// Row-major destination texel index in the tile.
+        texel: u32,
+        /// Number of texels that move there.
+        sources: u32,
+    },
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Error::BufferSize {
+                buffer,
+                expected,
+                actual,
+            } => {
+                write!(f, "{buffer} has {actual} elements, expected {expected}")
+            }
+            Error::FrameSize { width, height } => {
+                write!(f, "frame size {width}x{height} is empty or too large")
+            }
+            Error::BlockSize { block } => write!(
+                f,
+                "block size {block} is outside {}..={}",
+                crate::MIN_BLOCK,
+                crate::MAX_BLOCK
+            ),
+            Error::TileSize { tile } => write!(
+                f,
+                "tile size {tile} is not a power of two in 2..={}",
+                crate::MAX_TILE
+            ),
+            Error::RetargetOffset { texel, packed } => write!(
+                f,
+                "retarget table entry {packed:#010x} at texel {texel} is malformed or exceeds radius {}",
+                crate::RETARGET_RADIUS
+            ),
+            Error::RetargetNotBijective { texel, sources } => write!(
+                f,
+                "retarget table is not a permutation: texel {texel} receives {sources} seeds"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for Error {}

@@ -1,0 +1,276 @@
+//! Frame-level passes: what a renderer calls once per frame.
+//!
+//! ```text
+//! frame 0: seeds = initial seeds (white noise)
+//! loop t:  image_t = render(seeds)
+//!          seeds   = permute_frame(t, image_t, seeds)   // sort with D_t, retarget t -> t+1
+//! ```
+//!
+//! The per-block and per-pixel functions ([`sort_block_in_frame`],
+//! [`retarget_pixel`]) are what the GPU kernels call, one invocation per
+//! block or per seed; the frame functions here loop over them (or over an
+//! equivalent faster CPU path that is tested to give identical output).
+
+use crate::dither::{tile_texel, DitherTile};
+use crate::error::{Buffer, Error};
+use crate::layout::{FrameLayout, FrameParams};
+use crate::retarget::{retarget_destination, RetargetTable, RetargetTables};
+use crate::sort::{intensity_key, sort_block, Intensity, MAX_BLOCK_PIXELS};
+use crate::walk::{step_index, walk_offset};
+use glam::UVec2;
+
+/// Sorts block `(bx, by)` of the frame described by `params`, reading
+/// `seeds_in` and writing the same block's seeds into `seeds_out`.
+/// Shader-callable; one invocation per block, blocks are disjoint.
+///
+/// `intensities`: `width * height` visible values; `tile`: `W * W` dither
+/// values; seed buffers: `padded_width * padded_height`. Pixels of the block
+/// outside the visible frame keep their seeds.
+#[inline]
+pub fn sort_block_in_frame<T: Intensity>(
+    params: &FrameParams,
+    bx: u32,
+    by: u32,
+    intensities: &[T],
+    tile: &[u32],
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+) {
+    let offset = walk_offset(params.frame, params.tile_log2);
+    let x0 = bx * params.block;
+    let y0 = by * params.block;
+    let mut keys = [0u32; MAX_BLOCK_PIXELS];
+    let mut dither = [0u32; MAX_BLOCK_PIXELS];
+    let mut seeds = [0u32; MAX_BLOCK_PIXELS];
+    let mut index = [0u32; MAX_BLOCK_PIXELS];
+    let mut len = 0usize;
+    for dy in 0..params.block {
+        for dx in 0..params.block {
+            let x = x0 + dx;
+            let y = y0 + dy;
+            if x < params.padded_width && y < params.padded_height {
+                let s = (y * params.padded_width + x) as usize;
+                if x < params.width && y < params.height {
+                    keys[len] = intensity_key(intensities[(y * params.width + x) as usize].intensity());
+                    dither[len] = tile[tile_texel(UVec2::new(x, y), offset, params.tile_log2) as usize];
+                    seeds[len] = seeds_in[s];
+                    index[len] = s as u32;
+                    len += 1;
+                } else {
+                    seeds_out[s] = seeds_in[s];
+                }
+            }
+        }
+    }
+    let mut out = [0u32; MAX_BLOCK_PIXELS];
+    sort_block(len as u32, &keys, &dither, &seeds, &mut out);
+    for i in 0..len {
+        seeds_out[index[i] as usize] = out[i];
+    }
+}
+
+/// Moves the seed at padded-buffer index `seed_index` to its retargeted
+/// place. Shader-callable; one invocation per seed; the scatter is a
+/// bijection, so invocations never write the same element.
+#[inline]
+pub fn retarget_pixel(
+    params: &FrameParams,
+    seed_index: u32,
+    table: &[u32],
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+) {
+    let p = UVec2::new(seed_index % params.padded_width, seed_index / params.padded_width);
+    let offset = walk_offset(params.frame, params.tile_log2);
+    let padded = UVec2::new(params.padded_width, params.padded_height);
+    let d = retarget_destination(p, offset, params.tile_log2, table, padded);
+    seeds_out[(d.y * params.padded_width + d.x) as usize] = seeds_in[seed_index as usize];
+}
+
+fn check_common<T>(
+    layout: &FrameLayout,
+    tile: &DitherTile<'_>,
+    intensities: &[T],
+    seeds_in: &[u32],
+    seeds_out: &[u32],
+) -> Result<(), Error> {
+    if tile.tile() != layout.tile() {
+        return Err(Error::TileSize { tile: tile.tile() });
+    }
+    layout.check(Buffer::Intensities, layout.pixel_count(), intensities.len())?;
+    check_seeds(layout, seeds_in, seeds_out)
+}
+
+fn check_seeds(layout: &FrameLayout, seeds_in: &[u32], seeds_out: &[u32]) -> Result<(), Error> {
+    layout.check(Buffer::SeedsIn, layout.seed_count(), seeds_in.len())?;
+    layout.check(Buffer::SeedsOut, layout.seed_count(), seeds_out.len())
+}
+
+/// Sorting pass over a whole frame: `seeds_out` = `seeds_in` permuted inside
+/// each block so the ranks of frame `frame`'s intensities follow `D_frame`.
+///
+/// # Errors
+/// [`Error::BufferSize`] for a buffer of the wrong length,
+/// [`Error::TileSize`] if the tile's side differs from the layout's.
+pub fn sort_frame<T: Intensity>(
+    layout: &FrameLayout,
+    frame: u32,
+    intensities: &[T],
+    tile: &DitherTile<'_>,
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+) -> Result<(), Error> {
+    check_common(layout, tile, intensities, seeds_in, seeds_out)?;
+    let params = layout.params(frame);
+    for by in 0..params.blocks_y() {
+        for bx in 0..params.blocks_x() {
+            sort_block_in_frame(&params, bx, by, intensities, tile.values(), seeds_in, seeds_out);
+        }
+    }
+    Ok(())
+}
+
+/// Retargeting pass over a whole frame: scatters `seeds_in` (ranked like
+/// `D_frame`) with the table of step `frame -> frame + 1`.
+///
+/// # Errors
+/// [`Error::BufferSize`] for a seed buffer of the wrong length,
+/// [`Error::TileSize`] if the tables' tile differs from the layout's.
+pub fn retarget_frame(
+    layout: &FrameLayout,
+    frame: u32,
+    tables: &RetargetTables<'_>,
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+) -> Result<(), Error> {
+    if tables.tile() != layout.tile() {
+        return Err(Error::TileSize { tile: tables.tile() });
+    }
+    check_seeds(layout, seeds_in, seeds_out)?;
+    let params = layout.params(frame);
+    let table = tables.table(step_index(frame, params.tile_log2));
+    for i in 0..params.seed_count() {
+        retarget_pixel(&params, i, table.packed(), seeds_in, seeds_out);
+    }
+    Ok(())
+}
+
+/// The per-frame entry: sorting then retargeting, fused in one pass with no
+/// allocation. `seeds_in` rendered frame `frame` (whose pixel values are
+/// `intensities`); `seeds_out` receives the seeds to render frame
+/// `frame + 1` with. Output is identical to [`sort_frame`] followed by
+/// [`retarget_frame`].
+///
+/// # Errors
+/// [`Error::BufferSize`] for a buffer of the wrong length,
+/// [`Error::TileSize`] if the tile or tables do not match the layout.
+///
+/// ```
+/// use sampler_core::*;
+/// let layout = FrameLayout::new(5, 3, 2, 4)?;          // 5x3 frame, 2x2 blocks, 4x4 tile
+/// let tile: Vec<u32> = (0..16).map(|i| (i * 7) % 16).collect();
+/// let identity = [IDENTITY_PACKED; 16];
+/// let tables = RetargetTables::new(4, [&identity; 4])?;
+/// let seeds: Vec<u32> = (0..layout.seed_count() as u32).collect();
+/// let image: Vec<f32> = (0..15).map(|i| (i % 4) as f32).collect();
+/// let mut next = vec![0; layout.seed_count()];
+/// permute_frame(&layout, 0, &image, &DitherTile::new(4, &tile)?, &tables, &seeds, &mut next)?;
+/// let mut sorted = next.clone();
+/// sorted.sort();
+/// assert_eq!(sorted, seeds); // a permutation: no seed lost or duplicated
+/// # Ok::<(), sampler_core::Error>(())
+/// ```
+pub fn permute_frame<T: Intensity>(
+    layout: &FrameLayout,
+    frame: u32,
+    intensities: &[T],
+    tile: &DitherTile<'_>,
+    tables: &RetargetTables<'_>,
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+) -> Result<(), Error> {
+    check_common(layout, tile, intensities, seeds_in, seeds_out)?;
+    if tables.tile() != layout.tile() {
+        return Err(Error::TileSize { tile: tables.tile() });
+    }
+    let params = layout.params(frame);
+    let table = tables.table(step_index(frame, params.tile_log2));
+    permute_blocks(&params, intensities, tile.values(), table, seeds_in, seeds_out);
+    Ok(())
+}
+
+/// The fast CPU path of [`permute_frame`]: per block, packs (key, index)
+/// pairs into `u64`s and insertion-sorts them (no `O(n^2)` rank counting),
+/// then writes each seed straight to its retargeted place.
+fn permute_blocks<T: Intensity>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+) {
+    let log2 = params.tile_log2;
+    let mask = (1u32 << log2) - 1;
+    let offset = walk_offset(params.frame, log2);
+    let (pw, ph) = (params.padded_width, params.padded_height);
+    let padded = UVec2::new(pw, ph);
+    let packed = table.packed();
+    let b = params.block;
+    let mut keys = [0u64; MAX_BLOCK_PIXELS];
+    let mut dither = [0u64; MAX_BLOCK_PIXELS];
+    let mut pos = [0u32; MAX_BLOCK_PIXELS];
+    for y0 in (0..ph).step_by(b as usize) {
+        let y1 = (y0 + b).min(ph);
+        let vis_y1 = y1.min(params.height);
+        for x0 in (0..pw).step_by(b as usize) {
+            let x1 = (x0 + b).min(pw);
+            let vis_x1 = x1.min(params.width);
+            let mut n = 0usize;
+            for y in y0..vis_y1 {
+                let row = (y * params.width) as usize;
+                let ty = (y.wrapping_add(offset.y) & mask) << log2;
+                for x in x0..vis_x1 {
+                    let i = n as u64;
+                    let key = intensity_key(intensities[row + x as usize].intensity());
+                    keys[n] = ((key as u64) << 6) | i;
+                    let d = tile[(ty | (x.wrapping_add(offset.x) & mask)) as usize];
+                    dither[n] = ((d as u64) << 6) | i;
+                    pos[n] = y * pw + x;
+                    n += 1;
+                }
+            }
+            insertion_sort(&mut keys[..n]);
+            insertion_sort(&mut dither[..n]);
+            for k in 0..n {
+                let src = pos[(keys[k] & 63) as usize];
+                let dst = pos[(dither[k] & 63) as usize];
+                let p = UVec2::new(dst % pw, dst / pw);
+                let d = retarget_destination(p, offset, log2, packed, padded);
+                seeds_out[(d.y * pw + d.x) as usize] = seeds_in[src as usize];
+            }
+            // Padding pixels of this block: not sorted, only retargeted.
+            for y in y0..y1 {
+                for x in x0..x1 {
+                    if x >= vis_x1 || y >= vis_y1 {
+                        let d = retarget_destination(UVec2::new(x, y), offset, log2, packed, padded);
+                        seeds_out[(d.y * pw + d.x) as usize] = seeds_in[(y * pw + x) as usize];
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[inline]
+fn insertion_sort(v: &mut [u64]) {
+    for i in 1..v.len() {
+        let x = v[i];
+        let mut j = i;
+        while j > 0 && v[j - 1] > x {
+            v[j] = v[j - 1];
+            j -= 1;
+        }
+        v[j] = x;
+    }
+}

@@ -1,0 +1,62 @@
+//! Blue-noise distribution of Monte Carlo error by permuting pixel seeds
+//! between frames (Heitz & Belcour, EGSR 2019), plus the low-discrepancy
+//! sequences and offset walk it stands on.
+//!
+//! # Guide
+//!
+//! Each pixel renders with a **seed** ([`seed`]) that defines all its random
+//! numbers. After frame `t` is rendered, [`permute_frame`] permutes seeds
+//! inside small blocks so that the frame's pixel values follow the ranks of a
+//! blue-noise dither tile shifted by the walk offset `o_t` ([`sort`],
+//! [`walk`]), then scatters them with a precomputed retarget table so they
+//! follow the tile of frame `t + 1` ([`retarget`]). Render frame `t + 1` with
+//! the new seeds: its error is distributed as blue noise in screen space.
+//!
+//! Everything a shader needs is `u32`/`f32` arithmetic with `wrapping_*`
+//! operations, fixed-size arrays and no allocation, and compiles with
+//! rust-gpu; the GPU kernels call the same functions ([`sort_block_in_frame`],
+//! [`retarget_pixel`]). Sizes are validated by [`FrameLayout`],
+//! [`DitherTile`] and [`RetargetTables`]; bad input is an [`Error`], never a
+//! panic.
+//!
+//! ```
+//! use sampler_core::*;
+//! // The walk of a 64x64 tile visits 1024 distinct offsets in its first 1024 frames
+//! // (the fixed step (48, 36) would cycle through 16)...
+//! let mut seen: Vec<_> = (0..1024).map(|t| (walk_offset(t, 6).x, walk_offset(t, 6).y)).collect();
+//! seen.sort();
+//! seen.dedup();
+//! assert_eq!(seen.len(), 1024);
+//! // ...and steps only ever take the STEP_COUNT values the retarget tables cover.
+//! assert!((0..4096).all(|t| step_index(t, 6) < STEP_COUNT as u32));
+//! ```
+#![no_std]
+#![warn(missing_docs)]
+
+#[cfg(feature = "bake")]
+extern crate alloc;
+
+pub mod dither;
+pub mod error;
+pub mod frame;
+pub mod layout;
+pub mod r2;
+pub mod retarget;
+pub mod seed;
+pub mod sort;
+pub mod walk;
+
+pub use dither::{tile_texel, DitherTile};
+pub use error::{Buffer, Error};
+pub use frame::{permute_frame, retarget_frame, retarget_pixel, sort_block_in_frame, sort_frame};
+pub use layout::{FrameLayout, FrameParams};
+pub use r2::{r1, r2, Rd};
+pub use retarget::{
+    pack_offset, retarget_destination, unpack_offset, RetargetTable, RetargetTables, IDENTITY_PACKED,
+    RETARGET_RADIUS,
+};
+pub use seed::{initial_seed, random_f32, random_u32, RandomStream};
+pub use sort::{
+    intensity_key, luma, sort_block, Intensity, DEFAULT_BLOCK, MAX_BLOCK, MAX_BLOCK_PIXELS, MIN_BLOCK,
+};
+pub use walk::{step_index, step_of_index, walk_offset, walk_step, MAX_TILE, STEP_COUNT};
