@@ -1,1 +1,126 @@
-fn main() {}
+//! One CPU frame of the seed permutation at 1920x1080 (sort + retarget, 4x4
+//! blocks, 64x64 tile), measured side by side with a plain copy of the same
+//! bytes and with a naive version, on one core, in one run.
+//!
+//! ```text
+//! cargo bench -p conformance --bench permute
+//! ```
+//!
+//! Each workload runs in interleaved rounds; the median of each is reported
+//! with its ratio to the copy.
+
+use conformance::fixtures::{random_table, random_tile};
+use sampler_core::*;
+use std::hint::black_box;
+use std::time::{Duration, Instant};
+
+const WIDTH: u32 = 1920;
+const HEIGHT: u32 = 1080;
+const BLOCK: u32 = 4;
+const TILE: u32 = 64;
+const ROUNDS: usize = 41;
+
+/// The bytes a frame pass must touch: read intensities and seeds, write seeds.
+fn copy_baseline(intensities: &[f32], seeds_in: &[u32], scratch: &mut [f32], seeds_out: &mut [u32]) {
+    scratch.copy_from_slice(intensities);
+    seeds_out.copy_from_slice(seeds_in);
+}
+
+/// The obvious implementation: per block, collect pixels into fresh vectors,
+/// sort them with the standard library, then scatter through the table.
+fn naive_permute(
+    layout: &FrameLayout,
+    frame: u32,
+    intensities: &[f32],
+    tile: &[u32],
+    table: &[u32],
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+) {
+    let p = layout.params(frame);
+    let offset = walk_offset(frame, p.tile_log2);
+    let mut mid = seeds_in.to_vec();
+    for by in 0..p.blocks_y() {
+        for bx in 0..p.blocks_x() {
+            let mut px: Vec<(u32, u32)> = Vec::new();
+            for y in by * p.block..((by + 1) * p.block).min(p.height) {
+                for x in bx * p.block..((bx + 1) * p.block).min(p.width) {
+                    px.push((x, y));
+                }
+            }
+            let mut a: Vec<usize> = (0..px.len()).collect();
+            a.sort_by_key(|&i| (intensity_key(intensities[(px[i].1 * p.width + px[i].0) as usize]), i));
+            let mut d: Vec<usize> = (0..px.len()).collect();
+            d.sort_by_key(|&i| (tile[tile_texel(glam::UVec2::new(px[i].0, px[i].1), offset, p.tile_log2) as usize], i));
+            for k in 0..px.len() {
+                let (sx, sy) = px[a[k]];
+                let (dx, dy) = px[d[k]];
+                mid[(dy * p.padded_width + dx) as usize] = seeds_in[(sy * p.padded_width + sx) as usize];
+            }
+        }
+    }
+    for i in 0..p.seed_count() {
+        retarget_pixel(&p, i, table, &mid, seeds_out);
+    }
+}
+
+fn time(f: &mut dyn FnMut()) -> Duration {
+    let t = Instant::now();
+    f();
+    t.elapsed()
+}
+
+fn median(v: &mut [Duration]) -> Duration {
+    v.sort();
+    v[v.len() / 2]
+}
+
+fn main() {
+    // `cargo test --benches` runs bench targets with `--test`: keep that quick.
+    let quick = std::env::args().any(|a| a == "--test");
+    let rounds = if quick { 1 } else { ROUNDS };
+    let layout = FrameLayout::new(WIDTH, HEIGHT, BLOCK, TILE).unwrap();
+    let tile_values = random_tile(TILE, 1, false);
+    let tile = DitherTile::new(TILE, &tile_values).unwrap();
+    let packed: Vec<Vec<u32>> = (0..4).map(|i| random_table(TILE, i, 20_000)).collect();
+    let tables = RetargetTables::new(TILE, [&packed[0], &packed[1], &packed[2], &packed[3]]).unwrap();
+    let intensities: Vec<f32> = (0..layout.pixel_count() as u32).map(|i| random_f32(i, 0)).collect();
+    let seeds: Vec<u32> = (0..layout.seed_count() as u32).map(|i| initial_seed(i, 0, 0, 0)).collect();
+    let mut out = vec![0u32; seeds.len()];
+    let mut scratch = vec![0f32; intensities.len()];
+
+    let (mut t_copy, mut t_fast, mut t_naive, mut t_shader) = (vec![], vec![], vec![], vec![]);
+    for r in 0..rounds {
+        let frame = r as u32;
+        t_copy.push(time(&mut || copy_baseline(black_box(&intensities), &seeds, &mut scratch, &mut out)));
+        t_fast.push(time(&mut || {
+            permute_frame(&layout, frame, black_box(&intensities), &tile, &tables, &seeds, &mut out).unwrap()
+        }));
+        let table = tables.table(step_index(frame, 6)).packed();
+        t_naive.push(time(&mut || {
+            naive_permute(&layout, frame, black_box(&intensities), &tile_values, table, &seeds, &mut out)
+        }));
+        // The per-block rank-counting path the GPU kernels run, on the CPU.
+        let mut mid = vec![0u32; seeds.len()];
+        t_shader.push(time(&mut || {
+            sort_frame(&layout, frame, black_box(&intensities), &tile, &seeds, &mut mid).unwrap();
+            retarget_frame(&layout, frame, &tables, &mid, &mut out).unwrap();
+        }));
+    }
+    black_box(&out);
+    let copy = median(&mut t_copy);
+    let bytes = intensities.len() * 4 + seeds.len() * 8;
+    println!(
+        "permute_frame_1080p: {WIDTH}x{HEIGHT}, {BLOCK}x{BLOCK} blocks, {TILE}x{TILE} tile, one core, median of {rounds}"
+    );
+    println!("{:<34} {:>10} {:>12}", "workload", "ms", "x copy");
+    for (name, t) in [
+        ("copy of the same bytes", copy),
+        ("permute_frame (fused, fast path)", median(&mut t_fast)),
+        ("sort_frame + retarget_frame (GPU path)", median(&mut t_shader)),
+        ("naive (alloc + std sort per block)", median(&mut t_naive)),
+    ] {
+        println!("{name:<34} {:>10.3} {:>12.2}", t.as_secs_f64() * 1e3, t.as_secs_f64() / copy.as_secs_f64());
+    }
+    println!("copy bandwidth: {:.2} GB/s", bytes as f64 / copy.as_secs_f64() / 1e9);
+}

@@ -16,6 +16,8 @@ pub enum Buffer {
     DitherTile,
     /// A retarget table: `tile * tile` packed offsets.
     RetargetTable,
+    /// A spatiotemporal mask: `2 * width * height * depth` bytes.
+    SpatiotemporalMask,
 }
 
 impl fmt::Display for Buffer {
@@ -26,6 +28,7 @@ impl fmt::Display for Buffer {
             Buffer::SeedsOut => "output seed buffer",
             Buffer::DitherTile => "dither tile",
             Buffer::RetargetTable => "retarget table",
+            Buffer::SpatiotemporalMask => "spatiotemporal mask",
         })
     }
 }
@@ -76,6 +79,16 @@ pub enum Error {
         /// Number of texels that move there.
         sources: u32,
     },
+    /// A spatiotemporal mask side is zero, or a slice has more than 65536
+    /// texels (ranks are stored as `u16`).
+    MaskSize {
+        /// Width in texels.
+        width: u32,
+        /// Height in texels.
+        height: u32,
+        /// Depth in slices.
+        depth: u32,
+    },
 }
 
 impl fmt::Display for Error {
@@ -110,6 +123,10 @@ impl fmt::Display for Error {
             Error::RetargetNotBijective { texel, sources } => write!(
                 f,
                 "retarget table is not a permutation: texel {texel} receives {sources} seeds"
+            ),
+            Error::MaskSize { width, height, depth } => write!(
+                f,
+                "spatiotemporal mask size {width}x{height}x{depth} has a zero side or more than 65536 texels per slice"
             ),
         }
     }

@@ -36,6 +36,10 @@
 #[cfg(feature = "bake")]
 extern crate alloc;
 
+#[cfg(feature = "bake")]
+pub mod bake;
+#[cfg(feature = "defaults")]
+pub mod defaults;
 pub mod dither;
 pub mod error;
 pub mod frame;
@@ -44,6 +48,7 @@ pub mod r2;
 pub mod retarget;
 pub mod seed;
 pub mod sort;
+pub mod stbn_mask;
 pub mod walk;
 
 pub use dither::{tile_texel, DitherTile};
@@ -56,6 +61,7 @@ pub use retarget::{
     RETARGET_RADIUS,
 };
 pub use seed::{initial_seed, random_f32, random_u32, RandomStream};
+pub use stbn_mask::SpatiotemporalMask;
 pub use sort::{
     intensity_key, luma, sort_block, Intensity, DEFAULT_BLOCK, MAX_BLOCK, MAX_BLOCK_PIXELS, MIN_BLOCK,
 };

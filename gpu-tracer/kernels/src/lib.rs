@@ -1,3 +1,53 @@
-//! Compute kernels: thin `#[spirv]` entry points over plain functions that
-//! also run on the host.
+//! Compute kernels of the tracer: thin `#[spirv]` entry points ([`entry`])
+//! over plain functions that also run on the host, where they make the CPU
+//! renderer.
+//!
+//! # Guide
+//!
+//! - [`abi`]: every buffer structure shared with the host, the binding
+//!   table, and the entry-point names.
+//! - [`camera`] primary rays, [`intersect`] ray-triangle and ray-box tests,
+//!   [`bvh`] BVH2 traversal, [`sampling`] warps, [`trace`] the path tracer
+//!   ([`trace_pixel`] is what the trace entry point runs per pixel),
+//!   [`accumulate`] the running mean.
+//!
+//! Everything reachable from an entry point follows rust-gpu's rules:
+//! `u32`/`f32` arithmetic (`wrapping_*` on integers), fixed-size local
+//! arrays, no allocation, recursion or function pointers, `libm` for scalar
+//! math.
+//!
+//! ```
+//! use kernels::{abi::*, trace::trace_pixel};
+//! use glam::{UVec2, UVec4, Vec4};
+//! // One emissive triangle filling the view: a camera ray sees its emission.
+//! let tri = TriangleGpu {
+//!     v0: Vec4::new(-10.0, -10.0, -1.0, 0.0),
+//!     v1: Vec4::new(10.0, -10.0, -1.0, 0.0),
+//!     v2: Vec4::new(0.0, 10.0, -1.0, 0.0),
+//! };
+//! let node = BvhNodeGpu { min: Vec4::new(-10.0, -10.0, -1.0, 0.0), max: Vec4::new(10.0, 10.0, -1.0, 0.0), info: UVec4::new(1, 0, 0, 0) };
+//! let material = MaterialGpu { albedo: Vec4::ZERO, emission: Vec4::new(2.0, 1.0, 0.5, 0.0) };
+//! let params = TraceParams {
+//!     width: 4, height: 4, padded_width: 4, spp: 1, max_depth: 4, node_count: 1, triangle_count: 1,
+//!     rr_depth: 3, tan_half_fov_y: 0.5,
+//!     camera_forward: Vec4::new(0.0, 0.0, -1.0, 0.0), camera_right: Vec4::X, camera_up: Vec4::Y,
+//!     ..Default::default()
+//! };
+//! let c = trace_pixel(&params, UVec2::new(1, 2), 12345, &[node], &[tri], &[material], &[EmitterGpu::NONE]);
+//! assert_eq!(c, Vec4::new(2.0, 1.0, 0.5, 1.0));
+//! ```
 #![cfg_attr(target_arch = "spirv", no_std)]
+#![warn(missing_docs)]
+
+pub mod abi;
+pub mod accumulate;
+pub mod bvh;
+pub mod camera;
+pub mod entry;
+pub mod intersect;
+pub mod sampling;
+pub mod trace;
+pub mod permute_entry;
+
+pub use accumulate::accumulate_pixel;
+pub use trace::{trace_pixel, trace_sample, DIMS_PER_SAMPLE};

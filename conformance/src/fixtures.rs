@@ -1,0 +1,69 @@
+//! Deterministic test inputs: dither tiles and valid retarget tables.
+
+use sampler_core::seed::hash_u32;
+use sampler_core::{pack_offset, IDENTITY_PACKED, RETARGET_RADIUS};
+
+/// A `tile x tile` dither tile from `salt`: a random permutation of the
+/// ranks `0..tile*tile`, or, with `ties`, values in `0..4` so that many
+/// texels tie.
+pub fn random_tile(tile: u32, salt: u32, ties: bool) -> Vec<u32> {
+    let n = (tile * tile) as usize;
+    if ties {
+        return (0..n as u32).map(|i| hash_u32(i ^ hash_u32(salt)) % 4).collect();
+    }
+    let mut v: Vec<u32> = (0..n as u32).collect();
+    // Fisher-Yates with the crate's hash as the random source.
+    for i in (1..n).rev() {
+        let j = hash_u32(i as u32 ^ hash_u32(salt.wrapping_add(7))) as usize % (i + 1);
+        v.swap(i, j);
+    }
+    v
+}
+
+/// A valid retarget table for a `tile x tile` tile: the identity changed by
+/// up to `swaps` random exchanges of destinations between texels, each kept
+/// only if both offsets stay within [`RETARGET_RADIUS`] (toroidally).
+pub fn random_table(tile: u32, salt: u32, swaps: u32) -> Vec<u32> {
+    let n = tile * tile;
+    let w = tile as i32;
+    // dest[q] = destination texel of q.
+    let mut dest: Vec<u32> = (0..n).collect();
+    let offset = |from: u32, to: u32| -> (i32, i32) {
+        let wrap = |d: i32| {
+            let d = d.rem_euclid(w);
+            if d > w / 2 {
+                d - w
+            } else {
+                d
+            }
+        };
+        (
+            wrap((to % tile) as i32 - (from % tile) as i32),
+            wrap((to / tile) as i32 - (from / tile) as i32),
+        )
+    };
+    let within = |(x, y): (i32, i32)| x.abs() <= RETARGET_RADIUS && y.abs() <= RETARGET_RADIUS;
+    for k in 0..swaps {
+        let a = hash_u32(k ^ hash_u32(salt)) % n;
+        // A partner near `a` so the swap usually stays within the radius.
+        let r = hash_u32(k.wrapping_mul(3) ^ hash_u32(salt ^ 0x5bd1e995));
+        let dx = (r % 13) as i32 - 6;
+        let dy = ((r / 13) % 13) as i32 - 6;
+        let bx = ((a % tile) as i32 + dx).rem_euclid(w) as u32;
+        let by = ((a / tile) as i32 + dy).rem_euclid(w) as u32;
+        let b = by * tile + bx;
+        if within(offset(a, dest[b as usize])) && within(offset(b, dest[a as usize])) {
+            dest.swap(a as usize, b as usize);
+        }
+    }
+    (0..n)
+        .map(|q| {
+            let (x, y) = offset(q, dest[q as usize]);
+            if (x, y) == (0, 0) {
+                IDENTITY_PACKED
+            } else {
+                pack_offset(glam::IVec2::new(x, y))
+            }
+        })
+        .collect()
+}

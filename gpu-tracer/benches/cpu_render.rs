@@ -1,0 +1,63 @@
+//! CPU renderer throughput on the built-in Cornell box: paths (= pixel
+//! samples) per second at 256 x 256, 1 spp, max depth 8, on one thread and
+//! on all cores. A path is one camera sample including its bounces, shadow
+//! rays and Russian roulette.
+//!
+//! `cargo bench -p gpu-tracer --bench cpu_render`; the bench prints
+//! `paths/s` per configuration after criterion's own report.
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use glam::Vec4;
+use gpu_tracer::cornell::cornell_box;
+use gpu_tracer::cpu::{render_frame, white_seeds};
+use gpu_tracer::scene::{SceneGpu, TraceSettings};
+use std::time::Instant;
+
+const SIZE: u32 = 256;
+
+fn bench_cpu_render(c: &mut Criterion) {
+    let scene = SceneGpu::build(&cornell_box()).expect("scene");
+    let settings = TraceSettings::new(SIZE, SIZE);
+    let params = scene.trace_params(&settings, 0).expect("params");
+    let seeds = white_seeds(SIZE, SIZE, 1);
+    let pixels = (SIZE * SIZE) as usize;
+    let mut color = vec![Vec4::ZERO; pixels];
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+
+    let mut group = c.benchmark_group("cpu_render/cornell_256x256_1spp");
+    group.throughput(Throughput::Elements(pixels as u64));
+    group.sample_size(10);
+    let mut report = Vec::new();
+    for threads in [1, cores] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("thread pool");
+        let name = format!("{threads}_threads");
+        group.bench_function(&name, |b| {
+            b.iter(|| pool.install(|| render_frame(&scene, &params, &seeds, &mut color).expect("render")))
+        });
+        // Own measurement for the printed figure: a few whole frames.
+        let frames = 5;
+        let start = Instant::now();
+        for _ in 0..frames {
+            pool.install(|| render_frame(&scene, &params, &seeds, &mut color).expect("render"));
+        }
+        let secs = start.elapsed().as_secs_f64();
+        report.push((
+            threads,
+            frames as f64 * pixels as f64 / secs,
+            secs / frames as f64,
+        ));
+    }
+    group.finish();
+    for (threads, paths_per_s, frame_s) in report {
+        println!(
+            "cpu_render cornell 256x256 1spp depth 8: {threads} thread(s): {paths_per_s:.0} paths/s ({:.1} ms/frame)",
+            frame_s * 1e3
+        );
+    }
+}
+
+criterion_group!(benches, bench_cpu_render);
+criterion_main!(benches);

@@ -1,0 +1,186 @@
+//! Every `#[repr(C)]` structure shared between the host and the kernels, and
+//! the names of the entry points.
+//!
+//! All structures are [`bytemuck::Pod`], contain only `f32`, `u32`, `Vec4`
+//! and `UVec4` fields and have no padding, so their host layout equals the
+//! Vulkan block layout (std140 for the uniform, std430 for storage buffers).
+//! Sizes are checked at compile time.
+//!
+//! # Suffixes
+//!
+//! Types ending in `Gpu` are the buffer forms of a friendlier host type in
+//! the `gpu-tracer` crate (`Triangle` / `TriangleGpu`, ...).
+//!
+//! # Bindings
+//!
+//! | entry point | binding | kind | contents |
+//! |---|---|---|---|
+//! | [`TRACE_ENTRY`] | 0 | uniform | [`TraceParams`] |
+//! | | 1 | storage, read | `[BvhNodeGpu]`, root at index 0 |
+//! | | 2 | storage, read | `[TriangleGpu]`, in BVH leaf order |
+//! | | 3 | storage, read | `[MaterialGpu]` |
+//! | | 4 | storage, read | `[EmitterGpu]` (at least one entry: pad with [`EmitterGpu::NONE`]) |
+//! | | 5 | storage, read | seeds `[u32]`, `padded_width * padded_height` |
+//! | | 6 | storage, write | frame colour `[Vec4]`, `width * height` |
+//! | [`ACCUMULATE_ENTRY`] | 0 | uniform | [`TraceParams`] |
+//! | | 1 | storage, read | frame colour `[Vec4]`, `width * height` |
+//! | | 2 | storage, read-write | accumulation `[Vec4]`, `width * height` |
+//!
+//! Both entry points run on 8 x 8 workgroups ([`TRACE_WORKGROUP`]) over the
+//! visible frame: dispatch `ceil(width / 8) x ceil(height / 8) x 1`.
+//! wgpu refuses empty buffers, so every storage buffer holds at least one
+//! element; the counts in [`TraceParams`] say how many are meaningful.
+
+use glam::{UVec4, Vec4};
+
+/// Name of the path-tracing entry point (rust-gpu qualifies it with its module path) (one invocation per visible pixel).
+pub const TRACE_ENTRY: &str = "entry::trace_cs";
+/// Name of the accumulation entry point (one invocation per visible pixel).
+pub const ACCUMULATE_ENTRY: &str = "entry::accumulate_cs";
+/// Workgroup size `(x, y)` of [`TRACE_ENTRY`] and [`ACCUMULATE_ENTRY`],
+/// in pixels; must match the `#[spirv(compute(threads(8, 8)))]` attributes.
+pub const TRACE_WORKGROUP: (u32, u32) = (8, 8);
+
+/// Largest supported [`TraceParams::max_depth`]: the random-number layout
+/// reserves dimensions for this many path vertices
+/// (see [`crate::trace::DIMS_PER_SAMPLE`]). 64 bounces are far beyond what a
+/// diffuse scene needs after Russian roulette.
+pub const MAX_DEPTH_LIMIT: u32 = 64;
+
+/// [`TraceParams::seed_mode`]: the pixel's seed alone defines its random
+/// stream; sample `s` of every frame uses stream sample `s`. This is what the
+/// public implementations of the permutation method do.
+pub const SEED_MODE_FIXED: u32 = 0;
+/// [`TraceParams::seed_mode`]: the stream is advanced by the frame index;
+/// sample `s` of frame `t` uses stream sample `t * spp + s` (wrapping).
+pub const SEED_MODE_ADVANCE: u32 = 1;
+
+/// Per-frame parameters of the trace and accumulate passes (uniform buffer,
+/// 112 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct TraceParams {
+    /// Visible width in pixels, `>= 1`.
+    pub width: u32,
+    /// Visible height in pixels, `>= 1`.
+    pub height: u32,
+    /// Seed-buffer row stride in seeds (`>= width`): pixel `(x, y)` reads
+    /// `seeds[y * padded_width + x]`. Identical to
+    /// `sampler_core::FrameParams::padded_width`.
+    pub padded_width: u32,
+    /// Samples per pixel per frame, `>= 1`; the frame colour is their mean.
+    pub spp: u32,
+    /// Maximum path length in segments (camera segment included), in
+    /// `1..=MAX_DEPTH_LIMIT`; 1 shows only directly visible emitters. Larger
+    /// values are clamped to [`MAX_DEPTH_LIMIT`].
+    pub max_depth: u32,
+    /// Index `t` of the frame being rendered, from 0. For the accumulate pass:
+    /// the frame being added, so the mean afterwards covers `t + 1` frames.
+    pub frame: u32,
+    /// Number of meaningful entries of the triangle buffer.
+    pub triangle_count: u32,
+    /// Number of meaningful entries of the emitter buffer; 0 disables
+    /// next-event estimation (emitters are then only found by BSDF sampling).
+    pub emitter_count: u32,
+    /// [`SEED_MODE_FIXED`] or [`SEED_MODE_ADVANCE`]; any other value behaves
+    /// like [`SEED_MODE_FIXED`].
+    pub seed_mode: u32,
+    /// Number of entries of the node buffer (>= 1; node 0 is the root).
+    pub node_count: u32,
+    /// Path vertex index from which Russian roulette applies: vertex `d`
+    /// (0 = first hit from the camera) is subject to it when `d >= rr_depth`.
+    /// 3 by default; `MAX_DEPTH_LIMIT` or more disables it.
+    pub rr_depth: u32,
+    /// `tan(fov_y / 2)` of the pinhole camera, `> 0` (vertical field of view).
+    pub tan_half_fov_y: f32,
+    /// Camera position in world units; `w` = 0.
+    pub camera_origin: Vec4,
+    /// Unit viewing direction; `w` = 0.
+    pub camera_forward: Vec4,
+    /// Unit vector to the right of the image, orthogonal to `forward`; `w` = 0.
+    pub camera_right: Vec4,
+    /// Unit vector to the top of the image, orthogonal to both; `w` = 0.
+    pub camera_up: Vec4,
+}
+
+/// One node of the BVH2 built by obvhs 0.4 (`Bvh2Node`), 48 bytes.
+///
+/// Inner node: `info.x == 0`, children at `info.y` and `info.y + 1`.
+/// Leaf: `info.x >= 1` triangles at `triangles[info.y .. info.y + info.x]`
+/// (the host reorders triangles by obvhs' `primitive_indices`, so leaves
+/// index the triangle buffer directly).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct BvhNodeGpu {
+    /// Box minimum corner (world units); `w` = 0.
+    pub min: Vec4,
+    /// Box maximum corner (world units); `w` = 0.
+    pub max: Vec4,
+    /// `x` = primitive count (0 for inner nodes), `y` = first child node or
+    /// first triangle, `z`, `w` = 0 (obvhs' unused meta words).
+    pub info: UVec4,
+}
+
+/// One triangle, 48 bytes. Vertices in world units, counter-clockwise seen
+/// from the front: the geometric normal `(v1 - v0) x (v2 - v0)` points to the
+/// front. Emission leaves the front side only; diffuse reflection is
+/// two-sided.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct TriangleGpu {
+    /// First vertex in `xyz`; `w` = material index as an exact integer-valued
+    /// `f32` (indices up to 2^24).
+    pub v0: Vec4,
+    /// Second vertex in `xyz`; `w` = probability that next-event estimation
+    /// picks this triangle (its [`EmitterGpu::pdf`]), 0 when it is not in the
+    /// emitter list. Needed to weight emitters hit by BSDF sampling (MIS).
+    pub v1: Vec4,
+    /// Third vertex in `xyz`; `w` = 0.
+    pub v2: Vec4,
+}
+
+/// A diffuse, possibly emissive material, 32 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct MaterialGpu {
+    /// Lambertian albedo in linear RGB, each channel in `[0, 1]`; `w` = 0.
+    pub albedo: Vec4,
+    /// Emitted radiance in linear RGB (arbitrary radiometric units,
+    /// `>= 0`), from the front side; `w` = 0.
+    pub emission: Vec4,
+}
+
+/// One entry of the emitter list for next-event estimation, 16 bytes.
+///
+/// Emitters are picked with probability proportional to their power
+/// `area * mean(emission rgb)` by a binary search over `cdf`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct EmitterGpu {
+    /// Index into the triangle buffer (BVH leaf order).
+    pub triangle: u32,
+    /// Inclusive cumulative selection probability: the sum of `pdf` over this
+    /// entry and all before it, in `(0, 1]`; the last entry holds exactly 1.
+    pub cdf: f32,
+    /// Probability of picking this entry, in `(0, 1]`.
+    pub pdf: f32,
+    /// Triangle area in square world units, `> 0`.
+    pub area: f32,
+}
+
+impl EmitterGpu {
+    /// Padding entry for an emitter buffer of a scene without emitters
+    /// (never read while `emitter_count == 0`).
+    pub const NONE: EmitterGpu = EmitterGpu {
+        triangle: 0,
+        cdf: 1.0,
+        pdf: 0.0,
+        area: 0.0,
+    };
+}
+
+const _: () = assert!(core::mem::size_of::<TraceParams>() == 112);
+const _: () = assert!(core::mem::size_of::<BvhNodeGpu>() == 48);
+const _: () = assert!(core::mem::size_of::<TriangleGpu>() == 48);
+const _: () = assert!(core::mem::size_of::<MaterialGpu>() == 32);
+const _: () = assert!(core::mem::size_of::<EmitterGpu>() == 16);

@@ -1,0 +1,57 @@
+//! The `#[spirv]` compute entry points: thin wrappers that index buffers and
+//! call the plain functions the CPU renderer also uses. Bindings are listed
+//! in [`crate::abi`].
+
+use crate::abi::{BvhNodeGpu, EmitterGpu, MaterialGpu, TraceParams, TriangleGpu};
+use crate::accumulate::accumulate_pixel;
+use crate::trace::trace_pixel;
+use glam::{UVec2, UVec3, Vec4};
+use spirv_std::spirv;
+
+/// [`TRACE_ENTRY`](crate::abi::TRACE_ENTRY): one invocation per visible
+/// pixel `(id.x, id.y)`; writes the frame colour `trace_pixel(...)` of the
+/// pixel's seed. Invocations outside the frame do nothing.
+#[allow(clippy::too_many_arguments)]
+#[spirv(compute(threads(8, 8)))]
+pub fn trace_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &TraceParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] nodes: &[BvhNodeGpu],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] triangles: &[TriangleGpu],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] materials: &[MaterialGpu],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] emitters: &[EmitterGpu],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] seeds: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] color: &mut [Vec4],
+) {
+    if id.x >= params.width || id.y >= params.height {
+        return;
+    }
+    let seed = seeds[id.y.wrapping_mul(params.padded_width).wrapping_add(id.x) as usize];
+    let value = trace_pixel(
+        params,
+        UVec2::new(id.x, id.y),
+        seed,
+        nodes,
+        triangles,
+        materials,
+        emitters,
+    );
+    color[id.y.wrapping_mul(params.width).wrapping_add(id.x) as usize] = value;
+}
+
+/// [`ACCUMULATE_ENTRY`](crate::abi::ACCUMULATE_ENTRY): one invocation per
+/// visible pixel; folds frame `params.frame`'s colour into the running mean
+/// (`accumulate_pixel`). Invocations outside the frame do nothing.
+#[spirv(compute(threads(8, 8)))]
+pub fn accumulate_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &TraceParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] color: &[Vec4],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] accum: &mut [Vec4],
+) {
+    if id.x >= params.width || id.y >= params.height {
+        return;
+    }
+    let i = id.y.wrapping_mul(params.width).wrapping_add(id.x) as usize;
+    accum[i] = accumulate_pixel(accum[i], color[i], params.frame);
+}

@@ -1,0 +1,115 @@
+//! The `#[spirv]` entry points of the seed permutation: thin wrappers over
+//! `sampler_core`'s per-block and per-seed functions, so the GPU runs exactly
+//! the code the CPU runs (and the conformance tests compare them bit for bit).
+//!
+//! Bindings (descriptor set 0):
+//!
+//! | entry | 0 | 1 | 2 | 3 | 4 |
+//! |---|---|---|---|---|---|
+//! | [`INTENSITY_ENTRY`] | `FrameParams` (uniform) | colour `[Vec4]` | intensity `[f32]` (out) | | |
+//! | [`SORT_ENTRY`] | `FrameParams` (uniform) | intensity `[f32]` | tile `[u32]` | seeds in `[u32]` | seeds out `[u32]` |
+//! | [`RETARGET_ENTRY`] | `FrameParams` (uniform) | table `[u32]` | seeds in `[u32]` | seeds out `[u32]` | |
+//! | [`SEED_INIT_ENTRY`] | `FrameParams` (uniform; `frame` = salt) | seeds out `[u32]` | | | |
+
+use glam::{UVec3, Vec4};
+use sampler_core::{initial_seed, luma, retarget_pixel, sort_block_in_frame, FrameParams};
+use spirv_std::spirv;
+
+/// Entry point name of [`intensity_cs`].
+pub const INTENSITY_ENTRY: &str = "permute_entry::intensity_cs";
+/// Entry point name of [`sort_cs`].
+pub const SORT_ENTRY: &str = "permute_entry::sort_cs";
+/// Entry point name of [`retarget_cs`].
+pub const RETARGET_ENTRY: &str = "permute_entry::retarget_cs";
+/// Entry point name of [`seed_init_cs`].
+pub const SEED_INIT_ENTRY: &str = "permute_entry::seed_init_cs";
+/// Invocations per workgroup of every permutation entry point.
+pub const PERMUTE_WORKGROUP: u32 = 64;
+/// Most workgroups a dispatch may have along one axis (Vulkan's guaranteed
+/// minimum of `maxComputeWorkGroupCount`).
+pub const MAX_GROUPS_X: u32 = 65535;
+
+/// Dispatch size `(x, y)` in workgroups for `n` invocations of a linear
+/// entry point: rows of `MAX_GROUPS_X` groups once one row is not enough.
+pub fn linear_dispatch(n: u32) -> (u32, u32) {
+    let groups = n.div_ceil(PERMUTE_WORKGROUP);
+    if groups <= MAX_GROUPS_X {
+        (groups.max(1), 1)
+    } else {
+        (MAX_GROUPS_X, groups.div_ceil(MAX_GROUPS_X))
+    }
+}
+
+/// Linear invocation index of a [`linear_dispatch`] grid.
+#[inline]
+fn linear_id(id: UVec3) -> u32 {
+    id.y.wrapping_mul(MAX_GROUPS_X * PERMUTE_WORKGROUP).wrapping_add(id.x)
+}
+
+/// One invocation per visible pixel (linear index, see [`linear_dispatch`]): the sorting key of a
+/// frame, Rec. 709 luma of its colour (`sampler_core::luma`).
+#[spirv(compute(threads(64)))]
+pub fn intensity_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] color: &[Vec4],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] intensity: &mut [f32],
+) {
+    let i = linear_id(id);
+    if i < params.width.wrapping_mul(params.height) {
+        intensity[i as usize] = luma(color[i as usize].truncate());
+    }
+}
+
+/// One invocation per block (linear index, row-major over
+/// `blocks_x * blocks_y`): the sorting pass, `sampler_core::sort_block_in_frame`.
+#[spirv(compute(threads(64)))]
+pub fn sort_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] intensity: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] tile: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] seeds_in: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] seeds_out: &mut [u32],
+) {
+    let blocks_x = params.blocks_x();
+    let i = linear_id(id);
+    if i < blocks_x.wrapping_mul(params.blocks_y()) {
+        let bx = i % blocks_x;
+        let by = i / blocks_x;
+        sort_block_in_frame(params, bx, by, intensity, tile, seeds_in, seeds_out);
+    }
+}
+
+/// One invocation per seed (linear index over the padded buffer): the
+/// retargeting scatter, `sampler_core::retarget_pixel`.
+#[spirv(compute(threads(64)))]
+pub fn retarget_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] table: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] seeds_in: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] seeds_out: &mut [u32],
+) {
+    let i = linear_id(id);
+    if i < params.seed_count() {
+        retarget_pixel(params, i, table, seeds_in, seeds_out);
+    }
+}
+
+/// One invocation per seed: white-noise seeds, `sampler_core::initial_seed`
+/// with `params.frame` as the salt. Used for frame 0 and for the `white`
+/// mode's fresh seeds every frame.
+#[spirv(compute(threads(64)))]
+pub fn seed_init_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] seeds_out: &mut [u32],
+) {
+    let i = linear_id(id);
+    if i < params.seed_count() {
+        let x = i % params.padded_width;
+        let y = i / params.padded_width;
+        seeds_out[i as usize] = initial_seed(x, y, params.padded_width, params.frame);
+    }
+}

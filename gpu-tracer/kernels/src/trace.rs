@@ -1,0 +1,356 @@
+//! Path tracing: the radiance of one path sample for a pixel, drawn entirely
+//! from the pixel's seed.
+//!
+//! # Light transport
+//!
+//! Materials are Lambertian (albedo `a`, BRDF `a / pi`, two-sided) plus
+//! emission from the front side of a triangle (see [`TriangleGpu`]). There is
+//! no environment: rays leaving the scene carry nothing. At every path vertex
+//! the estimator combines
+//! - **next-event estimation**: an emitter picked with probability
+//!   proportional to its power, a uniform point on it, and a shadow ray;
+//! - **BSDF sampling**: a cosine-weighted direction; when it hits an emitter
+//!   the emission is counted too.
+//!
+//! Both strategies are weighted by the power heuristic (Veach 1997, MIS with
+//! beta = 2), so each path is counted once in expectation, never twice.
+//! Emission seen directly from the camera is counted with weight 1. An
+//! emitter absent from the emitter list (or with `emitter_count == 0`) is
+//! only found by BSDF sampling and counted with weight 1.
+//!
+//! Path length: `max_depth` counts segments including the camera segment.
+//! Emission hit at vertex `d` (0-based) makes a path of `d + 1` segments;
+//! next-event estimation at vertex `d` makes one of `d + 2`, so it runs only
+//! while `d + 2 <= max_depth`. Both strategies therefore cover exactly the
+//! same path lengths, which MIS requires. Russian roulette applies at
+//! vertices `d >= rr_depth`: the path continues with probability
+//! `min(max channel of throughput, 0.95)` and its throughput is divided by it.
+//!
+//! # Random-number layout
+//!
+//! Sample `s` of a pixel reads the seed's stream at indices
+//! `[s * DIMS_PER_SAMPLE, (s + 1) * DIMS_PER_SAMPLE)`
+//! (`sampler_core::RandomStream::new(seed, s, DIMS_PER_SAMPLE)`):
+//!
+//! | dimension | use |
+//! |---|---|
+//! | 0, 1 | position inside the pixel |
+//! | `2 + 6 d + 0` | vertex `d`: which emitter |
+//! | `2 + 6 d + 1, 2` | vertex `d`: point on the emitter |
+//! | `2 + 6 d + 3, 4` | vertex `d`: BSDF direction |
+//! | `2 + 6 d + 5` | vertex `d`: Russian roulette |
+//!
+//! Every vertex draws its six numbers whether or not it uses them, so a
+//! dimension always drives the same decision: that is what lets the seed
+//! permutation correlate pixels' estimates. The stream sample `s` is the
+//! sample index within the frame in [`SEED_MODE_FIXED`] and
+//! `frame * spp + s` in [`SEED_MODE_ADVANCE`] (see [`stream_sample`]).
+
+use crate::abi::{
+    BvhNodeGpu, EmitterGpu, MaterialGpu, TraceParams, TriangleGpu, MAX_DEPTH_LIMIT, SEED_MODE_ADVANCE,
+};
+use crate::bvh::{any_hit, closest_hit};
+use crate::camera::primary_ray;
+use crate::intersect::Ray;
+use crate::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_triangle_barycentrics, Frame};
+use core::f32::consts::FRAC_1_PI;
+use glam::{UVec2, Vec3, Vec4};
+use sampler_core::RandomStream;
+
+/// Stream dimensions used before the first vertex (pixel jitter).
+pub const DIMS_CAMERA: u32 = 2;
+/// Stream dimensions used at every path vertex (see the module docs).
+pub const DIMS_PER_VERTEX: u32 = 6;
+/// Stream dimensions reserved per sample: `DIMS_CAMERA + DIMS_PER_VERTEX *
+/// MAX_DEPTH_LIMIT` = 386, whatever `max_depth` is, so a dimension's meaning
+/// does not depend on the depth setting.
+pub const DIMS_PER_SAMPLE: u32 = DIMS_CAMERA + DIMS_PER_VERTEX * MAX_DEPTH_LIMIT;
+
+/// Largest Russian-roulette survival probability: paths with a bright
+/// throughput still end with probability >= 5%, which bounds path length in
+/// closed scenes with albedo near 1.
+pub const RR_MAX_SURVIVAL: f32 = 0.95;
+
+/// Relative offset of ray origins from surfaces, against self-intersection:
+/// a new ray starts `RAY_OFFSET * (1 + max |p_i|)` away from the surface
+/// point `p` along the normal facing the new direction. f32 rounding of hit
+/// points is about `1e-7` relative; 5e-5 leaves a wide margin while staying
+/// below 0.03 units in a 555-unit Cornell box.
+pub const RAY_OFFSET: f32 = 5e-5;
+
+/// Stream sample used by sample `s` of frame `params.frame`: `s` in
+/// [`crate::abi::SEED_MODE_FIXED`] (and for unknown modes),
+/// `frame * spp + s` (wrapping) in [`SEED_MODE_ADVANCE`].
+#[inline]
+pub fn stream_sample(params: &TraceParams, s: u32) -> u32 {
+    if params.seed_mode == SEED_MODE_ADVANCE {
+        params.frame.wrapping_mul(params.spp).wrapping_add(s)
+    } else {
+        s
+    }
+}
+
+/// Mean radiance of the pixel's `params.spp` samples for this frame, as
+/// `(r, g, b, 1)`: the value the trace pass writes to the frame colour
+/// buffer. Identical to what [`TRACE_ENTRY`](crate::abi::TRACE_ENTRY) computes
+/// on the GPU. `seed` is the pixel's seed.
+#[inline]
+pub fn trace_pixel(
+    params: &TraceParams,
+    pixel: UVec2,
+    seed: u32,
+    nodes: &[BvhNodeGpu],
+    triangles: &[TriangleGpu],
+    materials: &[MaterialGpu],
+    emitters: &[EmitterGpu],
+) -> Vec4 {
+    let spp = params.spp.max(1);
+    let mut sum = Vec3::ZERO;
+    let mut s = 0u32;
+    while s < spp {
+        let stream = RandomStream::new(seed, stream_sample(params, s), DIMS_PER_SAMPLE);
+        sum += trace_sample(params, pixel, stream, nodes, triangles, materials, emitters);
+        s += 1;
+    }
+    (sum / spp as f32).extend(1.0)
+}
+
+/// Radiance (linear RGB, `>= 0`) carried by one path through `pixel`, using
+/// the numbers of `stream` from its current index on (see the module docs
+/// for the layout). Non-finite results (which only degenerate input can
+/// cause) are returned as 0.
+#[inline]
+pub fn trace_sample(
+    params: &TraceParams,
+    pixel: UVec2,
+    stream: RandomStream,
+    nodes: &[BvhNodeGpu],
+    triangles: &[TriangleGpu],
+    materials: &[MaterialGpu],
+    emitters: &[EmitterGpu],
+) -> Vec3 {
+    let max_depth = params.max_depth.min(MAX_DEPTH_LIMIT);
+    let base = stream.index;
+    let mut camera_dims = stream;
+    let jitter = camera_dims.next_vec2();
+    let mut ray = primary_ray(params, pixel.x, pixel.y, jitter);
+    let mut throughput = Vec3::ONE;
+    let mut radiance = Vec3::ZERO;
+    // Solid-angle density of the BSDF sample that produced `ray`; 0 for the camera ray.
+    let mut bsdf_pdf = 0.0f32;
+
+    let mut depth = 0u32;
+    while depth < max_depth {
+        // f32::MAX, not INFINITY: naga rejects infinite literals in SPIR-V.
+        let hit = match closest_hit(nodes, triangles, &ray, 0.0, f32::MAX) {
+            Some(h) => h,
+            None => break,
+        };
+        let tri = triangles[hit.triangle as usize];
+        let (v0, v1, v2) = (tri.v0.truncate(), tri.v1.truncate(), tri.v2.truncate());
+        let (geo_normal, area) = normal_and_area(v0, v1, v2);
+        let point = v0 + (v1 - v0) * hit.u + (v2 - v0) * hit.v;
+        let material = materials[tri.v0.w as u32 as usize];
+        let cos_out = -ray.dir.dot(geo_normal);
+
+        // Emission found by the BSDF sample (or seen from the camera).
+        let emission = material.emission.truncate();
+        if cos_out > 0.0 && emission.max_element() > 0.0 {
+            let select_pdf = tri.v1.w;
+            let weight = if bsdf_pdf > 0.0 && select_pdf > 0.0 && params.emitter_count > 0 {
+                let light_pdf = select_pdf * hit.t * hit.t / (area * cos_out);
+                power_heuristic(bsdf_pdf, light_pdf)
+            } else {
+                1.0
+            };
+            radiance += throughput * emission * weight;
+        }
+
+        // Shading frame faces the incoming ray (two-sided diffuse).
+        let normal = if cos_out > 0.0 { geo_normal } else { -geo_normal };
+        let albedo = material.albedo.truncate();
+        let mut dims = RandomStream {
+            seed: stream.seed,
+            index: base
+                .wrapping_add(DIMS_CAMERA)
+                .wrapping_add(DIMS_PER_VERTEX.wrapping_mul(depth)),
+        };
+        let u_emitter = dims.next_f32();
+        let u_point = dims.next_vec2();
+        let u_bsdf = dims.next_vec2();
+        let u_rr = dims.next_f32();
+        let origin = offset_point(point, normal);
+
+        // Next-event estimation.
+        if params.emitter_count > 0 && depth + 2 <= max_depth && albedo.max_element() > 0.0 {
+            let e = emitters[select_emitter(emitters, params.emitter_count, u_emitter) as usize];
+            let lt = triangles[e.triangle as usize];
+            let (l0, l1, l2) = (lt.v0.truncate(), lt.v1.truncate(), lt.v2.truncate());
+            let (light_normal, light_area) = normal_and_area(l0, l1, l2);
+            let b = sample_triangle_barycentrics(u_point);
+            let q = l0 + (l1 - l0) * b.x + (l2 - l0) * b.y;
+            let to_light = q - origin;
+            let dist2 = to_light.length_squared();
+            let dist = libm::sqrtf(dist2);
+            if dist > 0.0 {
+                let wi = to_light / dist;
+                let cos_light = -wi.dot(light_normal);
+                let cos_surface = wi.dot(normal);
+                if cos_light > 0.0 && cos_surface > 0.0 && e.pdf > 0.0 {
+                    let light_pdf = e.pdf * dist2 / (light_area * cos_light);
+                    let weight = power_heuristic(light_pdf, cosine_hemisphere_pdf(cos_surface));
+                    let t_max = dist - 2.0 * surface_offset(q);
+                    if t_max > 0.0 && !any_hit(nodes, triangles, &Ray::new(origin, wi), 0.0, t_max) {
+                        let light_emission = materials[lt.v0.w as u32 as usize].emission.truncate();
+                        let brdf_cos = albedo * (FRAC_1_PI * cos_surface);
+                        radiance += throughput * brdf_cos * light_emission * (weight / light_pdf);
+                    }
+                }
+            }
+        }
+
+        if depth + 1 >= max_depth {
+            break;
+        }
+
+        // BSDF sampling: f cos / pdf = albedo for a cosine-weighted direction.
+        let local = sample_cosine_hemisphere(u_bsdf);
+        if local.z <= 0.0 {
+            break;
+        }
+        let wi = Frame::from_normal(normal).to_world(local).normalize();
+        throughput *= albedo;
+        bsdf_pdf = cosine_hemisphere_pdf(local.z);
+
+        if depth >= params.rr_depth {
+            let survive = throughput.max_element().min(RR_MAX_SURVIVAL);
+            if u_rr >= survive {
+                break;
+            }
+            throughput /= survive;
+        }
+        ray = Ray::new(origin, wi);
+        depth += 1;
+    }
+
+    // Not `is_finite()`: glam compares against an infinite literal, which
+    // naga rejects. `|x| <= f32::MAX` is false for NaN and infinities.
+    if radiance.abs().cmple(Vec3::splat(f32::MAX)).all() {
+        radiance.max(Vec3::ZERO)
+    } else {
+        Vec3::ZERO
+    }
+}
+
+/// Unit geometric normal `(v1 - v0) x (v2 - v0)` (front side) and area of a
+/// triangle; a zero-area triangle gives a zero normal and area 0.
+#[inline]
+pub fn normal_and_area(v0: Vec3, v1: Vec3, v2: Vec3) -> (Vec3, f32) {
+    let c = (v1 - v0).cross(v2 - v0);
+    let len = c.length();
+    if len > 0.0 {
+        (c / len, 0.5 * len)
+    } else {
+        (Vec3::ZERO, 0.0)
+    }
+}
+
+/// Index of the emitter whose cumulative-probability interval
+/// `[cdf[i - 1], cdf[i])` contains `u` in `[0, 1)`: the first `i` with
+/// `u < cdf[i]`, found by binary search over the first `count` entries
+/// (`count >= 1`); `count - 1` if none (rounding in the last `cdf`).
+#[inline]
+pub fn select_emitter(emitters: &[EmitterGpu], count: u32, u: f32) -> u32 {
+    let mut lo = 0u32;
+    let mut hi = count.max(1) - 1;
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        if u < emitters[mid as usize].cdf {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    lo
+}
+
+/// Power heuristic weight `a^2 / (a^2 + b^2)` of the strategy with density
+/// `a` against one with density `b` (both `>= 0`); 0 when `a == 0`, and
+/// free of overflow for large densities.
+#[inline]
+pub fn power_heuristic(a: f32, b: f32) -> f32 {
+    if a > 0.0 {
+        let r = b / a;
+        1.0 / (1.0 + r * r)
+    } else {
+        0.0
+    }
+}
+
+/// Distance by which rays leave a surface at `p`: `RAY_OFFSET * (1 + max |p_i|)`.
+#[inline]
+fn surface_offset(p: Vec3) -> f32 {
+    RAY_OFFSET * (1.0 + p.abs().max_element())
+}
+
+/// `p` moved off its surface along the unit `normal`.
+#[inline]
+fn offset_point(p: Vec3, normal: Vec3) -> Vec3 {
+    p + normal * surface_offset(p)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn power_heuristic_weights_sum_to_one() {
+        for (a, b) in [(1.0, 1.0), (0.3, 2.0), (1e30, 1e-30), (5.0, 0.0)] {
+            let s = power_heuristic(a, b) + power_heuristic(b, a);
+            assert!((s - 1.0).abs() < 1e-6, "{a} {b}: {s}");
+        }
+        assert_eq!(power_heuristic(0.0, 1.0), 0.0);
+        assert_eq!(power_heuristic(f32::INFINITY, 1.0), 1.0);
+    }
+
+    #[test]
+    fn emitter_selection_follows_the_cdf() {
+        let e = |cdf: f32| EmitterGpu {
+            cdf,
+            ..EmitterGpu::NONE
+        };
+        let list = [e(0.1), e(0.1), e(0.6), e(1.0)];
+        assert_eq!(select_emitter(&list, 4, 0.0), 0);
+        assert_eq!(select_emitter(&list, 4, 0.0999), 0);
+        // Entry 1 has probability 0: never chosen.
+        assert_eq!(select_emitter(&list, 4, 0.1), 2);
+        assert_eq!(select_emitter(&list, 4, 0.5999), 2);
+        assert_eq!(select_emitter(&list, 4, 0.6), 3);
+        assert_eq!(select_emitter(&list, 4, 0.999_999_9), 3);
+        assert_eq!(select_emitter(&list, 1, 0.7), 0);
+    }
+
+    #[test]
+    fn stream_sample_modes() {
+        let mut p = TraceParams {
+            spp: 4,
+            frame: 3,
+            ..Default::default()
+        };
+        assert_eq!(stream_sample(&p, 2), 2);
+        p.seed_mode = SEED_MODE_ADVANCE;
+        assert_eq!(stream_sample(&p, 2), 14);
+        p.seed_mode = 7;
+        assert_eq!(stream_sample(&p, 2), 2);
+    }
+
+    #[test]
+    fn triangle_normal_and_area() {
+        let (n, a) = normal_and_area(Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 3.0, 0.0));
+        assert_eq!((n, a), (Vec3::Z, 3.0));
+        assert_eq!(
+            normal_and_area(Vec3::ZERO, Vec3::X, Vec3::X * 2.0),
+            (Vec3::ZERO, 0.0)
+        );
+    }
+}

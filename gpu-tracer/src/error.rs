@@ -1,0 +1,215 @@
+//! The error type of the crate: every failure is a value carrying the path or
+//! the numbers involved, with the underlying cause behind
+//! [`std::error::Error::source`].
+
+use std::fmt;
+use std::path::PathBuf;
+
+/// Result with the crate's [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Everything that can go wrong when loading a scene, building its GPU
+/// form, rendering on the CPU or writing images.
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum Error {
+    /// An OBJ or MTL file could not be read or parsed (missing file,
+    /// malformed statements, bad face indices).
+    ObjLoad {
+        /// The OBJ file.
+        path: PathBuf,
+        /// tobj's reason.
+        source: tobj::LoadError,
+    },
+    /// The material library (MTL) an OBJ file names could not be read or
+    /// parsed.
+    MtlLoad {
+        /// The OBJ file naming the library.
+        path: PathBuf,
+        /// tobj's reason.
+        source: tobj::LoadError,
+    },
+    /// The OBJ file parsed but contains no triangle.
+    NoTriangles {
+        /// The OBJ file.
+        path: PathBuf,
+    },
+    /// A vertex coordinate is NaN or infinite.
+    NonFiniteVertex {
+        /// The OBJ file (or `<scene>` for scenes built in code).
+        path: PathBuf,
+        /// Name of the model (OBJ object or group) holding the vertex.
+        model: String,
+        /// Index of the vertex within the model, 0-based.
+        vertex: usize,
+    },
+    /// A material colour is NaN, infinite or negative (albedo or emission).
+    InvalidMaterial {
+        /// Name of the material.
+        name: String,
+    },
+    /// A triangle refers to a material that does not exist.
+    MaterialIndex {
+        /// Index of the triangle.
+        triangle: usize,
+        /// The material index it holds.
+        material: u32,
+        /// Number of materials in the scene.
+        count: usize,
+    },
+    /// The scene has more triangles or materials than the GPU form can index
+    /// (material indices are stored as exact `f32` integers, `< 2^24`).
+    SceneTooLarge {
+        /// What overflowed: `"triangles"` or `"materials"`.
+        what: &'static str,
+        /// How many there are.
+        count: usize,
+        /// The limit.
+        limit: usize,
+    },
+    /// The camera is degenerate: zero or non-finite direction, `up` parallel
+    /// to the view direction, or a field of view outside `(0, 180)` degrees.
+    InvalidCamera,
+    /// The BVH is deeper than the kernels' traversal stack allows.
+    BvhTooDeep {
+        /// Depth of the deepest leaf (root = 0).
+        depth: usize,
+        /// Largest depth the traversal supports (`kernels::bvh::STACK_SIZE`).
+        limit: usize,
+    },
+    /// Frame size is zero in one dimension, or the seed stride is smaller
+    /// than the width.
+    FrameSize {
+        /// Requested width in pixels.
+        width: u32,
+        /// Requested height in pixels.
+        height: u32,
+        /// Requested seed-buffer stride in seeds.
+        padded_width: u32,
+    },
+    /// A render parameter is outside its range.
+    InvalidParameter {
+        /// Name of the parameter.
+        name: &'static str,
+        /// Its value.
+        value: u32,
+        /// What is allowed.
+        expected: &'static str,
+    },
+    /// A caller-provided buffer has the wrong length.
+    BufferSize {
+        /// Which buffer.
+        buffer: &'static str,
+        /// Required number of elements.
+        expected: usize,
+        /// Number of elements passed.
+        actual: usize,
+    },
+    /// Writing an image failed (unwritable directory, full disk, ...). No
+    /// file was left at `path` by the failed write.
+    ImageWrite {
+        /// The image file that was to be written.
+        path: PathBuf,
+        /// The cause.
+        source: ImageWriteError,
+    },
+}
+
+/// Cause of an [`Error::ImageWrite`].
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum ImageWriteError {
+    /// Creating, writing, syncing or renaming the file failed.
+    Io(std::io::Error),
+    /// The encoder failed.
+    Encode(image::ImageError),
+}
+
+impl fmt::Display for ImageWriteError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ImageWriteError::Io(e) => write!(f, "{e}"),
+            ImageWriteError::Encode(e) => write!(f, "encoding failed: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for ImageWriteError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            ImageWriteError::Io(e) => Some(e),
+            ImageWriteError::Encode(e) => Some(e),
+        }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::ObjLoad { path, source } => {
+                write!(f, "cannot load OBJ file {}: {source}", path.display())
+            }
+            Error::MtlLoad { path, source } => {
+                write!(f, "cannot load the material library of {}: {source}", path.display())
+            }
+            Error::NoTriangles { path } => write!(f, "OBJ file {} contains no triangles", path.display()),
+            Error::NonFiniteVertex { path, model, vertex } => write!(
+                f,
+                "{}: vertex {vertex} of model '{model}' has a NaN or infinite coordinate",
+                path.display()
+            ),
+            Error::InvalidMaterial { name } => write!(
+                f,
+                "material '{name}' has a NaN, infinite or negative colour"
+            ),
+            Error::MaterialIndex {
+                triangle,
+                material,
+                count,
+            } => write!(
+                f,
+                "triangle {triangle} uses material {material}, but the scene has {count} materials"
+            ),
+            Error::SceneTooLarge { what, count, limit } => {
+                write!(f, "scene has {count} {what}, more than the limit of {limit}")
+            }
+            Error::InvalidCamera => write!(
+                f,
+                "degenerate camera (zero direction, up parallel to the view, or field of view outside (0, 180) degrees)"
+            ),
+            Error::BvhTooDeep { depth, limit } => write!(
+                f,
+                "BVH has depth {depth}, deeper than the {limit} levels the GPU traversal stack supports"
+            ),
+            Error::FrameSize {
+                width,
+                height,
+                padded_width,
+            } => write!(
+                f,
+                "invalid frame size {width}x{height} with seed stride {padded_width} (sizes must be >= 1 and the stride >= the width)"
+            ),
+            Error::InvalidParameter { name, value, expected } => {
+                write!(f, "invalid {name} = {value}: expected {expected}")
+            }
+            Error::BufferSize {
+                buffer,
+                expected,
+                actual,
+            } => write!(f, "{buffer} has {actual} elements, expected {expected}"),
+            Error::ImageWrite { path, source } => {
+                write!(f, "cannot write image {}: {source}", path.display())
+            }
+        }
+    }
+}
+
+impl std::error::Error for Error {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Error::ObjLoad { source, .. } | Error::MtlLoad { source, .. } => Some(source),
+            Error::ImageWrite { source, .. } => Some(source),
+            _ => None,
+        }
+    }
+}

@@ -1,0 +1,269 @@
+//! The seed permutation on the GPU: intensity, sorting, retargeting and seed
+//! initialisation passes over device-resident buffers, no read-back between
+//! frames.
+
+use super::context::Gpu;
+use super::timer::PassTimer;
+use super::GpuError;
+use kernels::permute_entry::{linear_dispatch, INTENSITY_ENTRY, RETARGET_ENTRY, SEED_INIT_ENTRY, SORT_ENTRY};
+use sampler_core::{step_index, DitherTile, FrameLayout, FrameParams, RetargetTables, STEP_COUNT};
+
+/// How seeds change between frames.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum PermuteMode {
+    /// Fresh white-noise seeds every frame (the baseline).
+    White,
+    /// Sorting pass only: seeds ranked like the frame's dither tile.
+    Sort,
+    /// Sorting then retargeting (Heitz & Belcour 2019).
+    Permute,
+}
+
+/// The four compute pipelines of the permutation, created once per device.
+#[derive(Debug)]
+pub struct PermutePipelines {
+    intensity: wgpu::ComputePipeline,
+    sort: wgpu::ComputePipeline,
+    retarget: wgpu::ComputePipeline,
+    seed_init: wgpu::ComputePipeline,
+}
+
+impl PermutePipelines {
+    /// Creates the pipelines from the kernels module.
+    ///
+    /// # Errors
+    /// [`GpuError::Validation`] if wgpu rejects one.
+    pub fn new(gpu: &Gpu) -> Result<Self, GpuError> {
+        Ok(PermutePipelines {
+            intensity: gpu.pipeline(INTENSITY_ENTRY)?,
+            sort: gpu.pipeline(SORT_ENTRY)?,
+            retarget: gpu.pipeline(RETARGET_ENTRY)?,
+            seed_init: gpu.pipeline(SEED_INIT_ENTRY)?,
+        })
+    }
+}
+
+/// Device buffers and bind groups of the permutation for one frame layout.
+///
+/// Seeds live in [`seeds`](Self::seeds) (`padded_width * padded_height`
+/// `u32`s, the buffer the tracer reads); the passes use a second buffer as
+/// the sort output and retarget back into `seeds`.
+#[derive(Debug)]
+pub struct SeedPermuter {
+    layout: FrameLayout,
+    params: wgpu::Buffer,
+    /// The seed buffer the tracer reads (padded, row-major).
+    pub seeds: wgpu::Buffer,
+    scratch: wgpu::Buffer,
+    /// Per-pixel sort keys (luma of the colour buffer), `width * height` f32.
+    pub intensity: wgpu::Buffer,
+    intensity_bg: wgpu::BindGroup,
+    sort_bg: wgpu::BindGroup,
+    retarget_bg: Vec<wgpu::BindGroup>,
+    seed_init_bg: wgpu::BindGroup,
+}
+
+impl SeedPermuter {
+    /// Uploads the tile and tables and wires the passes to `color` (the
+    /// tracer's `width * height` `Vec4` frame colour buffer).
+    ///
+    /// # Errors
+    /// [`GpuError::Input`] if the tile or tables do not match the layout.
+    pub fn new(
+        gpu: &Gpu,
+        pipelines: &PermutePipelines,
+        layout: FrameLayout,
+        tile: &DitherTile<'_>,
+        tables: &RetargetTables<'_>,
+        color: &wgpu::Buffer,
+    ) -> Result<Self, GpuError> {
+        if tile.tile() != layout.tile() || tables.tile() != layout.tile() {
+            return Err(GpuError::Input(sampler_core::Error::TileSize {
+                tile: tile.tile(),
+            }));
+        }
+        let params = gpu.uniform("frame params", &layout.params(0));
+        let seeds = gpu.storage_zeroed::<u32>("seeds", layout.seed_count());
+        let scratch = gpu.storage_zeroed::<u32>("seeds (sorted)", layout.seed_count());
+        let intensity = gpu.storage_zeroed::<f32>("intensity", layout.pixel_count());
+        let tile_buf = gpu.storage("dither tile", tile.values());
+        let table_bufs: Vec<wgpu::Buffer> = (0..STEP_COUNT as u32)
+            .map(|i| gpu.storage("retarget table", tables.table(i).packed()))
+            .collect();
+        let intensity_bg = gpu.bind(&pipelines.intensity, &[&params, color, &intensity]);
+        let sort_bg = gpu.bind(
+            &pipelines.sort,
+            &[&params, &intensity, &tile_buf, &seeds, &scratch],
+        );
+        let retarget_bg = table_bufs
+            .iter()
+            .map(|t| gpu.bind(&pipelines.retarget, &[&params, t, &scratch, &seeds]))
+            .collect();
+        let seed_init_bg = gpu.bind(&pipelines.seed_init, &[&params, &seeds]);
+        Ok(SeedPermuter {
+            layout,
+            params,
+            seeds,
+            scratch,
+            intensity,
+            intensity_bg,
+            sort_bg,
+            retarget_bg,
+            seed_init_bg,
+        })
+    }
+
+    /// The frame layout.
+    pub fn layout(&self) -> &FrameLayout {
+        &self.layout
+    }
+
+    /// Writes the frame parameters of frame `frame` (takes effect at the next
+    /// submission; call once per submission).
+    pub fn set_frame(&self, gpu: &Gpu, frame: u32) {
+        gpu.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&self.layout.params(frame)));
+    }
+
+    /// Encodes white-noise seeds with salt `frame` (as set by
+    /// [`set_frame`](Self::set_frame)) into [`seeds`](Self::seeds).
+    pub fn encode_seed_init(&self, encoder: &mut wgpu::CommandEncoder, pipelines: &PermutePipelines) {
+        dispatch(
+            encoder,
+            &pipelines.seed_init,
+            &self.seed_init_bg,
+            self.layout.seed_count() as u32,
+            None,
+        );
+    }
+
+    /// Encodes the colour -> intensity pass.
+    pub fn encode_intensity(&self, encoder: &mut wgpu::CommandEncoder, pipelines: &PermutePipelines) {
+        dispatch(
+            encoder,
+            &pipelines.intensity,
+            &self.intensity_bg,
+            self.layout.pixel_count() as u32,
+            None,
+        );
+    }
+
+    /// Encodes the passes that turn frame `frame`'s seeds and intensities into
+    /// frame `frame + 1`'s seeds, for `mode`. [`set_frame`](Self::set_frame)
+    /// must have been called with `frame` for this submission, except in
+    /// [`PermuteMode::White`], which needs `frame + 1` (the salt).
+    /// `timer` (if any) records the sort and retarget passes as two spans.
+    pub fn encode_step(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipelines: &PermutePipelines,
+        frame: u32,
+        mode: PermuteMode,
+        timer: Option<&PassTimer>,
+    ) {
+        let params: FrameParams = self.layout.params(frame);
+        match mode {
+            PermuteMode::White => self.encode_seed_init(encoder, pipelines),
+            PermuteMode::Sort | PermuteMode::Permute => {
+                let blocks = params.blocks_x() * params.blocks_y();
+                dispatch(
+                    encoder,
+                    &pipelines.sort,
+                    &self.sort_bg,
+                    blocks,
+                    timer.map(|t| (t, 0)),
+                );
+                if mode == PermuteMode::Permute {
+                    let step = step_index(frame, params.tile_log2) as usize;
+                    dispatch(
+                        encoder,
+                        &pipelines.retarget,
+                        &self.retarget_bg[step],
+                        params.seed_count(),
+                        timer.map(|t| (t, 1)),
+                    );
+                } else {
+                    let bytes = (params.seed_count() as u64) * 4;
+                    encoder.copy_buffer_to_buffer(&self.scratch, 0, &self.seeds, 0, bytes);
+                }
+            }
+        }
+    }
+
+    /// Replaces the seed buffer with `seeds` (`padded_width * padded_height`).
+    ///
+    /// # Errors
+    /// [`GpuError::Input`] for a wrong length.
+    pub fn upload_seeds(&self, gpu: &Gpu, seeds: &[u32]) -> Result<(), GpuError> {
+        check_len(
+            sampler_core::Buffer::SeedsIn,
+            self.layout.seed_count(),
+            seeds.len(),
+        )?;
+        gpu.queue
+            .write_buffer(&self.seeds, 0, bytemuck::cast_slice(seeds));
+        Ok(())
+    }
+
+    /// Replaces the intensity buffer with `values` (`width * height`).
+    ///
+    /// # Errors
+    /// [`GpuError::Input`] for a wrong length.
+    pub fn upload_intensity(&self, gpu: &Gpu, values: &[f32]) -> Result<(), GpuError> {
+        check_len(
+            sampler_core::Buffer::Intensities,
+            self.layout.pixel_count(),
+            values.len(),
+        )?;
+        gpu.queue
+            .write_buffer(&self.intensity, 0, bytemuck::cast_slice(values));
+        Ok(())
+    }
+
+    /// Reads the seed buffer back (blocking).
+    ///
+    /// # Errors
+    /// [`GpuError::Readback`].
+    pub fn read_seeds(&self, gpu: &Gpu) -> Result<Vec<u32>, GpuError> {
+        gpu.read(&self.seeds, self.layout.seed_count())
+    }
+
+    /// Reads the sort pass's output buffer back (blocking).
+    ///
+    /// # Errors
+    /// [`GpuError::Readback`].
+    pub fn read_sorted(&self, gpu: &Gpu) -> Result<Vec<u32>, GpuError> {
+        gpu.read(&self.scratch, self.layout.seed_count())
+    }
+}
+
+fn check_len(buffer: sampler_core::Buffer, expected: usize, actual: usize) -> Result<(), GpuError> {
+    if expected == actual {
+        Ok(())
+    } else {
+        Err(GpuError::Input(sampler_core::Error::BufferSize {
+            buffer,
+            expected,
+            actual,
+        }))
+    }
+}
+
+/// Encodes one linear dispatch of `n` invocations in its own compute pass,
+/// optionally timed as span `span` of `timer`.
+fn dispatch(
+    encoder: &mut wgpu::CommandEncoder,
+    pipeline: &wgpu::ComputePipeline,
+    bind_group: &wgpu::BindGroup,
+    n: u32,
+    timer: Option<(&PassTimer, u32)>,
+) {
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: None,
+        timestamp_writes: timer.map(|(t, span)| t.writes(span)),
+    });
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, bind_group, &[]);
+    let (x, y) = linear_dispatch(n);
+    pass.dispatch_workgroups(x, y, 1);
+}

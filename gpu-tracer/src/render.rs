@@ -1,0 +1,238 @@
+//! The temporal render loop, on the CPU or the GPU: render frame `t` with
+//! the current seeds, accumulate it, then turn the seeds into frame `t + 1`'s
+//! according to the [`PermuteMode`].
+
+use crate::cpu;
+use crate::gpu::{Gpu, GpuError, PermuteMode, PermutePipelines, SeedPermuter, TracePipelines, Tracer};
+use crate::scene::{SceneGpu, TraceSettings};
+use glam::Vec4;
+use sampler_core::{DitherTile, FrameLayout, RetargetTables};
+use std::fmt;
+
+/// Which baked dither tile (and its retarget tables) the permutation uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TileChoice {
+    /// `sampler_core::defaults::tile_64` (64 x 64).
+    Tile64,
+    /// `sampler_core::defaults::tile_128` (128 x 128).
+    Tile128,
+}
+
+impl TileChoice {
+    /// The tile for a side of 64 or 128 texels.
+    pub fn from_side(side: u32) -> Option<Self> {
+        match side {
+            64 => Some(TileChoice::Tile64),
+            128 => Some(TileChoice::Tile128),
+            _ => None,
+        }
+    }
+    /// Side in texels.
+    pub fn side(self) -> u32 {
+        match self {
+            TileChoice::Tile64 => 64,
+            TileChoice::Tile128 => 128,
+        }
+    }
+    /// The baked tile and its tables.
+    pub fn load(self) -> (DitherTile<'static>, RetargetTables<'static>) {
+        match self {
+            TileChoice::Tile64 => (sampler_core::defaults::tile_64(), sampler_core::defaults::tables_64()),
+            TileChoice::Tile128 => (sampler_core::defaults::tile_128(), sampler_core::defaults::tables_128()),
+        }
+    }
+}
+
+/// Everything a render needs besides the scene.
+#[derive(Clone, Copy, Debug)]
+pub struct RenderJob {
+    /// Frame size, samples per pixel, path depth, seed mode. Its
+    /// `padded_width` is ignored: the loop sets it from the frame layout.
+    pub settings: TraceSettings,
+    /// Frames to render, `>= 1`.
+    pub frames: u32,
+    /// How seeds change between frames.
+    pub mode: PermuteMode,
+    /// Block side of the sorting pass, `2..=8`.
+    pub block: u32,
+    /// Dither tile.
+    pub tile: TileChoice,
+    /// Salt of the initial white-noise seeds.
+    pub salt: u32,
+}
+
+/// What a render returns.
+#[derive(Clone, Debug)]
+pub struct RenderOutput {
+    /// Colour of the last frame, `width * height`, row-major.
+    pub last: Vec<Vec4>,
+    /// Mean of all frames, `width * height`, row-major.
+    pub mean: Vec<Vec4>,
+    /// Which device rendered it.
+    pub device: String,
+}
+
+/// Errors of the render loop.
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum RenderError {
+    /// Bad frame geometry or permutation input.
+    Layout(sampler_core::Error),
+    /// Bad trace settings or scene.
+    Trace(crate::Error),
+    /// The GPU failed.
+    Gpu(GpuError),
+    /// `frames == 0`.
+    NoFrames,
+}
+
+impl fmt::Display for RenderError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RenderError::Layout(e) => write!(f, "{e}"),
+            RenderError::Trace(e) => write!(f, "{e}"),
+            RenderError::Gpu(e) => write!(f, "{e}"),
+            RenderError::NoFrames => write!(f, "the number of frames must be at least 1"),
+        }
+    }
+}
+
+impl std::error::Error for RenderError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            RenderError::Layout(e) => Some(e),
+            RenderError::Trace(e) => Some(e),
+            RenderError::Gpu(e) => Some(e),
+            RenderError::NoFrames => None,
+        }
+    }
+}
+
+impl From<sampler_core::Error> for RenderError {
+    fn from(e: sampler_core::Error) -> Self {
+        RenderError::Layout(e)
+    }
+}
+impl From<crate::Error> for RenderError {
+    fn from(e: crate::Error) -> Self {
+        RenderError::Trace(e)
+    }
+}
+impl From<GpuError> for RenderError {
+    fn from(e: GpuError) -> Self {
+        RenderError::Gpu(e)
+    }
+}
+
+impl RenderJob {
+    /// The frame layout of the seed buffer.
+    ///
+    /// # Errors
+    /// [`RenderError::Layout`] for a zero size or a bad block.
+    pub fn layout(&self) -> Result<FrameLayout, RenderError> {
+        Ok(FrameLayout::new(self.settings.width, self.settings.height, self.block, self.tile.side())?)
+    }
+
+    fn settings_for(&self, layout: &FrameLayout) -> TraceSettings {
+        TraceSettings { padded_width: layout.padded_width(), ..self.settings }
+    }
+}
+
+/// Renders `job` on the CPU (rayon over rows) with the kernels' own
+/// functions. `on_frame(t, colour)` sees every frame.
+///
+/// # Errors
+/// [`RenderError`] for bad settings; nothing is rendered then.
+pub fn render_cpu(
+    scene: &SceneGpu,
+    job: &RenderJob,
+    mut on_frame: impl FnMut(u32, &[Vec4]),
+) -> Result<RenderOutput, RenderError> {
+    if job.frames == 0 {
+        return Err(RenderError::NoFrames);
+    }
+    let layout = job.layout()?;
+    let settings = job.settings_for(&layout);
+    let (tile, tables) = job.tile.load();
+    let n = layout.pixel_count();
+    let mut seeds = cpu::white_seeds(layout.padded_width(), layout.padded_height(), job.salt);
+    let mut next = vec![0u32; seeds.len()];
+    let mut color = vec![Vec4::ZERO; n];
+    let mut mean = vec![Vec4::ZERO; n];
+    for t in 0..job.frames {
+        let params = scene.trace_params(&settings, t)?;
+        cpu::render_frame(scene, &params, &seeds, &mut color)?;
+        cpu::accumulate_frame(&params, &color, &mut mean)?;
+        on_frame(t, &color);
+        match job.mode {
+            PermuteMode::White => {
+                seeds = cpu::white_seeds(layout.padded_width(), layout.padded_height(), job.salt.wrapping_add(t + 1))
+            }
+            PermuteMode::Sort => {
+                sampler_core::sort_frame(&layout, t, &color, &tile, &seeds, &mut next)?;
+                std::mem::swap(&mut seeds, &mut next);
+            }
+            PermuteMode::Permute => {
+                sampler_core::permute_frame(&layout, t, &color, &tile, &tables, &seeds, &mut next)?;
+                std::mem::swap(&mut seeds, &mut next);
+            }
+        }
+    }
+    Ok(RenderOutput { last: color, mean, device: "CPU".into() })
+}
+
+/// Renders `job` on `gpu` with no read-back between frames (except when
+/// `on_frame` is given: then every frame's colour is read back for it).
+/// `on_submit(t)` is called once frame `t`'s work is submitted.
+///
+/// # Errors
+/// [`RenderError`] for bad settings or a GPU failure.
+pub fn render_gpu(
+    gpu: &Gpu,
+    scene: &SceneGpu,
+    job: &RenderJob,
+    mut on_submit: impl FnMut(u32),
+    mut on_frame: Option<&mut dyn FnMut(u32, &[Vec4])>,
+) -> Result<RenderOutput, RenderError> {
+    if job.frames == 0 {
+        return Err(RenderError::NoFrames);
+    }
+    let layout = job.layout()?;
+    let settings = job.settings_for(&layout);
+    let (tile, tables) = job.tile.load();
+    let params0 = scene.trace_params(&settings, 0)?;
+    let trace_pipelines = TracePipelines::new(gpu)?;
+    let permute_pipelines = PermutePipelines::new(gpu)?;
+    // The permuter owns the seed buffer and reads the tracer's colour.
+    let color = Tracer::color_buffer(gpu, layout.width(), layout.height());
+    let permuter = SeedPermuter::new(gpu, &permute_pipelines, layout, &tile, &tables, &color)?;
+    let tracer = Tracer::new(gpu, &trace_pipelines, scene, &params0, &permuter.seeds, color);
+
+    permuter.set_frame(gpu, job.salt);
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    permuter.encode_seed_init(&mut encoder, &permute_pipelines);
+    gpu.queue.submit([encoder.finish()]);
+
+    for t in 0..job.frames {
+        let params = scene.trace_params(&settings, t)?;
+        tracer.set_params(gpu, &params);
+        let salt_or_frame = if job.mode == PermuteMode::White { job.salt.wrapping_add(t + 1) } else { t };
+        permuter.set_frame(gpu, salt_or_frame);
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        tracer.encode_trace(&mut encoder, &trace_pipelines, None);
+        tracer.encode_accumulate(&mut encoder, &trace_pipelines);
+        if job.mode != PermuteMode::White {
+            permuter.encode_intensity(&mut encoder, &permute_pipelines);
+        }
+        permuter.encode_step(&mut encoder, &permute_pipelines, t, job.mode, None);
+        gpu.queue.submit([encoder.finish()]);
+        on_submit(t);
+        if let Some(f) = on_frame.as_mut() {
+            let color = tracer.read_color(gpu)?;
+            f(t, &color);
+        }
+    }
+    let last = tracer.read_color(gpu)?;
+    let mean = tracer.read_accum(gpu)?;
+    Ok(RenderOutput { last, mean, device: gpu.describe() })
+}

@@ -1,0 +1,314 @@
+//! The `bake` tool's library: file formats, the recipe of sampler-core's
+//! default data, and the bake jobs the CLI and its tests share.
+//!
+//! # File formats (all little-endian, no header)
+//!
+//! - mask / dither tile `.bin`: one `u32` rank per texel, row-major.
+//! - retarget tables `.bin`: the [`STEP_COUNT`] tables of one tile back to
+//!   back, table `i` (baked for `step_of_index(i)`) first at byte
+//!   `i * 4 * W * W`; one packed `u32` offset per texel, row-major.
+//! - spatiotemporal `.bin`: one `u16` per-slice rank per texel, slice-major
+//!   then row-major.
+//!
+//! PNG output maps rank `r` of `n` to `floor(r * 2^bits / n)` (8 or 16 bits
+//! per texel, grey), so every level is used equally often.
+
+use anyhow::{bail, ensure, Context, Result};
+use rayon::prelude::*;
+use sampler_core::bake::{
+    bake_mask, bake_retarget_table, bake_stbn, MaskParams, RetargetBake, StbnParams, MAX_MASK_SIDE,
+};
+use sampler_core::{DitherTile, STEP_COUNT};
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Sigma of the default dither tiles (Wolfe et al.'s 1.9; see BENCHMARKS.md
+/// for the retargeting energy it gives).
+pub const DEFAULT_TILE_SIGMA: f64 = 1.9;
+/// Recorded seed of the default 64x64 dither tile.
+pub const DEFAULT_TILE_64_SEED: u64 = 64;
+/// Recorded seed of the default 128x128 dither tile.
+pub const DEFAULT_TILE_128_SEED: u64 = 128;
+/// Size of the default spatiotemporal mask.
+pub const DEFAULT_STBN_SIZE: (u32, u32, u32) = (128, 128, 64);
+/// Spatial and temporal sigma of the default spatiotemporal mask.
+pub const DEFAULT_STBN_SIGMA: f64 = 1.9;
+/// Recorded seed of the default spatiotemporal mask.
+pub const DEFAULT_STBN_SEED: u64 = 3;
+
+/// One group of files of sampler-core's `data/` directory.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum DefaultSet {
+    /// `tile_64.bin` and `tables_64.bin`.
+    Tile64,
+    /// `tile_128.bin` and `tables_128.bin`.
+    Tile128,
+    /// `stbn_128x128x64.bin`.
+    Stbn,
+}
+
+impl DefaultSet {
+    /// Every set, in the order `defaults` writes them.
+    pub const ALL: [DefaultSet; 3] = [DefaultSet::Tile64, DefaultSet::Tile128, DefaultSet::Stbn];
+
+    /// File names this set writes.
+    pub fn files(self) -> &'static [&'static str] {
+        match self {
+            DefaultSet::Tile64 => &["tile_64.bin", "tables_64.bin"],
+            DefaultSet::Tile128 => &["tile_128.bin", "tables_128.bin"],
+            DefaultSet::Stbn => &["stbn_128x128x64.bin"],
+        }
+    }
+}
+
+/// Reports progress: `(done, total)`.
+pub type Report<'a> = &'a mut dyn FnMut(u64, u64);
+
+/// `u32`s as little-endian bytes.
+pub fn encode_u32(values: &[u32]) -> Vec<u8> {
+    values.iter().flat_map(|v| v.to_le_bytes()).collect()
+}
+
+/// Ranks as little-endian `u16` bytes.
+///
+/// # Errors
+/// If a rank does not fit in 16 bits.
+pub fn encode_u16(values: &[u32]) -> Result<Vec<u8>> {
+    let mut out = Vec::with_capacity(values.len() * 2);
+    for &v in values {
+        let v = u16::try_from(v).with_context(|| format!("rank {v} does not fit in 16 bits"))?;
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+    Ok(out)
+}
+
+/// Little-endian `u32`s from bytes.
+///
+/// # Errors
+/// If the length is not a multiple of 4.
+pub fn decode_u32(bytes: &[u8]) -> Result<Vec<u32>> {
+    ensure!(
+        bytes.len() % 4 == 0,
+        "{} bytes is not a whole number of u32 values",
+        bytes.len()
+    );
+    Ok(bytes
+        .chunks_exact(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect())
+}
+
+/// Reads a square dither tile `.bin` (the side is inferred from the length).
+///
+/// # Errors
+/// Unreadable file, or a texel count that is not the square of a power of two.
+pub fn read_tile(path: &Path) -> Result<(u32, Vec<u32>)> {
+    let bytes = fs::read(path).with_context(|| format!("cannot read tile {}", path.display()))?;
+    let values = decode_u32(&bytes)?;
+    let side = (values.len() as f64).sqrt() as u32;
+    ensure!(
+        side as usize * side as usize == values.len() && side.is_power_of_two() && side >= 2,
+        "tile {} holds {} texels: not a square tile with a power-of-two side",
+        path.display(),
+        values.len()
+    );
+    Ok((side, values))
+}
+
+/// Creates (truncates) a file for writing, with the path in the error.
+///
+/// # Errors
+/// If the file cannot be created.
+pub fn create_file(path: &Path) -> Result<fs::File> {
+    fs::File::create(path).with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Creates a directory (and parents), with the path in the error.
+///
+/// # Errors
+/// If it cannot be created.
+pub fn create_dir(path: &Path) -> Result<()> {
+    fs::create_dir_all(path).with_context(|| format!("cannot create directory {}", path.display()))
+}
+
+/// Writes `bytes` to an already created file.
+///
+/// # Errors
+/// On I/O failure.
+pub fn write_all(mut file: fs::File, path: &Path, bytes: &[u8]) -> Result<()> {
+    file.write_all(bytes)
+        .with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Encodes ranks `0..n` (`n = width * height`) as a grey PNG of `bits`
+/// (8 or 16) per texel into `file`.
+///
+/// # Errors
+/// Bad `bits`, or an encoding/I/O failure.
+pub fn write_png(
+    file: fs::File,
+    path: &Path,
+    width: u32,
+    height: u32,
+    ranks: &[u32],
+    bits: u32,
+) -> Result<()> {
+    let n = ranks.len() as u64;
+    let level = |r: u32, b: u32| ((r as u64) << b) / n;
+    let encoder = image::codecs::png::PngEncoder::new(std::io::BufWriter::new(file));
+    let result = match bits {
+        8 => image::GrayImage::from_fn(width, height, |x, y| {
+            image::Luma([level(ranks[(y * width + x) as usize], 8) as u8])
+        })
+        .write_with_encoder(encoder),
+        16 => image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::from_fn(width, height, |x, y| {
+            image::Luma([level(ranks[(y * width + x) as usize], 16) as u16])
+        })
+        .write_with_encoder(encoder),
+        _ => bail!("PNG bit depth must be 8 or 16, not {bits}"),
+    };
+    result.with_context(|| format!("cannot write PNG {}", path.display()))
+}
+
+/// Parses `W`, `WxH` (2D) or `WxHxD` sizes; every side a power of two in
+/// `1..=MAX_MASK_SIDE`.
+///
+/// # Errors
+/// A message naming the problem (zero, not a power of two, too many parts).
+pub fn parse_size(text: &str, max_parts: usize) -> Result<Vec<u32>> {
+    let parts: Vec<&str> = text.split(['x', 'X']).collect();
+    ensure!(
+        parts.len() <= max_parts,
+        "size {text:?} has more than {max_parts} parts"
+    );
+    let mut sides = Vec::new();
+    for p in parts {
+        let v: u32 = p
+            .trim()
+            .parse()
+            .with_context(|| format!("size {text:?}: {p:?} is not a number"))?;
+        ensure!(
+            v.is_power_of_two() && v <= MAX_MASK_SIDE,
+            "size {text:?}: {v} is not a power of two in 1..={MAX_MASK_SIDE}"
+        );
+        sides.push(v);
+    }
+    Ok(sides)
+}
+
+/// Bakes the tables of every step for `tile`, in parallel (one rayon task
+/// per table), in index order. `done` is called once per finished table.
+///
+/// # Errors
+/// As [`bake_retarget_table`].
+pub fn bake_tables_parallel(tile: &DitherTile<'_>, done: &(dyn Fn() + Sync)) -> Result<Vec<RetargetBake>> {
+    (0..STEP_COUNT as u32)
+        .into_par_iter()
+        .map(|i| {
+            let b = bake_retarget_table(tile, i);
+            done();
+            b.map_err(anyhow::Error::from)
+        })
+        .collect()
+}
+
+/// The bytes of a tables file: tables in index order, back to back.
+pub fn encode_tables(tables: &[RetargetBake]) -> Vec<u8> {
+    tables.iter().flat_map(|t| encode_u32(&t.packed)).collect()
+}
+
+/// Bakes a default dither tile and its tables: `(tile bytes, tables bytes, bakes)`.
+///
+/// # Errors
+/// Propagated bake errors (none for the recorded parameters).
+pub fn bake_default_tile(
+    side: u32,
+    seed: u64,
+    report: Report<'_>,
+) -> Result<(Vec<u8>, Vec<u8>, Vec<RetargetBake>)> {
+    let params = MaskParams {
+        width: side,
+        height: side,
+        sigma: DEFAULT_TILE_SIGMA,
+        seed,
+    };
+    let ranks = bake_mask(&params, report)?;
+    let tile = DitherTile::new(side, &ranks)?;
+    let tables = bake_tables_parallel(&tile, &|| {})?;
+    Ok((encode_u32(&ranks), encode_tables(&tables), tables))
+}
+
+/// Bakes the default spatiotemporal mask: its `u16` bytes.
+///
+/// # Errors
+/// Propagated bake errors (none for the recorded parameters).
+pub fn bake_default_stbn(report: Report<'_>) -> Result<Vec<u8>> {
+    let (width, height, depth) = DEFAULT_STBN_SIZE;
+    let params = StbnParams {
+        width,
+        height,
+        depth,
+        sigma: DEFAULT_STBN_SIGMA,
+        temporal_sigma: DEFAULT_STBN_SIGMA,
+        seed: DEFAULT_STBN_SEED,
+    };
+    encode_u16(&bake_stbn(&params, report)?)
+}
+
+/// Bakes one default set: `(file name, bytes)` pairs, plus the retarget
+/// bakes (for reporting energies; empty for the STBN set).
+///
+/// # Errors
+/// Propagated bake errors.
+pub fn bake_default_set(
+    set: DefaultSet,
+    report: Report<'_>,
+) -> Result<(Vec<(&'static str, Vec<u8>)>, Vec<RetargetBake>)> {
+    let files = set.files();
+    Ok(match set {
+        DefaultSet::Tile64 | DefaultSet::Tile128 => {
+            let (side, seed) = if set == DefaultSet::Tile64 {
+                (64, DEFAULT_TILE_64_SEED)
+            } else {
+                (128, DEFAULT_TILE_128_SEED)
+            };
+            let (tile, tables, bakes) = bake_default_tile(side, seed, report)?;
+            (vec![(files[0], tile), (files[1], tables)], bakes)
+        }
+        DefaultSet::Stbn => (vec![(files[0], bake_default_stbn(report)?)], Vec::new()),
+    })
+}
+
+/// The committed data directory of sampler-core (next to this crate).
+pub fn committed_data_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join("data")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse_or_explain() {
+        assert_eq!(parse_size("64", 2).unwrap(), vec![64]);
+        assert_eq!(parse_size("64x32", 2).unwrap(), vec![64, 32]);
+        assert_eq!(parse_size("128x128x64", 3).unwrap(), vec![128, 128, 64]);
+        for bad in ["0", "48", "64x0", "x", "abc", "8192", "4x4x4"] {
+            assert!(parse_size(bad, 2).is_err(), "{bad}");
+        }
+        assert!(parse_size("48", 2)
+            .unwrap_err()
+            .to_string()
+            .contains("power of two"));
+    }
+
+    #[test]
+    fn encodings_round_trip() {
+        let v = vec![0, 1, 0xDEAD_BEEF, u32::MAX];
+        assert_eq!(decode_u32(&encode_u32(&v)).unwrap(), v);
+        assert!(decode_u32(&[1, 2, 3]).is_err());
+        assert_eq!(encode_u16(&[0x1234, 1]).unwrap(), vec![0x34, 0x12, 1, 0]);
+        assert!(encode_u16(&[70000]).is_err());
+    }
+}

@@ -1,0 +1,295 @@
+//! `bake`: bakes blue-noise masks, spatiotemporal masks and retarget tables,
+//! and regenerates sampler-core's committed defaults.
+//!
+//! ```text
+//! bake mask --size 128 --sigma 1.5 --seed 1 --out mask.png
+//! bake stbn --size 128x128x64 --out stbn/
+//! bake retarget --tile tile.bin --out tables/
+//! bake defaults --out sampler-core/data
+//! ```
+
+use anyhow::{ensure, Context, Result};
+use bake::{
+    bake_default_set, bake_tables_parallel, create_dir, create_file, encode_tables, encode_u16, encode_u32,
+    parse_size, read_tile, write_all, write_png, DefaultSet,
+};
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use sampler_core::bake::{anneal_retarget_table, bake_mask, bake_stbn, AnnealParams, MaskParams, StbnParams};
+use sampler_core::{DitherTile, STEP_COUNT};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "bake",
+    version,
+    about = "Bake blue-noise masks, spatiotemporal masks and retarget tables"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// A 2D toroidal void-and-cluster mask (exact histogram).
+    Mask {
+        /// `W` or `WxH`, powers of two.
+        #[arg(long)]
+        size: String,
+        /// Gaussian energy sigma in texels.
+        #[arg(long, default_value_t = 1.9, allow_negative_numbers = true)]
+        sigma: f64,
+        /// Seed of the initial pattern.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Output: `.png` (grey) or `.bin` (little-endian u32 ranks).
+        #[arg(long)]
+        out: PathBuf,
+        /// PNG bits per texel: 8 or 16.
+        #[arg(long, default_value_t = 16)]
+        bits: u32,
+    },
+    /// A scalar spatiotemporal mask: per-slice PNGs and one binary file.
+    Stbn {
+        /// `WxHxD`, powers of two, `W * H <= 65536`.
+        #[arg(long)]
+        size: String,
+        /// Spatial sigma in texels.
+        #[arg(long, default_value_t = 1.9, allow_negative_numbers = true)]
+        sigma: f64,
+        /// Temporal sigma in slices.
+        #[arg(long, default_value_t = 1.9, allow_negative_numbers = true)]
+        temporal_sigma: f64,
+        /// Seed of the initial pattern.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Output directory: `slice_NNN.png` and `stbn_WxHxD.bin` (u16 ranks).
+        #[arg(long)]
+        out: PathBuf,
+        /// PNG bits per texel: 8 or 16.
+        #[arg(long, default_value_t = 16)]
+        bits: u32,
+    },
+    /// The retarget tables of every walk step for a dither tile.
+    Retarget {
+        /// Square tile of little-endian u32 values (`mask --out X.bin`).
+        #[arg(long)]
+        tile: PathBuf,
+        /// Output directory: `tables_W.bin`.
+        #[arg(long)]
+        out: PathBuf,
+        /// Also run the simulated-annealing baseline with this many sweeps and print its energy.
+        #[arg(long)]
+        anneal: Option<u32>,
+    },
+    /// Regenerates sampler-core's data files from the recorded seeds.
+    Defaults {
+        /// Output directory (sampler-core/data to refresh the committed files).
+        #[arg(long)]
+        out: PathBuf,
+        /// Only these sets (default: all).
+        #[arg(long, value_enum)]
+        only: Vec<DefaultSet>,
+    },
+}
+
+fn bar(total: u64, what: &str) -> ProgressBar {
+    let pb = ProgressBar::new(total);
+    pb.set_style(
+        ProgressStyle::with_template("{msg:>12} [{elapsed_precise}] {wide_bar} {pos}/{len} ({eta})")
+            .expect("static template is valid"),
+    );
+    pb.set_message(what.to_string());
+    pb
+}
+
+fn main() -> Result<()> {
+    match Cli::parse().command {
+        Command::Mask {
+            size,
+            sigma,
+            seed,
+            out,
+            bits,
+        } => mask(&size, sigma, seed, &out, bits),
+        Command::Stbn {
+            size,
+            sigma,
+            temporal_sigma,
+            seed,
+            out,
+            bits,
+        } => stbn(&size, sigma, temporal_sigma, seed, &out, bits),
+        Command::Retarget { tile, out, anneal } => retarget(&tile, &out, anneal),
+        Command::Defaults { out, only } => defaults(&out, &only),
+    }
+}
+
+fn check_bits(bits: u32) -> Result<()> {
+    ensure!(bits == 8 || bits == 16, "--bits must be 8 or 16, not {bits}");
+    Ok(())
+}
+
+fn mask(size: &str, sigma: f64, seed: u64, out: &Path, bits: u32) -> Result<()> {
+    let sides = parse_size(size, 2)?;
+    let (width, height) = (sides[0], *sides.get(1).unwrap_or(&sides[0]));
+    let ext = out.extension().and_then(|e| e.to_str()).unwrap_or("");
+    ensure!(
+        ext == "png" || ext == "bin",
+        "output {} must end in .png or .bin",
+        out.display()
+    );
+    check_bits(bits)?;
+    let file = create_file(out)?; // fail before a long bake
+    let pb = bar((width * height) as u64, "mask");
+    let start = Instant::now();
+    let ranks = bake_mask(
+        &MaskParams {
+            width,
+            height,
+            sigma,
+            seed,
+        },
+        &mut |d, _| pb.set_position(d),
+    )?;
+    pb.finish_and_clear();
+    eprintln!(
+        "baked {width}x{height} sigma {sigma} seed {seed} in {:.3} s",
+        start.elapsed().as_secs_f64()
+    );
+    if ext == "png" {
+        write_png(file, out, width, height, &ranks, bits)
+    } else {
+        write_all(file, out, &encode_u32(&ranks))
+    }
+}
+
+fn stbn(size: &str, sigma: f64, temporal_sigma: f64, seed: u64, out: &Path, bits: u32) -> Result<()> {
+    let sides = parse_size(size, 3)?;
+    ensure!(
+        sides.len() == 3,
+        "spatiotemporal size must be WxHxD, got {size:?}"
+    );
+    let (width, height, depth) = (sides[0], sides[1], sides[2]);
+    ensure!(
+        width as u64 * height as u64 <= 1 << 16,
+        "a {width}x{height} slice has more than 65536 texels: its ranks do not fit the u16 file format"
+    );
+    check_bits(bits)?;
+    create_dir(out)?;
+    let bin_path = out.join(format!("stbn_{width}x{height}x{depth}.bin"));
+    let bin = create_file(&bin_path)?;
+    let total = width as u64 * height as u64 * depth as u64;
+    let pb = bar(total, "stbn");
+    let start = Instant::now();
+    let params = StbnParams {
+        width,
+        height,
+        depth,
+        sigma,
+        temporal_sigma,
+        seed,
+    };
+    let ranks = bake_stbn(&params, &mut |d, _| pb.set_position(d))?;
+    pb.finish_and_clear();
+    eprintln!(
+        "baked {width}x{height}x{depth} in {:.3} s",
+        start.elapsed().as_secs_f64()
+    );
+    write_all(bin, &bin_path, &encode_u16(&ranks)?)?;
+    let n = (width * height) as usize;
+    for (z, slice) in ranks.chunks(n).enumerate() {
+        let path = out.join(format!("slice_{z:03}.png"));
+        write_png(create_file(&path)?, &path, width, height, slice, bits)?;
+    }
+    Ok(())
+}
+
+fn retarget(tile_path: &Path, out: &Path, anneal: Option<u32>) -> Result<()> {
+    let (side, values) = read_tile(tile_path)?;
+    let tile = DitherTile::new(side, &values).context("invalid dither tile")?;
+    create_dir(out)?;
+    let path = out.join(format!("tables_{side}.bin"));
+    let file = create_file(&path)?;
+    let pb = bar(STEP_COUNT as u64, "tables");
+    let start = Instant::now();
+    let tables = bake_tables_parallel(&tile, &|| pb.inc(1))?;
+    pb.finish_and_clear();
+    println!(
+        "{side}x{side} tile: {STEP_COUNT} tables in {:.3} s",
+        start.elapsed().as_secs_f64()
+    );
+    for t in &tables {
+        println!(
+            "table {} step ({}, {}): energy identity {} -> exact {} (ratio {:.5}, {} bids)",
+            t.index,
+            t.step.x,
+            t.step.y,
+            t.energy_identity,
+            t.energy,
+            t.energy_ratio(),
+            t.bids
+        );
+    }
+    if let Some(sweeps) = anneal {
+        for i in 0..STEP_COUNT as u32 {
+            let start = Instant::now();
+            let a = anneal_retarget_table(
+                &tile,
+                i,
+                &AnnealParams {
+                    sweeps,
+                    ..AnnealParams::default()
+                },
+            )?;
+            println!(
+                "table {i}: annealing ({sweeps} sweeps, {:.2} s): energy {} (ratio {:.5})",
+                start.elapsed().as_secs_f64(),
+                a.energy,
+                a.energy_ratio()
+            );
+        }
+    }
+    write_all(file, &path, &encode_tables(&tables))
+}
+
+fn defaults(out: &Path, only: &[DefaultSet]) -> Result<()> {
+    create_dir(out)?;
+    let sets = if only.is_empty() {
+        DefaultSet::ALL.to_vec()
+    } else {
+        only.to_vec()
+    };
+    for set in sets {
+        // Check writability before baking.
+        let files = set
+            .files()
+            .iter()
+            .map(|name| Ok((out.join(name), create_file(&out.join(name))?)))
+            .collect::<Result<Vec<_>>>()?;
+        let pb = bar(0, &format!("{set:?}"));
+        let start = Instant::now();
+        let (outputs, bakes) = bake_default_set(set, &mut |d, t| {
+            pb.set_length(t);
+            pb.set_position(d)
+        })?;
+        pb.finish_and_clear();
+        println!("{set:?}: baked in {:.3} s", start.elapsed().as_secs_f64());
+        for t in &bakes {
+            println!(
+                "  table {}: energy identity {} -> {} (ratio {:.5})",
+                t.index,
+                t.energy_identity,
+                t.energy,
+                t.energy_ratio()
+            );
+        }
+        for ((path, file), (_, bytes)) in files.into_iter().zip(outputs) {
+            write_all(file, &path, &bytes)?;
+            println!("  wrote {} ({} bytes)", path.display(), bytes.len());
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,270 @@
+//! Baking retarget tables as exact assignment problems.
+//!
+//! Convention (that of [`retarget`](crate::retarget) and
+//! [`walk`](crate::walk)): table index `i` serves the step
+//! `s = step_of_index(i, k)`; the seed at tile texel `q` moves to
+//! `d = (q + R(q)) mod W` with `|R|_inf <=` [`RETARGET_RADIUS`], the map
+//! `q -> d` is a permutation of the tile, and the baker minimises the L1
+//! energy
+//!
+//! ```text
+//! E(R) = sum over q of |tile[q] - tile[(q + R(q) + s) mod W]|
+//! ```
+//!
+//! i.e. after the move, the next frame's dither value at the seed's new
+//! place is as close as possible to the one it was sorted against. Each
+//! texel has `(2 r + 1)^2 = 169` candidate destinations: a sparse
+//! assignment problem, solved exactly by [`solve_assignment`]. The identity
+//! (`R = 0`) is the "before" energy.
+//!
+//! Offsets are stored in their canonical form per axis: `-6..=6` on tiles of
+//! at least 13 texels; on smaller tiles every destination is reachable and
+//! the offsets are `-(W/2 - 1)..=W/2`.
+
+use super::assignment::{solve_assignment, SparseCosts};
+use super::BakeError;
+use crate::dither::DitherTile;
+use crate::retarget::{pack_offset, unpack_offset, RetargetTable, IDENTITY_PACKED, RETARGET_RADIUS};
+use crate::walk::{step_of_index, STEP_COUNT};
+use alloc::vec;
+use alloc::vec::Vec;
+use glam::{IVec2, UVec2};
+
+/// Candidate offsets along one axis of a tile of side `w`.
+fn axis_offsets(w: u32) -> Vec<i32> {
+    let w = w as i32;
+    if w > 2 * RETARGET_RADIUS {
+        (-RETARGET_RADIUS..=RETARGET_RADIUS).collect()
+    } else {
+        (-(w / 2 - 1)..=w / 2).collect()
+    }
+}
+
+/// The sparse cost graph of one retarget table: source `q` (row-major tile
+/// texel) to destination `d` within the radius, cost
+/// `|tile[q] - tile[(d + s) mod W]|`.
+#[derive(Clone, Debug)]
+pub struct RetargetCosts<'a> {
+    tile: DitherTile<'a>,
+    /// `tile[(d + s) mod W]` for every destination `d`.
+    shifted: Vec<u32>,
+    /// Candidate offsets as `(dx, dy)`, row-major over the square of
+    /// [`axis_offsets`].
+    offsets: Vec<IVec2>,
+}
+
+impl<'a> RetargetCosts<'a> {
+    /// The graph for step `step` (each component in `0..W`).
+    pub fn new(tile: DitherTile<'a>, step: UVec2) -> Self {
+        let w = tile.tile();
+        let m = w - 1;
+        let k = tile.tile_log2();
+        let v = tile.values();
+        let mut shifted = Vec::with_capacity(v.len());
+        for y in 0..w {
+            for x in 0..w {
+                shifted.push(v[((((y + step.y) & m) << k) | ((x + step.x) & m)) as usize]);
+            }
+        }
+        let axis = axis_offsets(w);
+        let offsets = axis
+            .iter()
+            .flat_map(|&dy| axis.iter().map(move |&dx| IVec2::new(dx, dy)))
+            .collect();
+        RetargetCosts {
+            tile,
+            shifted,
+            offsets,
+        }
+    }
+
+    #[inline]
+    fn destination(&self, q: usize, o: IVec2) -> usize {
+        let k = self.tile.tile_log2();
+        let m = (1i32 << k) - 1;
+        let (x, y) = ((q as i32) & m, (q as i32) >> k);
+        ((((y + o.y) & m) << k) | ((x + o.x) & m)) as usize
+    }
+
+    /// The canonical offset that moves `q` to `d` (must be a candidate).
+    fn offset_between(&self, q: usize, d: usize) -> IVec2 {
+        self.offsets
+            .iter()
+            .copied()
+            .find(|&o| self.destination(q, o) == d)
+            .unwrap_or(IVec2::ZERO)
+    }
+}
+
+impl SparseCosts for RetargetCosts<'_> {
+    fn size(&self) -> usize {
+        self.shifted.len()
+    }
+    #[inline]
+    fn for_each_edge(&self, source: usize, mut edge: impl FnMut(usize, u64)) {
+        let a = self.tile.values()[source];
+        for &o in &self.offsets {
+            let d = self.destination(source, o);
+            edge(d, a.abs_diff(self.shifted[d]) as u64);
+        }
+    }
+}
+
+/// The L1 energy `sum |tile[q] - tile[(q + R(q) + step) mod W]|` of a
+/// packed table (offsets wrap toroidally; `table.len()` must equal the
+/// tile's texel count, extra or missing entries are ignored).
+pub fn retarget_energy(tile: &DitherTile<'_>, step: UVec2, table: &[u32]) -> u64 {
+    let w = tile.tile() as i32;
+    let k = tile.tile_log2();
+    let m = w - 1;
+    let v = tile.values();
+    let mut e = 0u64;
+    for (q, &p) in table.iter().enumerate().take(v.len()) {
+        let o = unpack_offset(p);
+        let (x, y) = ((q as i32) & m, (q as i32) >> k);
+        let tx = (x + o.x + step.x as i32) & m;
+        let ty = (y + o.y + step.y as i32) & m;
+        e += v[q].abs_diff(v[((ty << k) | tx) as usize]) as u64;
+    }
+    e
+}
+
+/// A baked retarget table and its energies.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RetargetBake {
+    /// Step index `0..STEP_COUNT` the table serves.
+    pub index: u32,
+    /// The step vector `step_of_index(index)`.
+    pub step: UVec2,
+    /// Packed offsets (see [`pack_offset`]), row-major; validated with
+    /// [`RetargetTable::new`].
+    pub packed: Vec<u32>,
+    /// Energy of the identity table (no retargeting).
+    pub energy_identity: u64,
+    /// Energy of `packed`: the exact minimum.
+    pub energy: u64,
+    /// Auction bids spent (work measure).
+    pub bids: u64,
+}
+
+impl RetargetBake {
+    /// `energy / energy_identity` (0 if the identity energy is 0).
+    pub fn energy_ratio(&self) -> f64 {
+        if self.energy_identity == 0 {
+            0.0
+        } else {
+            self.energy as f64 / self.energy_identity as f64
+        }
+    }
+}
+
+/// Bakes the retarget table of step index `index` for `tile` exactly.
+///
+/// # Errors
+/// [`BakeError::StepIndex`] if `index >= STEP_COUNT`;
+/// [`BakeError::CostRange`] if the tile's values are too large for the
+/// solver (never for rank tiles up to 512x512);
+/// [`BakeError::Core`] if the result failed validation (a bug).
+pub fn bake_retarget_table(tile: &DitherTile<'_>, index: u32) -> Result<RetargetBake, BakeError> {
+    if index >= STEP_COUNT as u32 {
+        return Err(BakeError::StepIndex { index });
+    }
+    let step = step_of_index(index, tile.tile_log2());
+    let costs = RetargetCosts::new(*tile, step);
+    let solution = solve_assignment(&costs)?;
+    let packed: Vec<u32> = solution
+        .destination
+        .iter()
+        .enumerate()
+        .map(|(q, &d)| pack_offset(costs.offset_between(q, d as usize)))
+        .collect();
+    RetargetTable::new(tile.tile(), &packed)?;
+    let identity = vec![IDENTITY_PACKED; packed.len()];
+    Ok(RetargetBake {
+        index,
+        step,
+        energy_identity: retarget_energy(tile, step, &identity),
+        energy: retarget_energy(tile, step, &packed),
+        packed,
+        bids: solution.bids,
+    })
+}
+
+/// Bakes the tables of all [`STEP_COUNT`] steps, one after another (a
+/// caller with threads can call [`bake_retarget_table`] per index instead).
+///
+/// # Errors
+/// As [`bake_retarget_table`].
+pub fn bake_retarget_tables(tile: &DitherTile<'_>) -> Result<Vec<RetargetBake>, BakeError> {
+    (0..STEP_COUNT as u32)
+        .map(|i| bake_retarget_table(tile, i))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bake::{anneal_retarget_table, bake_mask, no_progress, AnnealParams, MaskParams};
+
+    fn mask(w: u32, seed: u64) -> Vec<u32> {
+        bake_mask(
+            &MaskParams {
+                width: w,
+                height: w,
+                sigma: 1.9,
+                seed,
+            },
+            &mut no_progress,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn small_tiles_give_valid_tables_with_no_more_energy_than_identity() {
+        for w in [2u32, 4, 8, 16] {
+            let ranks = mask(w, 3);
+            let tile = DitherTile::new(w, &ranks).unwrap();
+            for b in bake_retarget_tables(&tile).unwrap() {
+                assert!(RetargetTable::new(w, &b.packed).is_ok());
+                assert!(b.energy <= b.energy_identity, "w {w}");
+                assert_eq!(b.step, step_of_index(b.index, tile.tile_log2()));
+            }
+        }
+    }
+
+    /// The exact solver never loses to the annealing baseline on the same
+    /// problem, and its energy is the recomputed energy of its table.
+    #[test]
+    fn exact_beats_annealing() {
+        let ranks = mask(32, 8);
+        let tile = DitherTile::new(32, &ranks).unwrap();
+        let exact = bake_retarget_table(&tile, 1).unwrap();
+        let sa = anneal_retarget_table(
+            &tile,
+            1,
+            &AnnealParams {
+                sweeps: 20,
+                ..AnnealParams::default()
+            },
+        )
+        .unwrap();
+        assert!(
+            exact.energy <= sa.energy,
+            "exact {} anneal {}",
+            exact.energy,
+            sa.energy
+        );
+        assert!(sa.energy < sa.energy_identity);
+        assert_eq!(exact.energy_identity, sa.energy_identity);
+    }
+
+    #[test]
+    fn bad_index_is_an_error() {
+        let ranks = mask(8, 1);
+        let tile = DitherTile::new(8, &ranks).unwrap();
+        assert_eq!(
+            bake_retarget_table(&tile, 4),
+            Err(BakeError::StepIndex { index: 4 })
+        );
+    }
+}

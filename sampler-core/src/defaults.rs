@@ -1,0 +1,136 @@
+//! Baked defaults compiled into the crate (cargo feature `defaults`, on by
+//! default; the workspace dependency turns it off so shader crates never
+//! carry the ~2.4 MiB of statics).
+//!
+//! The data are the files of `sampler-core/data/` (see its README), produced
+//! by the `bake` CLI from recorded seeds: void-and-cluster dither tiles with
+//! sigma 1.9, the exact retarget tables of every step of their offset walk
+//! (energy about 0.011 of the identity's), and a 128x128x64 spatiotemporal
+//! mask with sigma 1.9 in space and time. Tiles and tables are decoded at
+//! compile time into `u32` statics; the mask is read byte-wise.
+
+use crate::dither::DitherTile;
+use crate::retarget::RetargetTables;
+use crate::stbn_mask::SpatiotemporalMask;
+use crate::walk::STEP_COUNT;
+
+/// Decodes little-endian `u32`s at compile time (no alignment assumption);
+/// a length mismatch is a compile error.
+const fn decode_u32<const N: usize>(bytes: &[u8]) -> [u32; N] {
+    assert!(bytes.len() == 4 * N, "data file has the wrong length");
+    let mut out = [0u32; N];
+    let mut i = 0;
+    while i < N {
+        out[i] = u32::from_le_bytes([bytes[4 * i], bytes[4 * i + 1], bytes[4 * i + 2], bytes[4 * i + 3]]);
+        i += 1;
+    }
+    out
+}
+
+static TILE_64: [u32; 64 * 64] = decode_u32(include_bytes!("../data/tile_64.bin"));
+static TABLES_64: [u32; STEP_COUNT * 64 * 64] = decode_u32(include_bytes!("../data/tables_64.bin"));
+static TILE_128: [u32; 128 * 128] = decode_u32(include_bytes!("../data/tile_128.bin"));
+static TABLES_128: [u32; STEP_COUNT * 128 * 128] = decode_u32(include_bytes!("../data/tables_128.bin"));
+static STBN_128: &[u8; 2 * 128 * 128 * 64] = include_bytes!("../data/stbn_128x128x64.bin");
+
+fn tile(side: u32, values: &'static [u32]) -> DitherTile<'static> {
+    match DitherTile::new(side, values) {
+        Ok(t) => t,
+        // Unreachable: the static's length is fixed by its type above.
+        Err(e) => panic!("default {side}x{side} tile is malformed: {e}"),
+    }
+}
+
+fn tables(side: u32, packed: &'static [u32]) -> RetargetTables<'static> {
+    let n = (side * side) as usize;
+    let t = |i: usize| &packed[i * n..(i + 1) * n];
+    match RetargetTables::new(side, [t(0), t(1), t(2), t(3)]) {
+        Ok(t) => t,
+        // Unreachable in practice: every default table is validated by a test.
+        Err(e) => panic!("default {side}x{side} retarget tables are malformed: {e}"),
+    }
+}
+
+/// The default 64x64 dither tile: void-and-cluster ranks `0..4096`, sigma 1.9.
+///
+/// # Panics
+/// Never (the data's length is checked at compile time).
+pub fn tile_64() -> DitherTile<'static> {
+    tile(64, &TILE_64)
+}
+
+/// The retarget tables of [`tile_64`], one per step of the 64x64 walk.
+///
+/// Validation (`RetargetTables::new`) runs on each call: about 4 x 4096 x 169
+/// checks, so call once and keep the result.
+///
+/// # Panics
+/// Only if the committed data were corrupt; a test validates them.
+pub fn tables_64() -> RetargetTables<'static> {
+    tables(64, &TABLES_64)
+}
+
+/// The default 128x128 dither tile: void-and-cluster ranks `0..16384`, sigma 1.9.
+///
+/// # Panics
+/// Never (the data's length is checked at compile time).
+pub fn tile_128() -> DitherTile<'static> {
+    tile(128, &TILE_128)
+}
+
+/// The retarget tables of [`tile_128`], one per step of the 128x128 walk.
+/// Validates on each call, like [`tables_64`].
+///
+/// # Panics
+/// Only if the committed data were corrupt; a test validates them.
+pub fn tables_128() -> RetargetTables<'static> {
+    tables(128, &TABLES_128)
+}
+
+/// The default 128x128x64 spatiotemporal mask (sigma 1.9 in space and time;
+/// each slice holds every rank of `0..16384` once).
+///
+/// # Panics
+/// Never (size and length are fixed above).
+pub fn stbn_128() -> SpatiotemporalMask<'static> {
+    match SpatiotemporalMask::new(128, 128, 64, STBN_128) {
+        Ok(m) => m,
+        Err(e) => panic!("default spatiotemporal mask is malformed: {e}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn exact(values: &[u32]) -> bool {
+        let mut seen = [false; 1 << 16];
+        values
+            .iter()
+            .all(|&v| (v as usize) < values.len() && !core::mem::replace(&mut seen[v as usize], true))
+    }
+
+    #[test]
+    fn defaults_are_valid() {
+        assert!(exact(tile_64().values()));
+        assert!(exact(tile_128().values()));
+        assert_eq!(tables_64().tile(), 64);
+        assert_eq!(tables_128().tile(), 128);
+        let m = stbn_128();
+        assert_eq!((m.width(), m.height(), m.depth()), (128, 128, 64));
+        for z in 0..64 {
+            let mut seen = [false; 128 * 128];
+            for y in 0..128 {
+                for x in 0..128 {
+                    let r = m.rank(x, y, z) as usize;
+                    assert!(
+                        r < seen.len() && !core::mem::replace(&mut seen[r], true),
+                        "slice {z}"
+                    );
+                }
+            }
+            let v = m.value(0, 0, z);
+            assert!(v > 0.0 && v < 1.0);
+        }
+    }
+}
