@@ -33,7 +33,7 @@ struct Case {
 }
 
 fn case() -> impl Strategy<Value = Case> {
-    (1u32..=41, 1u32..=37, MIN_BLOCK..=MAX_BLOCK, 1u32..=5, any::<u32>(), any::<u32>()).prop_flat_map(
+    (1u32..=70, 1u32..=45, MIN_BLOCK..=MAX_BLOCK, 1u32..=7, any::<u32>(), any::<u32>()).prop_flat_map(
         |(width, height, block, tile_log2, frame, salt)| {
             prop::collection::vec(intensity(), (width * height) as usize).prop_map(move |intensities| Case {
                 width,

@@ -195,11 +195,16 @@ pub fn permute_frame<T: Intensity>(
     }
     let params = layout.params(frame);
     let table = tables.table(step_index(frame, params.tile_log2));
-    permute_blocks(&params, intensities, tile.values(), table, seeds_in, seeds_out);
+    if crate::permute_cpu::applies(&params) {
+        crate::permute_cpu::permute_blocks_cached(&params, intensities, tile.values(), table, seeds_in, seeds_out);
+    } else {
+        permute_blocks(&params, intensities, tile.values(), table, seeds_in, seeds_out);
+    }
     Ok(())
 }
 
-/// The fast CPU path of [`permute_frame`]: per block, packs (key, index)
+/// The general CPU path of [`permute_frame`] (any block and tile size; see
+/// `permute_cpu` for the faster common case): per block, packs (key, index)
 /// pairs into `u64`s and insertion-sorts them (no `O(n^2)` rank counting),
 /// then writes each seed straight to its retargeted place.
 fn permute_blocks<T: Intensity>(
@@ -240,8 +245,8 @@ fn permute_blocks<T: Intensity>(
                     n += 1;
                 }
             }
-            insertion_sort(&mut keys[..n]);
-            insertion_sort(&mut dither[..n]);
+            crate::permute_cpu::insertion_sort(&mut keys[..n]);
+            crate::permute_cpu::insertion_sort(&mut dither[..n]);
             for k in 0..n {
                 let src = pos[(keys[k] & 63) as usize];
                 let dst = pos[(dither[k] & 63) as usize];
@@ -259,18 +264,5 @@ fn permute_blocks<T: Intensity>(
                 }
             }
         }
-    }
-}
-
-#[inline]
-fn insertion_sort(v: &mut [u64]) {
-    for i in 1..v.len() {
-        let x = v[i];
-        let mut j = i;
-        while j > 0 && v[j - 1] > x {
-            v[j] = v[j - 1];
-            j -= 1;
-        }
-        v[j] = x;
     }
 }

@@ -19,6 +19,12 @@
 //! [`DitherTile`] and [`RetargetTables`]; bad input is an [`Error`], never a
 //! panic.
 //!
+//! Ready-made data: the cargo feature `defaults` (on by default, off in the
+//! workspace dependency) compiles in 64x64 and 128x128 dither tiles with
+//! their retarget tables and a 128x128x64 [`SpatiotemporalMask`] (module
+//! `defaults`); the feature `bake` adds the host-only generators that made
+//! them (module `bake`, also behind the `bake` CLI).
+//!
 //! ```
 //! use sampler_core::*;
 //! // The walk of a 64x64 tile visits 1024 distinct offsets in its first 1024 frames
@@ -44,6 +50,7 @@ pub mod dither;
 pub mod error;
 pub mod frame;
 pub mod layout;
+mod permute_cpu;
 pub mod r2;
 pub mod retarget;
 pub mod seed;

@@ -164,7 +164,9 @@ pub struct EmitterGpu {
     pub cdf: f32,
     /// Probability of picking this entry, in `(0, 1]`.
     pub pdf: f32,
-    /// Triangle area in square world units, `> 0`.
+    /// Triangle area in square world units, `> 0`, as the host computed it for
+    /// the selection probability. The kernels recompute the area from the
+    /// vertices (the same f32 operations on both sides of the MIS weight).
     pub area: f32,
 }
 

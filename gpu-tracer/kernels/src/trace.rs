@@ -43,7 +43,7 @@
 //! Every vertex draws its six numbers whether or not it uses them, so a
 //! dimension always drives the same decision: that is what lets the seed
 //! permutation correlate pixels' estimates. The stream sample `s` is the
-//! sample index within the frame in [`SEED_MODE_FIXED`] and
+//! sample index within the frame in [`SEED_MODE_FIXED`](crate::abi::SEED_MODE_FIXED) and
 //! `frame * spp + s` in [`SEED_MODE_ADVANCE`] (see [`stream_sample`]).
 
 use crate::abi::{

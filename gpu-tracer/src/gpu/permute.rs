@@ -152,14 +152,15 @@ impl SeedPermuter {
     /// frame `frame + 1`'s seeds, for `mode`. [`set_frame`](Self::set_frame)
     /// must have been called with `frame` for this submission, except in
     /// [`PermuteMode::White`], which needs `frame + 1` (the salt).
-    /// `timer` (if any) records the sort and retarget passes as two spans.
+    /// `timer` (if any, with its first span index) records the sort pass as
+    /// that span and the retarget pass as the next.
     pub fn encode_step(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         pipelines: &PermutePipelines,
         frame: u32,
         mode: PermuteMode,
-        timer: Option<&PassTimer>,
+        timer: Option<(&PassTimer, u32)>,
     ) {
         let params: FrameParams = self.layout.params(frame);
         match mode {
@@ -171,7 +172,7 @@ impl SeedPermuter {
                     &pipelines.sort,
                     &self.sort_bg,
                     blocks,
-                    timer.map(|t| (t, 0)),
+                    timer,
                 );
                 if mode == PermuteMode::Permute {
                     let step = step_index(frame, params.tile_log2) as usize;
@@ -180,7 +181,7 @@ impl SeedPermuter {
                         &pipelines.retarget,
                         &self.retarget_bg[step],
                         params.seed_count(),
-                        timer.map(|t| (t, 1)),
+                        timer.map(|(t, span)| (t, span + 1)),
                     );
                 } else {
                     let bytes = (params.seed_count() as u64) * 4;

@@ -62,6 +62,9 @@ impl DefaultSet {
     }
 }
 
+/// Files to write: `(file name, bytes)`.
+pub type NamedFiles = Vec<(&'static str, Vec<u8>)>;
+
 /// Reports progress: `(done, total)`.
 pub type Report<'a> = &'a mut dyn FnMut(u64, u64);
 
@@ -261,10 +264,7 @@ pub fn bake_default_stbn(report: Report<'_>) -> Result<Vec<u8>> {
 ///
 /// # Errors
 /// Propagated bake errors.
-pub fn bake_default_set(
-    set: DefaultSet,
-    report: Report<'_>,
-) -> Result<(Vec<(&'static str, Vec<u8>)>, Vec<RetargetBake>)> {
+pub fn bake_default_set(set: DefaultSet, report: Report<'_>) -> Result<(NamedFiles, Vec<RetargetBake>)> {
     let files = set.files();
     Ok(match set {
         DefaultSet::Tile64 | DefaultSet::Tile128 => {

@@ -3,7 +3,7 @@
 //! The energy of texel `p` is the sum over the "ones" `q` of the binary
 //! pattern of a Gaussian of their toroidal distance, truncated at
 //! `ceil(4 sigma)` per axis. Weights are `exp(-d^2 / (2 sigma^2))` (peak 1),
-//! scaled so that the energy of any texel stays below `2^30` and rounded to
+//! scaled so that the energy of any texel stays below about `2^29` and rounded to
 //! integers: incremental updates are then exact (no drift), and ties are
 //! broken by texel index, so bakes are bit-for-bit reproducible.
 //!
@@ -15,15 +15,17 @@ use super::extrema::Extrema;
 use alloc::vec;
 use alloc::vec::Vec;
 
-/// Energy bound the weights are scaled to: `2^30`, half of `i32::MAX`.
-const ENERGY_BOUND: f64 = (1u64 << 30) as f64;
+/// Energy bound the weights are scaled to: `2^29`, so that an energy plus
+/// the membership bias [`ONE_BIAS`](super::extrema::ONE_BIAS) (rounding adds
+/// at most half a unit per tap) stays below `i32::MAX`.
+const ENERGY_BOUND: f64 = (1u64 << 29) as f64;
 
 /// One axis of a kernel: residues `0..size` and unscaled weights.
 pub(crate) fn axis_taps(size: u32, sigma: f64) -> Vec<(u32, f64)> {
     let r = libm::ceil(4.0 * sigma) as i64;
     let g = |d: i64| libm::exp(-((d * d) as f64) / (2.0 * sigma * sigma));
     let n = size as i64;
-    if n >= 2 * r + 1 {
+    if n > 2 * r {
         (-r..=r).map(|d| (d.rem_euclid(n) as u32, g(d))).collect()
     } else {
         let mut acc = vec![0.0f64; size as usize];
@@ -50,6 +52,10 @@ pub(crate) struct Kernel {
     height: u32,
     depth: u32,
     xs: Vec<u32>,
+    /// The columns a splat at x = 0 reaches: `x_first..x_first + x_len`
+    /// (mod width), a contiguous run.
+    x_first: u32,
+    x_len: u32,
     ys: Vec<u32>,
     /// `ys.len() x xs.len()` weights, row-major.
     weights: Vec<i32>,
@@ -80,10 +86,14 @@ impl Kernel {
                 weights.push(q(wy * wx));
             }
         }
+        // Taps come in order -r..=r (or 0..width when periodised).
+        let (x_first, x_len) = (xs[0].0, xs.len() as u32);
         Kernel {
             width,
             height,
             depth,
+            x_first,
+            x_len,
             xs: xs.iter().map(|t| t.0).collect(),
             ys: ys.iter().map(|t| t.0).collect(),
             weights,
@@ -112,9 +122,15 @@ impl Kernel {
             let row = base + (((y + oy) & hm) * self.width) as usize;
             let weights = &self.weights[j * nx..(j + 1) * nx];
             for (&ox, &w) in self.xs.iter().zip(weights) {
-                let i = row + ((x + ox) & wm) as usize;
-                energy[i] += sign * w;
-                extrema.touch(i);
+                energy[row + ((x + ox) & wm) as usize] += sign * w;
+            }
+            let first = (x + self.x_first) & wm;
+            let end = first + self.x_len;
+            if end <= self.width {
+                extrema.touch_range(row + first as usize, row + end as usize);
+            } else {
+                extrema.touch_range(row + first as usize, row + self.width as usize);
+                extrema.touch_range(row, row + (end - self.width) as usize);
             }
         }
         let dm = self.depth - 1;

@@ -2,51 +2,48 @@
 //! among the ones ("tightest cluster") and the smallest among the zeros
 //! ("largest void"), ties broken by the lowest texel index.
 //!
+//! # Keys
+//!
+//! The caller keeps one `i32` **key** per texel: its energy (`0..2^30`),
+//! plus [`ONE_BIAS`] if the texel is a one. Then the largest key is the
+//! tightest cluster (if it is at least `ONE_BIAS`) and the smallest key the
+//! largest void (if it is below `ONE_BIAS`): one branch-free min/max serves
+//! both queries.
+//!
 //! Texels are grouped 16 to a node, nodes 16 to a parent, up to one root.
-//! After a splat changes a few hundred energies, only the touched nodes and
+//! After a splat changes a few hundred keys, only the touched nodes and
 //! their ancestors are recomputed (`O(touched * 16 + log16 n)` instead of a
 //! full `O(n)` scan per step).
 
 use alloc::vec;
 use alloc::vec::Vec;
 
+/// Added to the key of a one; energies stay below it.
+pub(crate) const ONE_BIAS: i32 = 1 << 30;
+
 const FAN_LOG2: u32 = 4;
 const FAN: usize = 1 << FAN_LOG2;
-const NONE: u32 = u32::MAX;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Node {
-    max_one: i32,
-    max_index: u32,
-    min_zero: i32,
-    min_index: u32,
+/// Position of the first minimum of a non-empty slice.
+#[inline]
+fn first_min(v: &[i32]) -> usize {
+    let lo = v.iter().copied().fold(i32::MAX, i32::min);
+    v.iter().position(|&x| x == lo).unwrap_or(0)
 }
 
-const EMPTY: Node = Node {
-    max_one: i32::MIN,
-    max_index: NONE,
-    min_zero: i32::MAX,
-    min_index: NONE,
-};
-
-impl Node {
-    /// Merges `other`, which covers higher indices than `self`.
-    #[inline]
-    fn merge(&mut self, other: &Node) {
-        if other.max_index != NONE && (self.max_index == NONE || other.max_one > self.max_one) {
-            self.max_one = other.max_one;
-            self.max_index = other.max_index;
-        }
-        if other.min_index != NONE && (self.min_index == NONE || other.min_zero < self.min_zero) {
-            self.min_zero = other.min_zero;
-            self.min_index = other.min_index;
-        }
-    }
+/// Position of the first maximum of a non-empty slice.
+#[inline]
+fn first_max(v: &[i32]) -> usize {
+    let hi = v.iter().copied().fold(i32::MIN, i32::max);
+    v.iter().position(|&x| x == hi).unwrap_or(0)
 }
 
 #[derive(Clone, Debug)]
 struct Level {
-    nodes: Vec<Node>,
+    mins: Vec<i32>,
+    min_at: Vec<u32>,
+    maxs: Vec<i32>,
+    max_at: Vec<u32>,
     dirty: Vec<u32>,
     flagged: Vec<bool>,
 }
@@ -54,7 +51,10 @@ struct Level {
 impl Level {
     fn new(count: usize) -> Self {
         Level {
-            nodes: vec![EMPTY; count],
+            mins: vec![0; count],
+            min_at: vec![0; count],
+            maxs: vec![0; count],
+            max_at: vec![0; count],
             dirty: (0..count as u32).collect(),
             flagged: vec![true; count],
         }
@@ -68,12 +68,23 @@ impl Level {
     }
 }
 
-/// The cache over `n` texels. Call [`touch`](Self::touch) for every texel
-/// whose energy or membership changed, then [`refresh`](Self::refresh)
-/// before querying.
+/// The cache over `n` keys. Call [`touch`](Self::touch) for every texel
+/// whose key changed, then [`refresh`](Self::refresh) before querying.
 #[derive(Clone, Debug)]
 pub(crate) struct Extrema {
     levels: Vec<Level>,
+    track_min: bool,
+    track_max: bool,
+}
+
+/// Which single query an [`Extrema`] keeps up to date once restricted
+/// (a new cache keeps both).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Track {
+    /// Only [`Extrema::tightest_cluster`] (removing ones).
+    Clusters,
+    /// Only [`Extrema::largest_void`] (adding ones).
+    Voids,
 }
 
 impl Extrema {
@@ -88,7 +99,19 @@ impl Extrema {
                 break;
             }
         }
-        Extrema { levels }
+        Extrema {
+            levels,
+            track_min: true,
+            track_max: true,
+        }
+    }
+
+    /// Restricts the queries kept up to date (halves the work of a
+    /// refresh). Call on a clean (refreshed) cache; the untracked query
+    /// must not be used afterwards.
+    pub(crate) fn track(&mut self, track: Track) {
+        self.track_min = track != Track::Clusters;
+        self.track_max = track != Track::Voids;
     }
 
     /// Marks texel `i` as changed.
@@ -97,49 +120,49 @@ impl Extrema {
         self.levels[0].mark(i >> FAN_LOG2);
     }
 
-    /// Recomputes every node above a touched texel.
-    pub(crate) fn refresh(&mut self, energy: &[i32], ones: &[bool]) {
-        let mut level0 = core::mem::take(&mut self.levels[0].dirty);
-        for &node in &level0 {
-            let node = node as usize;
-            let start = node << FAN_LOG2;
-            let end = (start + FAN).min(energy.len());
-            let mut acc = EMPTY;
-            for i in start..end {
-                let e = energy[i];
-                if ones[i] {
-                    if acc.max_index == NONE || e > acc.max_one {
-                        acc.max_one = e;
-                        acc.max_index = i as u32;
-                    }
-                } else if acc.min_index == NONE || e < acc.min_zero {
-                    acc.min_zero = e;
-                    acc.min_index = i as u32;
-                }
-            }
-            let l = &mut self.levels[0];
-            l.nodes[node] = acc;
-            l.flagged[node] = false;
-            if let Some(parent) = self.levels.get_mut(1) {
-                parent.mark(node >> FAN_LOG2);
-            }
+    /// Marks texels `start..end` (`start < end`) as changed.
+    #[inline]
+    pub(crate) fn touch_range(&mut self, start: usize, end: usize) {
+        for node in (start >> FAN_LOG2)..=((end - 1) >> FAN_LOG2) {
+            self.levels[0].mark(node);
         }
-        level0.clear();
-        self.levels[0].dirty = level0;
-        for level in 1..self.levels.len() {
+    }
+
+    /// Recomputes every node above a touched texel.
+    pub(crate) fn refresh(&mut self, keys: &[i32]) {
+        for level in 0..self.levels.len() {
             let (below, rest) = self.levels.split_at_mut(level);
-            let children = &below[level - 1].nodes;
             let (this, above) = rest.split_first_mut().expect("level exists");
             let mut dirty = core::mem::take(&mut this.dirty);
             for &node in &dirty {
                 let node = node as usize;
                 let start = node << FAN_LOG2;
-                let end = (start + FAN).min(children.len());
-                let mut acc = EMPTY;
-                for child in &children[start..end] {
-                    acc.merge(child);
+                if let Some(children) = below.last() {
+                    let end = (start + FAN).min(children.mins.len());
+                    if self.track_min {
+                        let lo = first_min(&children.mins[start..end]);
+                        this.mins[node] = children.mins[start + lo];
+                        this.min_at[node] = children.min_at[start + lo];
+                    }
+                    if self.track_max {
+                        let hi = first_max(&children.maxs[start..end]);
+                        this.maxs[node] = children.maxs[start + hi];
+                        this.max_at[node] = children.max_at[start + hi];
+                    }
+                } else {
+                    let end = (start + FAN).min(keys.len());
+                    let v = &keys[start..end];
+                    if self.track_min {
+                        let lo = first_min(v);
+                        this.mins[node] = v[lo];
+                        this.min_at[node] = (start + lo) as u32;
+                    }
+                    if self.track_max {
+                        let hi = first_max(v);
+                        this.maxs[node] = v[hi];
+                        this.max_at[node] = (start + hi) as u32;
+                    }
                 }
-                this.nodes[node] = acc;
                 this.flagged[node] = false;
                 if let Some(parent) = above.first_mut() {
                     parent.mark(node >> FAN_LOG2);
@@ -150,20 +173,20 @@ impl Extrema {
         }
     }
 
-    fn root(&self) -> &Node {
-        &self.levels[self.levels.len() - 1].nodes[0]
+    fn root(&self) -> &Level {
+        &self.levels[self.levels.len() - 1]
     }
 
-    /// Index of the one with the largest energy (lowest index on ties), if any.
+    /// Index of the one with the largest key (lowest index on ties), if any.
     pub(crate) fn tightest_cluster(&self) -> Option<usize> {
         let r = self.root();
-        (r.max_index != NONE).then_some(r.max_index as usize)
+        (r.maxs[0] >= ONE_BIAS).then_some(r.max_at[0] as usize)
     }
 
-    /// Index of the zero with the smallest energy (lowest index on ties), if any.
+    /// Index of the zero with the smallest key (lowest index on ties), if any.
     pub(crate) fn largest_void(&self) -> Option<usize> {
         let r = self.root();
-        (r.min_index != NONE).then_some(r.min_index as usize)
+        (r.mins[0] < ONE_BIAS).then_some(r.min_at[0] as usize)
     }
 }
 
@@ -175,34 +198,51 @@ mod tests {
     #[test]
     fn matches_a_linear_scan() {
         let mut rng = super::super::SplitMix64::new(3);
+        let draw = |rng: &mut super::super::SplitMix64| {
+            rng.below(50) as i32 + if rng.below(3) == 0 { ONE_BIAS } else { 0 }
+        };
         for n in [1usize, 5, 16, 17, 255, 256, 257, 4099] {
-            let mut energy: Vec<i32> = (0..n).map(|_| rng.below(50) as i32).collect();
-            let mut ones: Vec<bool> = (0..n).map(|_| rng.below(3) == 0).collect();
+            let mut keys: Vec<i32> = (0..n).map(|_| draw(&mut rng)).collect();
             let mut ex = Extrema::new(n);
+            ex.refresh(&keys);
+            let (mut clusters, mut voids) = (ex.clone(), ex.clone());
+            clusters.track(Track::Clusters);
+            voids.track(Track::Voids);
             for round in 0..200 {
                 if round > 0 {
                     for _ in 0..rng.below(20) {
                         let i = rng.below(n as u64) as usize;
-                        energy[i] = rng.below(50) as i32;
-                        ones[i] = rng.below(3) == 0;
-                        ex.touch(i);
+                        keys[i] = draw(&mut rng);
+                        if rng.below(2) == 0 {
+                            ex.touch(i);
+                            clusters.touch(i);
+                            voids.touch(i);
+                        } else {
+                            let end = (i + 1 + rng.below(40) as usize).min(n);
+                            ex.touch_range(i, end);
+                            clusters.touch_range(i, end);
+                            voids.touch_range(i, end);
+                        }
                     }
                 }
-                ex.refresh(&energy, &ones);
-                let scan_max = (0..n)
-                    .filter(|&i| ones[i])
-                    .fold(None, |b: Option<usize>, i| match b {
-                        Some(j) if energy[j] >= energy[i] => Some(j),
-                        _ => Some(i),
-                    });
+                ex.refresh(&keys);
+                clusters.refresh(&keys);
+                voids.refresh(&keys);
+                let ones = |i: &usize| keys[*i] >= ONE_BIAS;
+                let scan_max = (0..n).filter(ones).fold(None, |b: Option<usize>, i| match b {
+                    Some(j) if keys[j] >= keys[i] => Some(j),
+                    _ => Some(i),
+                });
                 let scan_min = (0..n)
-                    .filter(|&i| !ones[i])
+                    .filter(|i| !ones(i))
                     .fold(None, |b: Option<usize>, i| match b {
-                        Some(j) if energy[j] <= energy[i] => Some(j),
+                        Some(j) if keys[j] <= keys[i] => Some(j),
                         _ => Some(i),
                     });
                 assert_eq!(ex.tightest_cluster(), scan_max, "n {n} round {round}");
                 assert_eq!(ex.largest_void(), scan_min, "n {n} round {round}");
+                assert_eq!(clusters.tightest_cluster(), scan_max, "n {n} round {round}");
+                assert_eq!(voids.largest_void(), scan_min, "n {n} round {round}");
             }
         }
     }

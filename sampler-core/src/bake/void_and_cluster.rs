@@ -16,7 +16,7 @@
 //! index: a given size, sigma and seed always give the same mask.
 
 use super::energy::Kernel;
-use super::extrema::Extrema;
+use super::extrema::{Extrema, Track, ONE_BIAS};
 use super::{check_sigma, check_size, BakeError, Progress, SplitMix64, Throttle};
 use alloc::vec;
 use alloc::vec::Vec;
@@ -64,37 +64,39 @@ pub(crate) fn rank_texels(kernel: &Kernel, seed: u64, progress: Progress<'_>) ->
     let n = kernel.len();
     let total = n as u64;
     let mut throttle = Throttle::new(total);
-    let mut ones = vec![false; n];
-    let mut energy = vec![0i32; n];
+    // Energy plus ONE_BIAS for the ones (see `extrema`).
+    let mut keys = vec![0i32; n];
     let mut extrema = Extrema::new(n);
     let mut rng = SplitMix64::new(seed);
     let initial = (n / 10).max(1);
     let mut placed = 0;
     while placed < initial {
         let i = rng.below(n as u64) as usize;
-        if !ones[i] {
-            ones[i] = true;
-            kernel.splat(i, 1, &mut energy, &mut extrema);
+        if keys[i] < ONE_BIAS {
+            keys[i] += ONE_BIAS;
+            kernel.splat(i, 1, &mut keys, &mut extrema);
             placed += 1;
         }
     }
-    extrema.refresh(&energy, &ones);
-    relax(kernel, &mut ones, &mut energy, &mut extrema);
+    extrema.refresh(&keys);
+    relax(kernel, &mut keys, &mut extrema);
 
     let mut ranks = vec![0u32; n];
     // Phase 2 and 3 start from the initial pattern: keep a copy.
-    let (mut ones2, mut energy2, mut extrema2) = (ones.clone(), energy.clone(), extrema.clone());
+    let (mut keys2, mut extrema2) = (keys.clone(), extrema.clone());
+    extrema.track(Track::Clusters);
+    extrema2.track(Track::Voids);
     let mut done = 0u64;
     for rank in (0..initial).rev() {
         let c = extrema.tightest_cluster().expect("ones remain while rank >= 0");
-        set(kernel, c, false, &mut ones, &mut energy, &mut extrema);
+        set(kernel, c, false, &mut keys, &mut extrema);
         ranks[c] = rank as u32;
         done += 1;
         throttle.tick(done, total, progress);
     }
     for rank in initial..n {
         let v = extrema2.largest_void().expect("zeros remain while rank < n");
-        set(kernel, v, true, &mut ones2, &mut energy2, &mut extrema2);
+        set(kernel, v, true, &mut keys2, &mut extrema2);
         ranks[v] = rank as u32;
         done += 1;
         throttle.tick(done, total, progress);
@@ -104,29 +106,31 @@ pub(crate) fn rank_texels(kernel: &Kernel, seed: u64, progress: Progress<'_>) ->
 
 /// Makes texel `i` a one (`on`) or a zero and refreshes the cache.
 #[inline]
-fn set(kernel: &Kernel, i: usize, on: bool, ones: &mut [bool], energy: &mut [i32], extrema: &mut Extrema) {
-    ones[i] = on;
-    kernel.splat(i, if on { 1 } else { -1 }, energy, extrema);
+fn set(kernel: &Kernel, i: usize, on: bool, keys: &mut [i32], extrema: &mut Extrema) {
+    let sign = if on { 1 } else { -1 };
+    keys[i] += sign * ONE_BIAS;
+    kernel.splat(i, sign, keys, extrema);
     extrema.touch(i);
-    extrema.refresh(energy, ones);
+    extrema.refresh(keys);
 }
 
 /// Phase 1: moves tightest clusters into largest voids while that strictly
 /// lowers the mover's energy (so the total energy strictly decreases and the
 /// loop ends); capped at `16 n` moves as a guard.
-fn relax(kernel: &Kernel, ones: &mut [bool], energy: &mut [i32], extrema: &mut Extrema) {
-    let cap = 16 * ones.len();
+fn relax(kernel: &Kernel, keys: &mut [i32], extrema: &mut Extrema) {
+    let cap = 16 * keys.len();
     for _ in 0..cap {
         let Some(c) = extrema.tightest_cluster() else {
             return;
         };
-        set(kernel, c, false, ones, energy, extrema);
+        set(kernel, c, false, keys, extrema);
         let v = extrema.largest_void().expect("c is a zero now");
-        if v == c || energy[v] >= energy[c] {
-            set(kernel, c, true, ones, energy, extrema);
+        // Both are zeros here, so their keys are their energies.
+        if v == c || keys[v] >= keys[c] {
+            set(kernel, c, true, keys, extrema);
             return;
         }
-        set(kernel, v, true, ones, energy, extrema);
+        set(kernel, v, true, keys, extrema);
     }
 }
 

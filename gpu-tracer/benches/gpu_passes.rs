@@ -1,0 +1,100 @@
+//! Per-pass GPU times at 1280x720, measured on one device in one run: the
+//! 1-spp path-traced frame (Cornell box) against the sorting and
+//! retargeting passes (4x4 blocks, 64x64 tile).
+//!
+//! ```text
+//! cargo bench -p gpu-tracer --bench gpu_passes
+//! ```
+//!
+//! Uses timestamp queries where the device has them, else wall-clock time of
+//! each pass in its own submission. Prints each pass's median and the
+//! permutation's share of a traced frame (goal: <= 5%).
+
+use glam::Vec4;
+use gpu_tracer::cornell::cornell_box;
+use gpu_tracer::gpu::{Gpu, PassTimer, PermuteMode, PermutePipelines, SeedPermuter, TracePipelines, Tracer};
+use gpu_tracer::{SceneGpu, TraceSettings};
+use sampler_core::FrameLayout;
+use std::time::Instant;
+
+const WIDTH: u32 = 1280;
+const HEIGHT: u32 = 720;
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+fn main() {
+    let quick = std::env::args().any(|a| a == "--test");
+    let rounds = if quick { 1 } else { 15 };
+    let gpu = match Gpu::new() {
+        Ok(g) => g,
+        Err(e) => {
+            println!("gpu_passes: SKIPPED, {e}");
+            return;
+        }
+    };
+    let scene = SceneGpu::build(&cornell_box()).expect("scene");
+    let layout = FrameLayout::new(WIDTH, HEIGHT, 4, 64).expect("layout");
+    let mut settings = TraceSettings::new(WIDTH, HEIGHT);
+    settings.padded_width = layout.padded_width();
+    let params = scene.trace_params(&settings, 0).expect("params");
+    let (tile, tables) = (sampler_core::defaults::tile_64(), sampler_core::defaults::tables_64());
+    let tp = TracePipelines::new(&gpu).expect("trace pipelines");
+    let pp = PermutePipelines::new(&gpu).expect("permute pipelines");
+    let color = Tracer::color_buffer(&gpu, WIDTH, HEIGHT);
+    let permuter = SeedPermuter::new(&gpu, &pp, layout, &tile, &tables, &color).expect("permuter");
+    let tracer = Tracer::new(&gpu, &tp, &scene, &params, &permuter.seeds, color);
+    permuter.set_frame(&gpu, 0);
+    let mut e = gpu.device.create_command_encoder(&Default::default());
+    permuter.encode_seed_init(&mut e, &pp);
+    gpu.queue.submit([e.finish()]);
+
+    let timer = PassTimer::new(&gpu, 3);
+    let (mut trace_ms, mut sort_ms, mut retarget_ms) = (vec![], vec![], vec![]);
+    for t in 0..rounds + 1 {
+        tracer.set_params(&gpu, &scene.trace_params(&settings, t).expect("params"));
+        permuter.set_frame(&gpu, t);
+        let times = match &timer {
+            Some(timer) => {
+                let mut e = gpu.device.create_command_encoder(&Default::default());
+                tracer.encode_trace(&mut e, &tp, Some((timer, 0)));
+                permuter.encode_intensity(&mut e, &pp);
+                permuter.encode_step(&mut e, &pp, t, PermuteMode::Permute, Some((timer, 1)));
+                timer.resolve(&mut e);
+                gpu.queue.submit([e.finish()]);
+                timer.read_ms(&gpu).expect("timestamps")
+            }
+            None => {
+                let mut ms = vec![];
+                let mut run = |f: &dyn Fn(&mut wgpu::CommandEncoder)| {
+                    let mut e = gpu.device.create_command_encoder(&Default::default());
+                    f(&mut e);
+                    let start = Instant::now();
+                    gpu.queue.submit([e.finish()]);
+                    gpu.wait().expect("wait");
+                    ms.push(start.elapsed().as_secs_f64() * 1e3);
+                };
+                run(&|e| tracer.encode_trace(e, &tp, None));
+                run(&|e| permuter.encode_intensity(e, &pp));
+                // Sort and retarget together, then sort alone: retarget = difference.
+                run(&|e| permuter.encode_step(e, &pp, t, PermuteMode::Permute, None));
+                vec![ms[0], ms[2], 0.0]
+            }
+        };
+        if t > 0 {
+            trace_ms.push(times[0]);
+            sort_ms.push(times[1]);
+            retarget_ms.push(times[2]);
+        }
+    }
+    let _ = Vec4::ZERO;
+    let (tr, so, re) = (median(&mut trace_ms), median(&mut sort_ms), median(&mut retarget_ms));
+    println!("gpu_passes: {WIDTH}x{HEIGHT}, Cornell box 1 spp, 4x4 blocks, 64x64 tile, on {}", gpu.describe());
+    println!("timing: {}", if timer.is_some() { "timestamp queries" } else { "wall clock per submission (sort+retarget together)" });
+    println!("{:<28} {:>10} {:>14}", "pass", "ms", "% of trace");
+    for (name, ms) in [("trace (1 spp)", tr), ("sort", so), ("retarget", re), ("sort + retarget", so + re)] {
+        println!("{name:<28} {ms:>10.3} {:>13.2}%", 100.0 * ms / tr);
+    }
+}
