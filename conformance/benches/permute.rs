@@ -49,9 +49,19 @@ fn naive_permute(
                 }
             }
             let mut a: Vec<usize> = (0..px.len()).collect();
-            a.sort_by_key(|&i| (intensity_key(intensities[(px[i].1 * p.width + px[i].0) as usize]), i));
+            a.sort_by_key(|&i| {
+                (
+                    intensity_key(intensities[(px[i].1 * p.width + px[i].0) as usize]),
+                    i,
+                )
+            });
             let mut d: Vec<usize> = (0..px.len()).collect();
-            d.sort_by_key(|&i| (tile[tile_texel(glam::UVec2::new(px[i].0, px[i].1), offset, p.tile_log2) as usize], i));
+            d.sort_by_key(|&i| {
+                (
+                    tile[tile_texel(glam::UVec2::new(px[i].0, px[i].1), offset, p.tile_log2) as usize],
+                    i,
+                )
+            });
             for k in 0..px.len() {
                 let (sx, sy) = px[a[k]];
                 let (dx, dy) = px[d[k]];
@@ -84,21 +94,44 @@ fn main() {
     let tile = DitherTile::new(TILE, &tile_values).unwrap();
     let packed: Vec<Vec<u32>> = (0..4).map(|i| random_table(TILE, i, 20_000)).collect();
     let tables = RetargetTables::new(TILE, [&packed[0], &packed[1], &packed[2], &packed[3]]).unwrap();
-    let intensities: Vec<f32> = (0..layout.pixel_count() as u32).map(|i| random_f32(i, 0)).collect();
-    let seeds: Vec<u32> = (0..layout.seed_count() as u32).map(|i| initial_seed(i, 0, 0, 0)).collect();
+    let intensities: Vec<f32> = (0..layout.pixel_count() as u32)
+        .map(|i| random_f32(i, 0))
+        .collect();
+    let seeds: Vec<u32> = (0..layout.seed_count() as u32)
+        .map(|i| initial_seed(i, 0, 0, 0))
+        .collect();
     let mut out = vec![0u32; seeds.len()];
     let mut scratch = vec![0f32; intensities.len()];
 
     let (mut t_copy, mut t_fast, mut t_naive, mut t_shader) = (vec![], vec![], vec![], vec![]);
     for r in 0..rounds {
         let frame = r as u32;
-        t_copy.push(time(&mut || copy_baseline(black_box(&intensities), &seeds, &mut scratch, &mut out)));
+        t_copy.push(time(&mut || {
+            copy_baseline(black_box(&intensities), &seeds, &mut scratch, &mut out)
+        }));
         t_fast.push(time(&mut || {
-            permute_frame(&layout, frame, black_box(&intensities), &tile, &tables, &seeds, &mut out).unwrap()
+            permute_frame(
+                &layout,
+                frame,
+                black_box(&intensities),
+                &tile,
+                &tables,
+                &seeds,
+                &mut out,
+            )
+            .unwrap()
         }));
         let table = tables.table(step_index(frame, 6)).packed();
         t_naive.push(time(&mut || {
-            naive_permute(&layout, frame, black_box(&intensities), &tile_values, table, &seeds, &mut out)
+            naive_permute(
+                &layout,
+                frame,
+                black_box(&intensities),
+                &tile_values,
+                table,
+                &seeds,
+                &mut out,
+            )
         }));
         // The per-block rank-counting path the GPU kernels run, on the CPU.
         let mut mid = vec![0u32; seeds.len()];
@@ -120,7 +153,14 @@ fn main() {
         ("sort_frame + retarget_frame (GPU path)", median(&mut t_shader)),
         ("naive (alloc + std sort per block)", median(&mut t_naive)),
     ] {
-        println!("{name:<34} {:>10.3} {:>12.2}", t.as_secs_f64() * 1e3, t.as_secs_f64() / copy.as_secs_f64());
+        println!(
+            "{name:<34} {:>10.3} {:>12.2}",
+            t.as_secs_f64() * 1e3,
+            t.as_secs_f64() / copy.as_secs_f64()
+        );
     }
-    println!("copy bandwidth: {:.2} GB/s", bytes as f64 / copy.as_secs_f64() / 1e9);
+    println!(
+        "copy bandwidth: {:.2} GB/s",
+        bytes as f64 / copy.as_secs_f64() / 1e9
+    );
 }

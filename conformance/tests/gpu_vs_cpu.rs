@@ -37,14 +37,62 @@ struct Case {
 }
 
 const CASES: &[Case] = &[
-    Case { width: 1, height: 1, block: 2, tile: 4, frame: 0 },
-    Case { width: 17, height: 13, block: 3, tile: 8, frame: 5 },
-    Case { width: 64, height: 64, block: 4, tile: 64, frame: 1 },
-    Case { width: 97, height: 61, block: 4, tile: 64, frame: 12345 },
-    Case { width: 131, height: 67, block: 5, tile: 16, frame: 77 },
-    Case { width: 200, height: 120, block: 8, tile: 128, frame: 3 },
-    Case { width: 33, height: 129, block: 7, tile: 32, frame: u32::MAX },
-    Case { width: 50, height: 50, block: 6, tile: 2, frame: 9 },
+    Case {
+        width: 1,
+        height: 1,
+        block: 2,
+        tile: 4,
+        frame: 0,
+    },
+    Case {
+        width: 17,
+        height: 13,
+        block: 3,
+        tile: 8,
+        frame: 5,
+    },
+    Case {
+        width: 64,
+        height: 64,
+        block: 4,
+        tile: 64,
+        frame: 1,
+    },
+    Case {
+        width: 97,
+        height: 61,
+        block: 4,
+        tile: 64,
+        frame: 12345,
+    },
+    Case {
+        width: 131,
+        height: 67,
+        block: 5,
+        tile: 16,
+        frame: 77,
+    },
+    Case {
+        width: 200,
+        height: 120,
+        block: 8,
+        tile: 128,
+        frame: 3,
+    },
+    Case {
+        width: 33,
+        height: 129,
+        block: 7,
+        tile: 32,
+        frame: u32::MAX,
+    },
+    Case {
+        width: 50,
+        height: 50,
+        block: 6,
+        tile: 2,
+        frame: 9,
+    },
 ];
 
 #[test]
@@ -58,10 +106,14 @@ fn sort_and_retarget_kernels_match_the_cpu_bit_for_bit() {
         let layout = FrameLayout::new(c.width, c.height, c.block, c.tile).unwrap();
         let tile_values = random_tile(c.tile, salt, k % 2 == 0);
         let tile = DitherTile::new(c.tile, &tile_values).unwrap();
-        let packed: Vec<Vec<u32>> = (0..4).map(|i| random_table(c.tile, salt + i, 5 * c.tile * c.tile)).collect();
+        let packed: Vec<Vec<u32>> = (0..4)
+            .map(|i| random_table(c.tile, salt + i, 5 * c.tile * c.tile))
+            .collect();
         let tables = RetargetTables::new(c.tile, [&packed[0], &packed[1], &packed[2], &packed[3]]).unwrap();
         let values = intensities(layout.pixel_count(), salt);
-        let seeds: Vec<u32> = (0..layout.seed_count() as u32).map(|i| hash_u32(i ^ salt)).collect();
+        let seeds: Vec<u32> = (0..layout.seed_count() as u32)
+            .map(|i| hash_u32(i ^ salt))
+            .collect();
 
         let color = gpu.storage_zeroed::<Vec4>("colour", layout.pixel_count());
         let permuter = SeedPermuter::new(&gpu, &pipelines, layout, &tile, &tables, &color).unwrap();
@@ -104,8 +156,9 @@ fn seed_init_kernel_matches_the_cpu() {
         gpu.queue.submit([encoder.finish()]);
         let got = permuter.read_seeds(&gpu).unwrap();
         let pw = layout.padded_width();
-        let want: Vec<u32> =
-            (0..layout.seed_count() as u32).map(|i| initial_seed(i % pw, i / pw, pw, salt)).collect();
+        let want: Vec<u32> = (0..layout.seed_count() as u32)
+            .map(|i| initial_seed(i % pw, i / pw, pw, salt))
+            .collect();
         assert_eq!(got, want, "salt {salt}");
     }
 }
@@ -121,9 +174,25 @@ fn mismatched_sizes_are_errors() {
     let id = vec![IDENTITY_PACKED; 64];
     let tables = RetargetTables::new(8, [&id, &id, &id, &id]).unwrap();
     let color = gpu.storage_zeroed::<Vec4>("colour", 100);
-    let p = SeedPermuter::new(&gpu, &pipelines, layout, &DitherTile::new(8, &t).unwrap(), &tables, &color).unwrap();
+    let p = SeedPermuter::new(
+        &gpu,
+        &pipelines,
+        layout,
+        &DitherTile::new(8, &t).unwrap(),
+        &tables,
+        &color,
+    )
+    .unwrap();
     assert!(p.upload_seeds(&gpu, &[0; 5]).is_err());
     assert!(p.upload_intensity(&gpu, &[0.0; 101]).is_err());
     let t16 = random_tile(16, 0, false);
-    assert!(SeedPermuter::new(&gpu, &pipelines, layout, &DitherTile::new(16, &t16).unwrap(), &tables, &color).is_err());
+    assert!(SeedPermuter::new(
+        &gpu,
+        &pipelines,
+        layout,
+        &DitherTile::new(16, &t16).unwrap(),
+        &tables,
+        &color
+    )
+    .is_err());
 }

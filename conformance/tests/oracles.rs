@@ -12,7 +12,15 @@ fn paper_oracle_through_the_frame_api() {
     let intensities = [0.9f32, 0.1, 0.5, 0.3];
     let seeds = [10u32, 11, 12, 13];
     let mut out = [0u32; 4];
-    sort_frame(&layout, 0, &intensities, &DitherTile::new(2, &tile).unwrap(), &seeds, &mut out).unwrap();
+    sort_frame(
+        &layout,
+        0,
+        &intensities,
+        &DitherTile::new(2, &tile).unwrap(),
+        &seeds,
+        &mut out,
+    )
+    .unwrap();
     assert_eq!(out, [11, 10, 12, 13]);
 }
 
@@ -26,7 +34,10 @@ fn r2_points() {
     ];
     for (n, x, y) in want {
         let p = r2(n, 0.5);
-        assert!((p.x as f64 - x).abs() < 2e-7 && (p.y as f64 - y).abs() < 2e-7, "n {n}: {p}");
+        assert!(
+            (p.x as f64 - x).abs() < 2e-7 && (p.y as f64 - y).abs() < 2e-7,
+            "n {n}: {p}"
+        );
     }
     assert!((r1(1, 0.0) as f64 - 0.618_034).abs() < 1e-6);
 }
@@ -42,7 +53,9 @@ fn walk_offsets_and_fixed_steps() {
     }
     // The four steps of W = 64 (three-distance theorem).
     let steps: Vec<_> = (0..4).map(|i| step_of_index(i, 6)).collect();
-    let want: Vec<_> = [(48, 36), (49, 36), (48, 37), (49, 37)].map(|(x, y)| glam::UVec2::new(x, y)).to_vec();
+    let want: Vec<_> = [(48, 36), (49, 36), (48, 37), (49, 37)]
+        .map(|(x, y)| glam::UVec2::new(x, y))
+        .to_vec();
     assert_eq!(steps, want);
 }
 

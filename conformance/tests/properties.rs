@@ -33,8 +33,15 @@ struct Case {
 }
 
 fn case() -> impl Strategy<Value = Case> {
-    (1u32..=70, 1u32..=45, MIN_BLOCK..=MAX_BLOCK, 1u32..=7, any::<u32>(), any::<u32>()).prop_flat_map(
-        |(width, height, block, tile_log2, frame, salt)| {
+    (
+        1u32..=70,
+        1u32..=45,
+        MIN_BLOCK..=MAX_BLOCK,
+        1u32..=7,
+        any::<u32>(),
+        any::<u32>(),
+    )
+        .prop_flat_map(|(width, height, block, tile_log2, frame, salt)| {
             prop::collection::vec(intensity(), (width * height) as usize).prop_map(move |intensities| Case {
                 width,
                 height,
@@ -44,12 +51,13 @@ fn case() -> impl Strategy<Value = Case> {
                 salt,
                 intensities,
             })
-        },
-    )
+        })
 }
 
 fn seeds_for(layout: &FrameLayout, salt: u32) -> Vec<u32> {
-    (0..layout.seed_count() as u32).map(|i| seed::hash_u32(i ^ salt)).collect()
+    (0..layout.seed_count() as u32)
+        .map(|i| seed::hash_u32(i ^ salt))
+        .collect()
 }
 
 fn sorted(v: &[u32]) -> Vec<u32> {
@@ -174,7 +182,10 @@ fn offset_walk_is_aperiodic_and_takes_the_documented_steps() {
         assert!(offsets.iter().all(|o| o.x < w && o.y < w));
         // No period p <= 4096 over the first 4096 frames.
         for p in 1..=4096usize {
-            assert!((0..4096).any(|t| offsets[t + p] != offsets[t]), "W {w}: period {p}");
+            assert!(
+                (0..4096).any(|t| offsets[t + p] != offsets[t]),
+                "W {w}: period {p}"
+            );
         }
         for t in 0..8191u32 {
             let s = walk_step(t, log2);
@@ -208,17 +219,56 @@ fn bad_input_is_an_error_not_a_panic() {
     let seeds = vec![0u32; layout.seed_count()];
     let mut out = vec![0u32; layout.seed_count()];
     let err = permute_frame(&layout, 0, &img[..34], &tile, &tables, &seeds, &mut out).unwrap_err();
-    assert_eq!(err, Error::BufferSize { buffer: Buffer::Intensities, expected: 35, actual: 34 });
+    assert_eq!(
+        err,
+        Error::BufferSize {
+            buffer: Buffer::Intensities,
+            expected: 35,
+            actual: 34
+        }
+    );
     let err = permute_frame(&layout, 0, &img, &tile, &tables, &seeds[1..], &mut out).unwrap_err();
-    assert_eq!(err, Error::BufferSize { buffer: Buffer::SeedsIn, expected: 64, actual: 63 });
+    assert_eq!(
+        err,
+        Error::BufferSize {
+            buffer: Buffer::SeedsIn,
+            expected: 64,
+            actual: 63
+        }
+    );
     let mut short = vec![0u32; 10];
     let err = sort_frame(&layout, 0, &img, &tile, &seeds, &mut short).unwrap_err();
-    assert!(matches!(err, Error::BufferSize { buffer: Buffer::SeedsOut, .. }));
-    assert!(err.to_string().contains("output seed buffer has 10 elements, expected 64"));
+    assert!(matches!(
+        err,
+        Error::BufferSize {
+            buffer: Buffer::SeedsOut,
+            ..
+        }
+    ));
+    assert!(err
+        .to_string()
+        .contains("output seed buffer has 10 elements, expected 64"));
     // A tile of another size than the layout's.
     let t16 = random_tile(16, 1, false);
-    let err = sort_frame(&layout, 0, &img, &DitherTile::new(16, &t16).unwrap(), &seeds, &mut out).unwrap_err();
+    let err = sort_frame(
+        &layout,
+        0,
+        &img,
+        &DitherTile::new(16, &t16).unwrap(),
+        &seeds,
+        &mut out,
+    )
+    .unwrap_err();
     assert_eq!(err, Error::TileSize { tile: 16 });
-    assert!(matches!(DitherTile::new(8, &t16), Err(Error::BufferSize { buffer: Buffer::DitherTile, .. })));
-    assert!(matches!(DitherTile::new(12, &t16), Err(Error::TileSize { tile: 12 })));
+    assert!(matches!(
+        DitherTile::new(8, &t16),
+        Err(Error::BufferSize {
+            buffer: Buffer::DitherTile,
+            ..
+        })
+    ));
+    assert!(matches!(
+        DitherTile::new(12, &t16),
+        Err(Error::TileSize { tile: 12 })
+    ));
 }

@@ -40,7 +40,10 @@ fn main() {
     let mut settings = TraceSettings::new(WIDTH, HEIGHT);
     settings.padded_width = layout.padded_width();
     let params = scene.trace_params(&settings, 0).expect("params");
-    let (tile, tables) = (sampler_core::defaults::tile_64(), sampler_core::defaults::tables_64());
+    let (tile, tables) = (
+        sampler_core::defaults::tile_64(),
+        sampler_core::defaults::tables_64(),
+    );
     let tp = TracePipelines::new(&gpu).expect("trace pipelines");
     let pp = PermutePipelines::new(&gpu).expect("permute pipelines");
     let color = Tracer::color_buffer(&gpu, WIDTH, HEIGHT);
@@ -90,11 +93,30 @@ fn main() {
         }
     }
     let _ = Vec4::ZERO;
-    let (tr, so, re) = (median(&mut trace_ms), median(&mut sort_ms), median(&mut retarget_ms));
-    println!("gpu_passes: {WIDTH}x{HEIGHT}, Cornell box 1 spp, 4x4 blocks, 64x64 tile, on {}", gpu.describe());
-    println!("timing: {}", if timer.is_some() { "timestamp queries" } else { "wall clock per submission (sort+retarget together)" });
+    let (tr, so, re) = (
+        median(&mut trace_ms),
+        median(&mut sort_ms),
+        median(&mut retarget_ms),
+    );
+    println!(
+        "gpu_passes: {WIDTH}x{HEIGHT}, Cornell box 1 spp, 4x4 blocks, 64x64 tile, on {}",
+        gpu.describe()
+    );
+    println!(
+        "timing: {}",
+        if timer.is_some() {
+            "timestamp queries"
+        } else {
+            "wall clock per submission (sort+retarget together)"
+        }
+    );
     println!("{:<28} {:>10} {:>14}", "pass", "ms", "% of trace");
-    for (name, ms) in [("trace (1 spp)", tr), ("sort", so), ("retarget", re), ("sort + retarget", so + re)] {
+    for (name, ms) in [
+        ("trace (1 spp)", tr),
+        ("sort", so),
+        ("retarget", re),
+        ("sort + retarget", so + re),
+    ] {
         println!("{name:<28} {ms:>10.3} {:>13.2}%", 100.0 * ms / tr);
     }
 }

@@ -10,14 +10,20 @@ use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use gpu_tracer::gpu::{Gpu, GpuError};
 use gpu_tracer::image_out::{write_exr, write_png, ToneMap};
-use gpu_tracer::{cornell, obj, render_cpu, render_gpu, PermuteMode, RenderJob, SceneGpu, TileChoice, TraceSettings};
+use gpu_tracer::{
+    cornell, obj, render_cpu, render_gpu, PermuteMode, RenderJob, SceneGpu, TileChoice, TraceSettings,
+};
 use indicatif::{ProgressBar, ProgressStyle};
 use kernels::abi::{MAX_DEPTH_LIMIT, SEED_MODE_ADVANCE, SEED_MODE_FIXED};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 #[derive(Parser, Debug)]
-#[command(name = "gpu-tracer", version, about = "Path tracer with blue-noise error through seed permutation")]
+#[command(
+    name = "gpu-tracer",
+    version,
+    about = "Path tracer with blue-noise error through seed permutation"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -195,7 +201,11 @@ fn render(args: RenderArgs) -> Result<()> {
         output.device,
         secs,
         job.mode,
-        files.iter().map(|f| f.0.display().to_string()).collect::<Vec<_>>().join(", ")
+        files
+            .iter()
+            .map(|f| f.0.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
     );
     Ok(())
 }
@@ -213,9 +223,11 @@ fn prepare_out_dir(dir: &Path) -> Result<()> {
     if dir.exists() && !dir.is_dir() {
         bail!("output path {} exists and is not a directory", dir.display());
     }
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create output directory {}", dir.display()))?;
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("cannot create output directory {}", dir.display()))?;
     let probe = dir.join(".gpu-tracer-write-probe");
-    std::fs::write(&probe, b"").with_context(|| format!("output directory {} is not writable", dir.display()))?;
+    std::fs::write(&probe, b"")
+        .with_context(|| format!("output directory {} is not writable", dir.display()))?;
     std::fs::remove_file(&probe).ok();
     Ok(())
 }

@@ -37,11 +37,20 @@ impl TileChoice {
     /// The baked tile and its tables.
     pub fn load(self) -> (DitherTile<'static>, RetargetTables<'static>) {
         match self {
-            TileChoice::Tile64 => (sampler_core::defaults::tile_64(), sampler_core::defaults::tables_64()),
-            TileChoice::Tile128 => (sampler_core::defaults::tile_128(), sampler_core::defaults::tables_128()),
+            TileChoice::Tile64 => (
+                sampler_core::defaults::tile_64(),
+                sampler_core::defaults::tables_64(),
+            ),
+            TileChoice::Tile128 => (
+                sampler_core::defaults::tile_128(),
+                sampler_core::defaults::tables_128(),
+            ),
         }
     }
 }
+
+/// Receives frame `t`'s colour (`width * height`, row-major).
+pub type FrameCallback<'a> = dyn FnMut(u32, &[Vec4]) + 'a;
 
 /// Everything a render needs besides the scene.
 #[derive(Clone, Copy, Debug)]
@@ -130,11 +139,19 @@ impl RenderJob {
     /// # Errors
     /// [`RenderError::Layout`] for a zero size or a bad block.
     pub fn layout(&self) -> Result<FrameLayout, RenderError> {
-        Ok(FrameLayout::new(self.settings.width, self.settings.height, self.block, self.tile.side())?)
+        Ok(FrameLayout::new(
+            self.settings.width,
+            self.settings.height,
+            self.block,
+            self.tile.side(),
+        )?)
     }
 
     fn settings_for(&self, layout: &FrameLayout) -> TraceSettings {
-        TraceSettings { padded_width: layout.padded_width(), ..self.settings }
+        TraceSettings {
+            padded_width: layout.padded_width(),
+            ..self.settings
+        }
     }
 }
 
@@ -166,7 +183,11 @@ pub fn render_cpu(
         on_frame(t, &color);
         match job.mode {
             PermuteMode::White => {
-                seeds = cpu::white_seeds(layout.padded_width(), layout.padded_height(), job.salt.wrapping_add(t + 1))
+                seeds = cpu::white_seeds(
+                    layout.padded_width(),
+                    layout.padded_height(),
+                    job.salt.wrapping_add(t + 1),
+                )
             }
             PermuteMode::Sort => {
                 sampler_core::sort_frame(&layout, t, &color, &tile, &seeds, &mut next)?;
@@ -178,7 +199,11 @@ pub fn render_cpu(
             }
         }
     }
-    Ok(RenderOutput { last: color, mean, device: "CPU".into() })
+    Ok(RenderOutput {
+        last: color,
+        mean,
+        device: "CPU".into(),
+    })
 }
 
 /// Renders `job` on `gpu` with no read-back between frames (except when
@@ -192,7 +217,7 @@ pub fn render_gpu(
     scene: &SceneGpu,
     job: &RenderJob,
     mut on_submit: impl FnMut(u32),
-    mut on_frame: Option<&mut dyn FnMut(u32, &[Vec4])>,
+    mut on_frame: Option<&mut FrameCallback<'_>>,
 ) -> Result<RenderOutput, RenderError> {
     if job.frames == 0 {
         return Err(RenderError::NoFrames);
@@ -216,7 +241,11 @@ pub fn render_gpu(
     for t in 0..job.frames {
         let params = scene.trace_params(&settings, t)?;
         tracer.set_params(gpu, &params);
-        let salt_or_frame = if job.mode == PermuteMode::White { job.salt.wrapping_add(t + 1) } else { t };
+        let salt_or_frame = if job.mode == PermuteMode::White {
+            job.salt.wrapping_add(t + 1)
+        } else {
+            t
+        };
         permuter.set_frame(gpu, salt_or_frame);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         tracer.encode_trace(&mut encoder, &trace_pipelines, None);
@@ -234,5 +263,9 @@ pub fn render_gpu(
     }
     let last = tracer.read_color(gpu)?;
     let mean = tracer.read_accum(gpu)?;
-    Ok(RenderOutput { last, mean, device: gpu.describe() })
+    Ok(RenderOutput {
+        last,
+        mean,
+        device: gpu.describe(),
+    })
 }

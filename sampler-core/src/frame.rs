@@ -196,7 +196,14 @@ pub fn permute_frame<T: Intensity>(
     let params = layout.params(frame);
     let table = tables.table(step_index(frame, params.tile_log2));
     if crate::permute_cpu::applies(&params) {
-        crate::permute_cpu::permute_blocks_cached(&params, intensities, tile.values(), table, seeds_in, seeds_out);
+        crate::permute_cpu::permute_blocks_cached(
+            &params,
+            intensities,
+            tile.values(),
+            table,
+            seeds_in,
+            seeds_out,
+        );
     } else {
         permute_blocks(&params, intensities, tile.values(), table, seeds_in, seeds_out);
     }

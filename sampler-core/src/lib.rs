@@ -68,8 +68,8 @@ pub use retarget::{
     RETARGET_RADIUS,
 };
 pub use seed::{initial_seed, random_f32, random_u32, RandomStream};
-pub use stbn_mask::SpatiotemporalMask;
 pub use sort::{
     intensity_key, luma, sort_block, Intensity, DEFAULT_BLOCK, MAX_BLOCK, MAX_BLOCK_PIXELS, MIN_BLOCK,
 };
+pub use stbn_mask::SpatiotemporalMask;
 pub use walk::{step_index, step_of_index, walk_offset, walk_step, MAX_TILE, STEP_COUNT};

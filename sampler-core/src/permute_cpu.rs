@@ -32,7 +32,9 @@ const MIN_CACHED_TILE: u32 = 16;
 /// True when [`permute_blocks_cached`] applies to `params`.
 pub(crate) fn applies(params: &FrameParams) -> bool {
     let w = 1u32 << params.tile_log2;
-    params.block.is_power_of_two() && w % params.block == 0 && (MIN_CACHED_TILE..=MAX_CACHED_TILE).contains(&w)
+    params.block.is_power_of_two()
+        && w % params.block == 0
+        && (MIN_CACHED_TILE..=MAX_CACHED_TILE).contains(&w)
 }
 
 /// Sorting + retargeting of a whole frame; see the module docs.
@@ -192,7 +194,10 @@ const NETWORK_64: Network = odd_even_merge_network(64);
 /// Batcher's odd-even merge sort for `n` (a power of two, `<= 64`) inputs,
 /// in Knuth's iterative form: 5, 63 and 543 comparators for 4, 16, 64.
 const fn odd_even_merge_network(n: usize) -> Network {
-    let mut net = Network { pairs: [(0, 0); 544], len: 0 };
+    let mut net = Network {
+        pairs: [(0, 0); 544],
+        len: 0,
+    };
     let mut p = 1;
     while p < n {
         let mut k = p;

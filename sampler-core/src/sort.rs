@@ -99,6 +99,8 @@ pub fn luma(rgb: Vec3) -> f32 {
 /// [`intensity_key`] of pixel `i`, `dither[i]` its dither value, `seeds[i]`
 /// its seed. Writes `out[j]` = the seed that moves to pixel `j`. Entries at
 /// or beyond `len` are ignored and `out` is left untouched there.
+// Index loops on purpose: shader code avoids slice iterators.
+#[allow(clippy::needless_range_loop)]
 #[inline]
 pub fn sort_block(
     len: u32,

@@ -1,1 +1,61 @@
-//! End-to-end tests of the command-line tools; see `tests/`.
+//! End-to-end tests of the command-line tools (see `tests/`): each test
+//! builds the tool with cargo, runs it as a user would and checks what it
+//! wrote and said.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+/// Builds `bin` of package `package` (test profile, so artifacts are shared
+/// with `cargo test`) and returns its path.
+///
+/// # Panics
+/// If cargo fails to build it.
+pub fn build_bin(package: &str, bin: &str) -> PathBuf {
+    let status = Command::new(env!("CARGO"))
+        .args([
+            "build",
+            "--profile",
+            "test",
+            "-p",
+            package,
+            "--bin",
+            bin,
+            "--quiet",
+        ])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .status()
+        .expect("cargo runs");
+    assert!(status.success(), "cargo build -p {package} --bin {bin} failed");
+    // target/debug/deps/<this test> -> target/debug/<bin>
+    let exe = std::env::current_exe().expect("test executable path");
+    let dir = exe.parent().and_then(|d| d.parent()).expect("target/<profile>");
+    let path = dir.join(bin);
+    assert!(path.exists(), "{} was not built", path.display());
+    path
+}
+
+/// Runs `exe` with `args`; returns its output (stdout, stderr, status).
+pub fn run(exe: &PathBuf, args: &[&str]) -> Output {
+    Command::new(exe)
+        .args(args)
+        .env(
+            "XDG_RUNTIME_DIR",
+            std::env::var("XDG_RUNTIME_DIR").unwrap_or_else(|_| "/tmp".into()),
+        )
+        .output()
+        .expect("the tool starts")
+}
+
+/// `stdout` and `stderr` of `out` as one string, for messages.
+pub fn text(out: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    )
+}
+
+/// True when GPU tests must not skip (`BLUENOISE_REQUIRE_GPU=1`, set in CI).
+pub fn gpu_required() -> bool {
+    std::env::var("BLUENOISE_REQUIRE_GPU").as_deref() == Ok("1")
+}

@@ -45,9 +45,9 @@ pub mod bvh;
 pub mod camera;
 pub mod entry;
 pub mod intersect;
+pub mod permute_entry;
 pub mod sampling;
 pub mod trace;
-pub mod permute_entry;
 
 pub use accumulate::accumulate_pixel;
 pub use trace::{trace_pixel, trace_sample, DIMS_PER_SAMPLE};

@@ -167,13 +167,7 @@ impl SeedPermuter {
             PermuteMode::White => self.encode_seed_init(encoder, pipelines),
             PermuteMode::Sort | PermuteMode::Permute => {
                 let blocks = params.blocks_x() * params.blocks_y();
-                dispatch(
-                    encoder,
-                    &pipelines.sort,
-                    &self.sort_bg,
-                    blocks,
-                    timer,
-                );
+                dispatch(encoder, &pipelines.sort, &self.sort_bg, blocks, timer);
                 if mode == PermuteMode::Permute {
                     let step = step_index(frame, params.tile_log2) as usize;
                     dispatch(
