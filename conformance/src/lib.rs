@@ -29,6 +29,7 @@ pub mod fixtures;
 pub mod grid;
 pub mod low_frequency;
 pub mod radial;
+pub mod render_study;
 pub mod spectrum;
 pub mod temporal;
 pub mod threshold;

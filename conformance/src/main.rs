@@ -1,3 +1,4 @@
+//! `conformance report --out DIR`: the rendered-quality study as an HTML page.
 fn main() {
     eprintln!("conformance: no command yet");
 }

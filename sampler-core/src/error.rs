@@ -18,6 +18,8 @@ pub enum Buffer {
     RetargetTable,
     /// A spatiotemporal mask: `2 * width * height * depth` bytes.
     SpatiotemporalMask,
+    /// Screen-space sampler keys: `levels * pairs * side * side` keys.
+    SampleKeys,
 }
 
 impl fmt::Display for Buffer {
@@ -29,6 +31,7 @@ impl fmt::Display for Buffer {
             Buffer::DitherTile => "dither tile",
             Buffer::RetargetTable => "retarget table",
             Buffer::SpatiotemporalMask => "spatiotemporal mask",
+            Buffer::SampleKeys => "screen-space sampler keys",
         })
     }
 }
@@ -89,6 +92,18 @@ pub enum Error {
         /// Depth in slices.
         depth: u32,
     },
+    /// A screen-space sampler key layout has a side that is not a power of
+    /// two in `1..=`[`MAX_KEY_TILE`](crate::screen_sobol::MAX_KEY_TILE), or
+    /// no dimension pair, or a number of spp levels outside
+    /// `1..=`[`MAX_KEY_LEVELS`](crate::screen_sobol::MAX_KEY_LEVELS).
+    KeyLayout {
+        /// Tile side in pixels.
+        side: u32,
+        /// Number of dimension pairs.
+        pairs: u32,
+        /// Number of spp levels.
+        levels: u32,
+    },
 }
 
 impl fmt::Display for Error {
@@ -127,6 +142,13 @@ impl fmt::Display for Error {
             Error::MaskSize { width, height, depth } => write!(
                 f,
                 "spatiotemporal mask size {width}x{height}x{depth} has a zero side or more than 65536 texels per slice"
+            ),
+            Error::KeyLayout { side, pairs, levels } => write!(
+                f,
+                "sampler key layout {side}x{side}, {pairs} pairs, {levels} spp levels is invalid: the side must be a \
+                 power of two up to {}, pairs at least 1, levels 1..={}",
+                crate::screen_sobol::MAX_KEY_TILE,
+                crate::screen_sobol::MAX_KEY_LEVELS
             ),
         }
     }

@@ -50,26 +50,36 @@ pub mod dither;
 pub mod error;
 pub mod frame;
 pub mod layout;
+pub mod owen;
 mod permute_cpu;
 pub mod r2;
 pub mod retarget;
+pub mod screen_sobol;
 pub mod seed;
+pub mod sobol;
 pub mod sort;
 pub mod stbn_mask;
 pub mod walk;
+pub mod zsobol;
 
 pub use dither::{tile_texel, DitherTile};
 pub use error::{Buffer, Error};
 pub use frame::{permute_frame, retarget_frame, retarget_pixel, sort_block_in_frame, sort_frame};
 pub use layout::{FrameLayout, FrameParams};
+pub use owen::{owen_scramble, owen_sobol, owen_sobol_u32, shuffle_index};
 pub use r2::{r1, r2, Rd};
 pub use retarget::{
     pack_offset, retarget_destination, unpack_offset, RetargetTable, RetargetTables, IDENTITY_PACKED,
     RETARGET_RADIUS,
 };
+pub use screen_sobol::{
+    key_sample_u32, screen_sobol_sample, screen_sobol_sample_u32, ScreenSobolKeys, ScreenSobolLayout,
+};
 pub use seed::{initial_seed, random_f32, random_u32, RandomStream};
+pub use sobol::{sobol, sobol_u32, SOBOL_DIMENSIONS};
 pub use sort::{
     intensity_key, luma, sort_block, Intensity, DEFAULT_BLOCK, MAX_BLOCK, MAX_BLOCK_PIXELS, MIN_BLOCK,
 };
 pub use stbn_mask::SpatiotemporalMask;
 pub use walk::{step_index, step_of_index, walk_offset, walk_step, MAX_TILE, STEP_COUNT};
+pub use zsobol::{zsobol_sample, zsobol_sample_u32};

@@ -5,15 +5,16 @@
 //! Output is identical to the per-block reference ([`sort_block`](crate::sort_block)
 //! followed by [`retarget_pixel`](crate::retarget_pixel)); the speed comes from:
 //!
-//! - **Dither order cached per frame.** With `B | W`, screen block `(bx, by)`
-//!   reads the tile window starting at `((bx mod W/B) B + o_t) mod W`, so
-//!   there are only `(W/B)^2` distinct windows per frame. Their in-block
-//!   order by dither value is sorted once per frame into a stack array of
-//!   `W * W` bytes (16 KiB for W = 128).
-//! - **Branch-free intensity sort.** Each full block sorts `(key << 6) | index`
-//!   `u64`s with a sorting network (`B * B` is a power of two).
-//! - **No division.** Positions come from shifts; the toroidal wrap of a
-//!   retarget offset (`|d| <= 6 < W <= padded size`) is one conditional add.
+//! - **Dither order and retarget offsets cached per frame.** With `B | W`,
+//!   screen block `(bx, by)` reads the tile window starting at
+//!   `((bx mod W/B) B + o_t) mod W`, so there are only `(W/B)^2` distinct
+//!   windows per frame. For each, the pixel of dither rank `k` and that
+//!   pixel's retarget offset are resolved once per frame into a stack array
+//!   of `W * W` offset pairs (32 KiB for W = 128).
+//! - **Branch-free ranks.** Each full block ranks its intensity keys by
+//!   all-pairs counting over a fixed-size array, which vectorises.
+//! - **No division.** Positions come from shifts; the toroidal wrap
+//!   (`|offset| <= B + 6 < W <= padded size`) is one conditional add.
 //!
 //! Blocks clipped by the frame edge take the reference path.
 
@@ -46,73 +47,107 @@ pub(crate) fn permute_blocks_cached<T: Intensity>(
     seeds_in: &[u32],
     seeds_out: &mut [u32],
 ) {
+    match params.block {
+        2 => permute_full_blocks::<T, 2, 4>(params, intensities, tile, table, seeds_in, seeds_out),
+        4 => permute_full_blocks::<T, 4, 16>(params, intensities, tile, table, seeds_in, seeds_out),
+        _ => permute_full_blocks::<T, 8, 64>(params, intensities, tile, table, seeds_in, seeds_out),
+    }
+}
+
+/// [`permute_blocks_cached`] for block side `B` (`N = B * B` pixels).
+fn permute_full_blocks<T: Intensity, const B: u32, const N: usize>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+) {
     let log2 = params.tile_log2;
     let w = 1u32 << log2;
-    let mask = w - 1;
-    let b = params.block;
-    let b_log2 = b.trailing_zeros();
-    let n = (b * b) as usize;
-    let classes = w / b;
+    let b_log2 = B.trailing_zeros();
+    let classes = w / B;
     let offset = walk_offset(params.frame, log2);
     let (pw, ph) = (params.padded_width, params.padded_height);
     let packed = table.packed();
 
-    // order[(cy * classes + cx) * n + k] = in-block index with dither rank k.
-    let mut order = [0u8; (MAX_CACHED_TILE * MAX_CACHED_TILE) as usize];
-    let mut keys = [0u64; MAX_BLOCK_PIXELS];
+    // Per window class and dither rank k: where, relative to the block's
+    // origin, the seed of intensity rank k ends up after the sort (the
+    // pixel of dither rank k) and the retarget scatter (its table offset).
+    let mut dest = [(0i8, 0i8); (MAX_CACHED_TILE * MAX_CACHED_TILE) as usize];
+    let mut keys = [0u64; N];
     for cy in 0..classes {
         for cx in 0..classes {
-            for i in 0..n as u32 {
-                let p = UVec2::new(cx * b + (i & (b - 1)), cy * b + (i >> b_log2));
+            for i in 0..N as u32 {
+                let p = UVec2::new(cx * B + (i & (B - 1)), cy * B + (i >> b_log2));
                 keys[i as usize] = ((tile[tile_texel(p, offset, log2) as usize] as u64) << 6) | i as u64;
             }
-            sort_keys(&mut keys[..n]);
-            let base = ((cy * classes + cx) as usize) * n;
-            for k in 0..n {
-                order[base + k] = (keys[k] & 63) as u8;
+            insertion_sort(&mut keys);
+            let base = ((cy * classes + cx) as usize) * N;
+            for k in 0..N {
+                let j = (keys[k] & 63) as u32;
+                let (jx, jy) = (j & (B - 1), j >> b_log2);
+                let t = tile_texel(UVec2::new(cx * B + jx, cy * B + jy), offset, log2);
+                let d = unpack_offset(packed[t as usize]);
+                dest[base + k] = ((jx as i32 + d.x) as i8, (jy as i32 + d.y) as i8);
             }
         }
     }
 
-    let wrap = |v: i32, m: u32| -> u32 {
-        let m = m as i32;
-        (if v < 0 {
-            v + m
-        } else if v >= m {
-            v - m
-        } else {
-            v
-        }) as u32
-    };
-    let full_x = params.width / b; // blocks fully inside the visible frame
-    let full_y = params.height / b;
+    let full_x = params.width / B; // blocks fully inside the visible frame
+    let full_y = params.height / B;
+    let mut block_keys = [0u32; N];
     for by in 0..params.blocks_y() {
         for bx in 0..params.blocks_x() {
-            let (x0, y0) = (bx * b, by * b);
             if bx >= full_x || by >= full_y {
                 edge_block(params, bx, by, intensities, tile, packed, seeds_in, seeds_out);
                 continue;
             }
-            for i in 0..n as u32 {
-                let (x, y) = (x0 + (i & (b - 1)), y0 + (i >> b_log2));
-                let key = intensity_key(intensities[(y * params.width + x) as usize].intensity());
-                keys[i as usize] = ((key as u64) << 6) | i as u64;
+            let (x0, y0) = (bx * B, by * B);
+            for (i, k) in block_keys.iter_mut().enumerate() {
+                let (x, y) = (x0 + (i as u32 & (B - 1)), y0 + (i as u32 >> b_log2));
+                *k = intensity_key(intensities[(y * params.width + x) as usize].intensity());
             }
-            sort_keys(&mut keys[..n]);
-            let class = (((by & (classes - 1)) * classes + (bx & (classes - 1))) as usize) * n;
-            for k in 0..n {
-                let src = (keys[k] & 63) as u32;
-                let dst = order[class + k] as u32;
-                let (sx, sy) = (x0 + (src & (b - 1)), y0 + (src >> b_log2));
-                let (dx, dy) = (x0 + (dst & (b - 1)), y0 + (dst >> b_log2));
-                let t = (((dy + offset.y) & mask) << log2) | ((dx + offset.x) & mask);
-                let d = unpack_offset(packed[t as usize]);
-                let nx = wrap(dx as i32 + d.x, pw);
-                let ny = wrap(dy as i32 + d.y, ph);
+            let ranks = block_ranks(&block_keys);
+            let class = (((by & (classes - 1)) * classes + (bx & (classes - 1))) as usize) * N;
+            for (i, &r) in ranks.iter().enumerate() {
+                let (ox, oy) = dest[class + r as usize];
+                let nx = wrap(x0 as i32 + ox as i32, pw);
+                let ny = wrap(y0 as i32 + oy as i32, ph);
+                let (sx, sy) = (x0 + (i as u32 & (B - 1)), y0 + (i as u32 >> b_log2));
                 seeds_out[(ny * pw + nx) as usize] = seeds_in[(sy * pw + sx) as usize];
             }
         }
     }
+}
+
+/// `v mod m` for `v` in `-m..2m` (one conditional add or subtract).
+#[inline(always)]
+fn wrap(v: i32, m: u32) -> u32 {
+    let m = m as i32;
+    (if v < 0 {
+        v + m
+    } else if v >= m {
+        v - m
+    } else {
+        v
+    }) as u32
+}
+
+/// Rank of each key in the block's total order (key, then index): branch-free
+/// all-pairs counting, which the compiler vectorises for fixed `N`.
+#[inline(always)]
+fn block_ranks<const N: usize>(keys: &[u32; N]) -> [u8; N] {
+    let mut ranks = [0u8; N];
+    for i in 0..N {
+        let ki = keys[i];
+        let mut r = 0u32;
+        for (j, &kj) in keys.iter().enumerate() {
+            r += (kj < ki) as u32 + ((kj == ki) & (j < i)) as u32;
+        }
+        ranks[i] = r as u8;
+    }
+    ranks
 }
 
 /// A block clipped by the visible frame: the reference sort of its visible
@@ -160,67 +195,6 @@ fn edge_block<T: Intensity>(
     }
 }
 
-/// Sorts `v` ascending: Batcher's odd-even merge network for 4, 16 and 64
-/// entries (no data-dependent branches), insertion sort otherwise.
-#[inline]
-fn sort_keys(v: &mut [u64]) {
-    match v.len() {
-        4 => run_network(v, &NETWORK_4.pairs[..NETWORK_4.len]),
-        16 => run_network(v, &NETWORK_16.pairs[..NETWORK_16.len]),
-        64 => run_network(v, &NETWORK_64.pairs[..NETWORK_64.len]),
-        _ => insertion_sort(v),
-    }
-}
-
-#[inline(always)]
-fn run_network(v: &mut [u64], pairs: &[(u8, u8)]) {
-    for &(a, b) in pairs {
-        let (x, y) = (v[a as usize], v[b as usize]);
-        v[a as usize] = x.min(y);
-        v[b as usize] = x.max(y);
-    }
-}
-
-/// Comparators of a sorting network: each puts the smaller value at `.0`.
-struct Network {
-    pairs: [(u8, u8); 544],
-    len: usize,
-}
-
-const NETWORK_4: Network = odd_even_merge_network(4);
-const NETWORK_16: Network = odd_even_merge_network(16);
-const NETWORK_64: Network = odd_even_merge_network(64);
-
-/// Batcher's odd-even merge sort for `n` (a power of two, `<= 64`) inputs,
-/// in Knuth's iterative form: 5, 63 and 543 comparators for 4, 16, 64.
-const fn odd_even_merge_network(n: usize) -> Network {
-    let mut net = Network {
-        pairs: [(0, 0); 544],
-        len: 0,
-    };
-    let mut p = 1;
-    while p < n {
-        let mut k = p;
-        while k >= 1 {
-            let mut j = k % p;
-            while j + k < n {
-                let mut i = 0;
-                while i < k && i < n - j - k {
-                    if (i + j) / (2 * p) == (i + j + k) / (2 * p) {
-                        net.pairs[net.len] = ((i + j) as u8, (i + j + k) as u8);
-                        net.len += 1;
-                    }
-                    i += 1;
-                }
-                j += 2 * k;
-            }
-            k /= 2;
-        }
-        p *= 2;
-    }
-    net
-}
-
 /// Insertion sort, ascending.
 #[inline]
 pub(crate) fn insertion_sort(v: &mut [u64]) {
@@ -240,21 +214,19 @@ mod tests {
     use super::*;
 
     #[test]
-    fn networks_sort_like_insertion() {
-        assert_eq!((NETWORK_4.len, NETWORK_16.len, NETWORK_64.len), (5, 63, 543));
+    fn block_ranks_follow_key_then_index() {
         let mut state = 12345u32;
         for _ in 0..500 {
-            for n in [4usize, 16, 64] {
-                let mut a = [0u64; 64];
-                for x in a[..n].iter_mut() {
-                    state = crate::seed::hash_u32(state);
-                    *x = (state % 7) as u64; // many ties
-                }
-                let mut b = a;
-                sort_keys(&mut a[..n]);
-                insertion_sort(&mut b[..n]);
-                assert_eq!(a[..n], b[..n]);
-                assert!(a[..n].windows(2).all(|w| w[0] <= w[1]));
+            let mut keys = [0u32; 16];
+            for k in keys.iter_mut() {
+                state = crate::seed::hash_u32(state);
+                *k = state % 5; // many ties
+            }
+            let ranks = block_ranks(&keys);
+            let mut order: [usize; 16] = core::array::from_fn(|i| i);
+            order.sort_by_key(|&i| (keys[i], i));
+            for (r, &i) in order.iter().enumerate() {
+                assert_eq!(ranks[i] as usize, r);
             }
         }
     }

@@ -54,6 +54,14 @@ pub const SEED_MODE_FIXED: u32 = 0;
 /// [`TraceParams::seed_mode`]: the stream is advanced by the frame index;
 /// sample `s` of frame `t` uses stream sample `t * spp + s` (wrapping).
 pub const SEED_MODE_ADVANCE: u32 = 1;
+/// [`TraceParams::seed_mode`]: blue-noise-dither baseline. Streams as in
+/// [`SEED_MODE_FIXED`], but `crate::trace::trace_pixel_dithered` replaces the
+/// two numbers of the first vertex's BSDF direction by a caller-supplied
+/// spatiotemporal blue-noise mask value (Cranley-Patterson rotated per
+/// sample). Only the CPU path supplies the mask (the `conformance` crate's
+/// quality study); [`TRACE_ENTRY`] has no mask binding and renders this mode
+/// exactly like [`SEED_MODE_FIXED`].
+pub const SEED_MODE_BLUE_NOISE_DITHER: u32 = 2;
 
 /// Per-frame parameters of the trace and accumulate passes (uniform buffer,
 /// 112 bytes).
@@ -82,8 +90,9 @@ pub struct TraceParams {
     /// Number of meaningful entries of the emitter buffer; 0 disables
     /// next-event estimation (emitters are then only found by BSDF sampling).
     pub emitter_count: u32,
-    /// [`SEED_MODE_FIXED`] or [`SEED_MODE_ADVANCE`]; any other value behaves
-    /// like [`SEED_MODE_FIXED`].
+    /// [`SEED_MODE_FIXED`], [`SEED_MODE_ADVANCE`] or
+    /// [`SEED_MODE_BLUE_NOISE_DITHER`]; any other value behaves like
+    /// [`SEED_MODE_FIXED`].
     pub seed_mode: u32,
     /// Number of entries of the node buffer (>= 1; node 0 is the root).
     pub node_count: u32,

@@ -45,16 +45,31 @@
 //! permutation correlate pixels' estimates. The stream sample `s` is the
 //! sample index within the frame in [`SEED_MODE_FIXED`](crate::abi::SEED_MODE_FIXED) and
 //! `frame * spp + s` in [`SEED_MODE_ADVANCE`] (see [`stream_sample`]).
+//!
+//! # Blue-noise dither baseline
+//!
+//! [`trace_pixel_dithered`] with `seed_mode ==`
+//! [`SEED_MODE_BLUE_NOISE_DITHER`] replaces the two numbers of vertex 0's
+//! BSDF direction (dimensions `2 + 3`, `2 + 4`) by a per-pixel dither value
+//! supplied by the caller (a spatiotemporal blue-noise mask), Cranley-Patterson
+//! rotated by the R2 sequence for sample `s`: `frac(dither + s * (a1, a2))`.
+//! Every other dimension still comes from the seed's stream. The first
+//! bounce's direction is the dimension pair that matters most on flat,
+//! unshadowed regions: next-event estimation of a large area light there is a
+//! smooth integrand with little variance, while the indirect light gathered
+//! through the first bounce (which hemisphere direction, hence which wall,
+//! the path sees) carries most of the per-pixel variance.
 
 use crate::abi::{
     BvhNodeGpu, EmitterGpu, MaterialGpu, TraceParams, TriangleGpu, MAX_DEPTH_LIMIT, SEED_MODE_ADVANCE,
+    SEED_MODE_BLUE_NOISE_DITHER,
 };
 use crate::bvh::{any_hit, closest_hit};
 use crate::camera::primary_ray;
 use crate::intersect::Ray;
 use crate::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_triangle_barycentrics, Frame};
 use core::f32::consts::FRAC_1_PI;
-use glam::{UVec2, Vec3, Vec4};
+use glam::{UVec2, Vec2, Vec3, Vec4};
 use sampler_core::RandomStream;
 
 /// Stream dimensions used before the first vertex (pixel jitter).
@@ -129,6 +144,84 @@ pub fn trace_sample(
     materials: &[MaterialGpu],
     emitters: &[EmitterGpu],
 ) -> Vec3 {
+    trace_sample_with(
+        params,
+        pixel,
+        stream,
+        Vec2::ZERO,
+        false,
+        nodes,
+        triangles,
+        materials,
+        emitters,
+    )
+}
+
+/// Mean radiance of the pixel's `params.spp` samples, as [`trace_pixel`],
+/// except that with `params.seed_mode ==` [`SEED_MODE_BLUE_NOISE_DITHER`]
+/// sample `s` takes vertex 0's BSDF direction numbers from
+/// `frac(dither + s * (a1, a2))` (R2 constants) instead of the stream (see
+/// the module docs). `dither` is the pixel's value of a blue-noise mask for
+/// this frame, each component in `[0, 1)`. With any other seed mode this is
+/// exactly [`trace_pixel`].
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn trace_pixel_dithered(
+    params: &TraceParams,
+    pixel: UVec2,
+    seed: u32,
+    dither: Vec2,
+    nodes: &[BvhNodeGpu],
+    triangles: &[TriangleGpu],
+    materials: &[MaterialGpu],
+    emitters: &[EmitterGpu],
+) -> Vec4 {
+    let dithered = params.seed_mode == SEED_MODE_BLUE_NOISE_DITHER;
+    let spp = params.spp.max(1);
+    let mut sum = Vec3::ZERO;
+    let mut s = 0u32;
+    while s < spp {
+        let stream = RandomStream::new(seed, stream_sample(params, s), DIMS_PER_SAMPLE);
+        // R2 rotation in 0.32 fixed point (sampler_core's walk constants), so
+        // the value stays exact for any sample index.
+        let rx = s.wrapping_mul(0xC13F_A9A9) as f32 * (1.0 / 4_294_967_296.0);
+        let ry = s.wrapping_mul(0x91E1_0DA6) as f32 * (1.0 / 4_294_967_296.0);
+        let u = Vec2::new(frac01(dither.x + rx), frac01(dither.y + ry));
+        sum += trace_sample_with(
+            params, pixel, stream, u, dithered, nodes, triangles, materials, emitters,
+        );
+        s += 1;
+    }
+    (sum / spp as f32).extend(1.0)
+}
+
+/// `x - floor(x)` for `x >= 0`, clamped below 1 (f32 rounding of values just
+/// under an integer).
+#[inline]
+fn frac01(x: f32) -> f32 {
+    let f = x - (x as u32) as f32;
+    if f < 1.0 {
+        f
+    } else {
+        0.999_999_94
+    }
+}
+
+/// [`trace_sample`], with vertex 0's BSDF numbers replaced by `first_bsdf`
+/// when `use_first_bsdf` is set.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn trace_sample_with(
+    params: &TraceParams,
+    pixel: UVec2,
+    stream: RandomStream,
+    first_bsdf: Vec2,
+    use_first_bsdf: bool,
+    nodes: &[BvhNodeGpu],
+    triangles: &[TriangleGpu],
+    materials: &[MaterialGpu],
+    emitters: &[EmitterGpu],
+) -> Vec3 {
     let max_depth = params.max_depth.min(MAX_DEPTH_LIMIT);
     let base = stream.index;
     let mut camera_dims = stream;
@@ -177,7 +270,10 @@ pub fn trace_sample(
         };
         let u_emitter = dims.next_f32();
         let u_point = dims.next_vec2();
-        let u_bsdf = dims.next_vec2();
+        let mut u_bsdf = dims.next_vec2();
+        if use_first_bsdf && depth == 0 {
+            u_bsdf = first_bsdf;
+        }
         let u_rr = dims.next_f32();
         let origin = offset_point(point, normal);
 

@@ -9,6 +9,11 @@
 //!   `i * 4 * W * W`; one packed `u32` offset per texel, row-major.
 //! - spatiotemporal `.bin`: one `u16` per-slice rank per texel, slice-major
 //!   then row-major.
+//! - screen-space sampler keys `.bin`: one `u32` key per texel, in
+//!   `ScreenSobolLayout::key_index` order (spp level, then dimension pair, then
+//!   row-major).
+//! - vector spatiotemporal `.bin`: `f32` components, slice-major then
+//!   row-major, the 2 or 3 components of a texel together.
 //!
 //! PNG output maps rank `r` of `n` to `floor(r * 2^bits / n)` (8 or 16 bits
 //! per texel, grey), so every level is used equally often.
@@ -16,9 +21,10 @@
 use anyhow::{bail, ensure, Context, Result};
 use rayon::prelude::*;
 use sampler_core::bake::{
-    bake_mask, bake_retarget_table, bake_stbn, MaskParams, RetargetBake, StbnParams, MAX_MASK_SIDE,
+    bake_key_tile, bake_mask, bake_retarget_table, bake_stbn, no_progress, KeyParams, MaskParams,
+    RetargetBake, StbnParams, SwapReport, MAX_MASK_SIDE,
 };
-use sampler_core::{DitherTile, STEP_COUNT};
+use sampler_core::{DitherTile, ScreenSobolLayout, STEP_COUNT};
 use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -36,6 +42,24 @@ pub const DEFAULT_STBN_SIZE: (u32, u32, u32) = (128, 128, 64);
 pub const DEFAULT_STBN_SIGMA: f64 = 1.9;
 /// Recorded seed of the default spatiotemporal mask.
 pub const DEFAULT_STBN_SEED: u64 = 3;
+/// Recorded seed of the default screen-space sampler keys (and of their training
+/// integrands).
+pub const DEFAULT_KEYS_SEED: u64 = 6;
+
+/// Parameters of the default screen-space sampler keys: 64x64 tiles, 4 dimension pairs,
+/// 5 spp levels (1, 2, 4, 8, 16 spp), 64 training integrands, energy sigma `sqrt 2` (a
+/// blur of 1 pixel), 64 sweeps, seed [`DEFAULT_KEYS_SEED`].
+pub fn default_key_params() -> KeyParams {
+    KeyParams {
+        side: 64,
+        pairs: 4,
+        levels: 5,
+        integrands: 64,
+        sigma: std::f64::consts::SQRT_2,
+        sweeps: 64,
+        seed: DEFAULT_KEYS_SEED,
+    }
+}
 
 /// One group of files of sampler-core's `data/` directory.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -46,11 +70,18 @@ pub enum DefaultSet {
     Tile128,
     /// `stbn_128x128x64.bin`.
     Stbn,
+    /// `screen_sobol_keys_64.bin`.
+    Keys,
 }
 
 impl DefaultSet {
     /// Every set, in the order `defaults` writes them.
-    pub const ALL: [DefaultSet; 3] = [DefaultSet::Tile64, DefaultSet::Tile128, DefaultSet::Stbn];
+    pub const ALL: [DefaultSet; 4] = [
+        DefaultSet::Tile64,
+        DefaultSet::Tile128,
+        DefaultSet::Stbn,
+        DefaultSet::Keys,
+    ];
 
     /// File names this set writes.
     pub fn files(self) -> &'static [&'static str] {
@@ -58,6 +89,7 @@ impl DefaultSet {
             DefaultSet::Tile64 => &["tile_64.bin", "tables_64.bin"],
             DefaultSet::Tile128 => &["tile_128.bin", "tables_128.bin"],
             DefaultSet::Stbn => &["stbn_128x128x64.bin"],
+            DefaultSet::Keys => &["screen_sobol_keys_64.bin"],
         }
     }
 }
@@ -174,6 +206,50 @@ pub fn write_png(
     result.with_context(|| format!("cannot write PNG {}", path.display()))
 }
 
+/// Encodes one slice of a vector mask (`channels` = 2 or 3 components per texel) as an
+/// 8-bit RGB PNG into `file`: component `v` maps to `floor(256 v)` (values in `[0, 1)`) or,
+/// with `signed`, to `floor(128 (v + 1))` (unit-vector components in `[-1, 1]`), clamped
+/// to 255; a missing third component is 0.
+///
+/// # Errors
+/// Bad `channels` or length, or an encoding/I/O failure.
+pub fn write_vector_png(
+    file: fs::File,
+    path: &Path,
+    width: u32,
+    height: u32,
+    channels: usize,
+    values: &[f32],
+    signed: bool,
+) -> Result<()> {
+    ensure!(
+        (channels == 2 || channels == 3) && values.len() == (width * height) as usize * channels,
+        "vector slice {} has {} components, expected {width}x{height}x{channels}",
+        path.display(),
+        values.len()
+    );
+    let level = |v: f32| {
+        let x = if signed { 128.0 * (v + 1.0) } else { 256.0 * v };
+        x.clamp(0.0, 255.0) as u8
+    };
+    let img = image::RgbImage::from_fn(width, height, |x, y| {
+        let t = &values[(y * width + x) as usize * channels..][..channels];
+        image::Rgb([
+            level(t[0]),
+            level(t[1]),
+            if channels == 3 { level(t[2]) } else { 0 },
+        ])
+    });
+    let encoder = image::codecs::png::PngEncoder::new(std::io::BufWriter::new(file));
+    img.write_with_encoder(encoder)
+        .with_context(|| format!("cannot write PNG {}", path.display()))
+}
+
+/// `f32`s as little-endian bytes.
+pub fn encode_f32(values: &[f32]) -> Vec<u8> {
+    values.iter().flat_map(|v| v.to_le_bytes()).collect()
+}
+
 /// Parses `W`, `WxH` (2D) or `WxHxD` sizes; every side a power of two in
 /// `1..=MAX_MASK_SIDE`.
 ///
@@ -214,6 +290,38 @@ pub fn bake_tables_parallel(tile: &DitherTile<'_>, done: &(dyn Fn() + Sync)) -> 
             b.map_err(anyhow::Error::from)
         })
         .collect()
+}
+
+/// Bakes every key tile of `params` in parallel (one rayon task per level and pair):
+/// the key buffer in `ScreenSobolLayout::key_index` order and one report per tile (level
+/// major, then pair). `done` is called once per finished tile. Identical to the
+/// sequential `sampler_core::bake::bake_sampler_keys`.
+///
+/// # Errors
+/// As `sampler_core::bake::bake_key_tile`.
+pub fn bake_keys_parallel(
+    params: &KeyParams,
+    done: &(dyn Fn() + Sync),
+) -> Result<(ScreenSobolLayout, Vec<u32>, Vec<SwapReport>)> {
+    let layout = params.layout()?;
+    let tiles: Vec<(u32, u32)> = (0..layout.levels)
+        .flat_map(|l| (0..layout.pairs).map(move |p| (l, p)))
+        .collect();
+    let baked = tiles
+        .into_par_iter()
+        .map(|(level, pair)| {
+            let b = bake_key_tile(params, level, pair, &mut no_progress);
+            done();
+            b.map_err(anyhow::Error::from)
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let mut keys = Vec::with_capacity(layout.key_count());
+    let mut reports = Vec::with_capacity(baked.len());
+    for (tile, report) in baked {
+        keys.extend(tile);
+        reports.push(report);
+    }
+    Ok((layout, keys, reports))
 }
 
 /// The bytes of a tables file: tables in index order, back to back.
@@ -277,6 +385,10 @@ pub fn bake_default_set(set: DefaultSet, report: Report<'_>) -> Result<(NamedFil
             (vec![(files[0], tile), (files[1], tables)], bakes)
         }
         DefaultSet::Stbn => (vec![(files[0], bake_default_stbn(report)?)], Vec::new()),
+        DefaultSet::Keys => {
+            let (_, keys, _) = bake_keys_parallel(&default_key_params(), &|| {})?;
+            (vec![(files[0], encode_u32(&keys))], Vec::new())
+        }
     })
 }
 

@@ -5,17 +5,23 @@
 //! bake mask --size 128 --sigma 1.5 --seed 1 --out mask.png
 //! bake stbn --size 128x128x64 --out stbn/
 //! bake retarget --tile tile.bin --out tables/
+//! bake keys --side 64 --out keys.bin
+//! bake vector-stbn --kind vec2 --size 64x64x32 --out vstbn/
 //! bake defaults --out sampler-core/data
 //! ```
 
 use anyhow::{ensure, Context, Result};
 use bake::{
-    bake_default_set, bake_tables_parallel, create_dir, create_file, encode_tables, encode_u16, encode_u32,
-    parse_size, read_tile, write_all, write_png, DefaultSet,
+    bake_default_set, bake_keys_parallel, bake_tables_parallel, create_dir, create_file, default_key_params,
+    encode_f32, encode_tables, encode_u16, encode_u32, parse_size, read_tile, write_all, write_png,
+    write_vector_png, DefaultSet,
 };
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
-use sampler_core::bake::{anneal_retarget_table, bake_mask, bake_stbn, AnnealParams, MaskParams, StbnParams};
+use sampler_core::bake::{
+    anneal_retarget_table, bake_mask, bake_stbn, bake_vector_stbn, AnnealParams, KeyParams, MaskParams,
+    StbnParams, VectorKind, VectorStbnParams,
+};
 use sampler_core::{DitherTile, STEP_COUNT};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -84,6 +90,57 @@ enum Command {
         #[arg(long)]
         anneal: Option<u32>,
     },
+    /// Per-pixel keys of the screen-space Sobol sampler, optimised for blue-noise error.
+    Keys {
+        /// Tile side, a power of two.
+        #[arg(long, default_value_t = 64)]
+        side: u32,
+        /// Dimension pairs (independent tiles per spp level).
+        #[arg(long, default_value_t = 4)]
+        pairs: u32,
+        /// spp levels: level j is optimised for 2^j samples per pixel.
+        #[arg(long, default_value_t = 5)]
+        levels: u32,
+        /// Training Heaviside integrands.
+        #[arg(long, default_value_t = 64)]
+        integrands: u32,
+        /// Energy sigma in pixels (sqrt 2 targets a blur of 1 pixel).
+        #[arg(long, default_value_t = std::f64::consts::SQRT_2, allow_negative_numbers = true)]
+        sigma: f64,
+        /// Optimiser sweeps per tile.
+        #[arg(long, default_value_t = 64)]
+        sweeps: u32,
+        /// Seed of the keys and training integrands.
+        #[arg(long, default_value_t = bake::DEFAULT_KEYS_SEED)]
+        seed: u64,
+        /// Output `.bin`: little-endian u32 keys, level, pair, then row-major.
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// A vector spatiotemporal mask: per-slice RGB PNGs and one binary file of f32s.
+    VectorStbn {
+        /// What the texels hold.
+        #[arg(long, value_enum)]
+        kind: KindArg,
+        /// `WxHxD`, powers of two.
+        #[arg(long)]
+        size: String,
+        /// Spatial sigma in texels.
+        #[arg(long, default_value_t = 1.9, allow_negative_numbers = true)]
+        sigma: f64,
+        /// Temporal sigma in slices.
+        #[arg(long, default_value_t = 1.9, allow_negative_numbers = true)]
+        temporal_sigma: f64,
+        /// Optimiser sweeps.
+        #[arg(long, default_value_t = 64)]
+        sweeps: u32,
+        /// Seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Output directory: `slice_NNN.png` and `vector_stbn_KIND_WxHxD.bin`.
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Regenerates sampler-core's data files from the recorded seeds.
     Defaults {
         /// Output directory (sampler-core/data to refresh the committed files).
@@ -93,6 +150,30 @@ enum Command {
         #[arg(long, value_enum)]
         only: Vec<DefaultSet>,
     },
+}
+
+/// `--kind` of `vector-stbn`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum KindArg {
+    /// Points of [0, 1)^2.
+    Vec2,
+    /// Points of [0, 1)^3.
+    Vec3,
+    /// Uniform unit vectors.
+    Sphere,
+    /// Cosine-weighted hemisphere directions (z up).
+    Cosine,
+}
+
+impl KindArg {
+    fn kind(self) -> VectorKind {
+        match self {
+            KindArg::Vec2 => VectorKind::Vec2,
+            KindArg::Vec3 => VectorKind::Vec3,
+            KindArg::Sphere => VectorKind::UnitSphere,
+            KindArg::Cosine => VectorKind::CosineHemisphere,
+        }
+    }
 }
 
 fn bar(total: u64, what: &str) -> ProgressBar {
@@ -123,6 +204,36 @@ fn main() -> Result<()> {
             bits,
         } => stbn(&size, sigma, temporal_sigma, seed, &out, bits),
         Command::Retarget { tile, out, anneal } => retarget(&tile, &out, anneal),
+        Command::Keys {
+            side,
+            pairs,
+            levels,
+            integrands,
+            sigma,
+            sweeps,
+            seed,
+            out,
+        } => keys(
+            &KeyParams {
+                side,
+                pairs,
+                levels,
+                integrands,
+                sigma,
+                sweeps,
+                seed,
+            },
+            &out,
+        ),
+        Command::VectorStbn {
+            kind,
+            size,
+            sigma,
+            temporal_sigma,
+            sweeps,
+            seed,
+            out,
+        } => vector_stbn(kind, &size, sigma, temporal_sigma, sweeps, seed, &out),
         Command::Defaults { out, only } => defaults(&out, &only),
     }
 }
@@ -253,6 +364,93 @@ fn retarget(tile_path: &Path, out: &Path, anneal: Option<u32>) -> Result<()> {
         }
     }
     write_all(file, &path, &encode_tables(&tables))
+}
+
+fn keys(params: &KeyParams, out: &Path) -> Result<()> {
+    let layout = params.layout()?;
+    let file = create_file(out)?; // fail before a long bake
+    let pb = bar((layout.levels * layout.pairs) as u64, "keys");
+    let start = Instant::now();
+    let (_, keys, reports) = bake_keys_parallel(params, &|| pb.inc(1))?;
+    pb.finish_and_clear();
+    println!(
+        "{}x{} keys, {} pairs, {} levels, {} integrands, sigma {}, {} sweeps, seed {}: {:.3} s",
+        params.side,
+        params.side,
+        params.pairs,
+        params.levels,
+        params.integrands,
+        params.sigma,
+        params.sweeps,
+        params.seed,
+        start.elapsed().as_secs_f64()
+    );
+    for (t, r) in reports.iter().enumerate() {
+        println!(
+            "level {} pair {}: energy {:.5} -> {:.5}, {} of {} swaps accepted",
+            t as u32 / layout.pairs,
+            t as u32 % layout.pairs,
+            r.energy_before,
+            r.energy_after,
+            r.accepted,
+            r.trials
+        );
+    }
+    if params == &default_key_params() {
+        println!("(these are the parameters of the committed defaults)");
+    }
+    write_all(file, out, &encode_u32(&keys))
+}
+
+fn vector_stbn(
+    kind: KindArg,
+    size: &str,
+    sigma: f64,
+    temporal_sigma: f64,
+    sweeps: u32,
+    seed: u64,
+    out: &Path,
+) -> Result<()> {
+    let sides = parse_size(size, 3)?;
+    ensure!(sides.len() == 3, "vector mask size must be WxHxD, got {size:?}");
+    let (width, height, depth) = (sides[0], sides[1], sides[2]);
+    create_dir(out)?;
+    let name = format!("{kind:?}").to_lowercase();
+    let bin_path = out.join(format!("vector_stbn_{name}_{width}x{height}x{depth}.bin"));
+    let bin = create_file(&bin_path)?;
+    let params = VectorStbnParams {
+        width,
+        height,
+        depth,
+        kind: kind.kind(),
+        sigma,
+        temporal_sigma,
+        sweeps,
+        seed,
+    };
+    let pb = bar(0, "vector-stbn");
+    let start = Instant::now();
+    let mask = bake_vector_stbn(&params, &mut |d, t| {
+        pb.set_length(t);
+        pb.set_position(d)
+    })?;
+    pb.finish_and_clear();
+    println!(
+        "{name} {width}x{height}x{depth}: baked in {:.3} s, energy {:.5} -> {:.5}, {} of {} swaps accepted",
+        start.elapsed().as_secs_f64(),
+        mask.report.energy_before,
+        mask.report.energy_after,
+        mask.report.accepted,
+        mask.report.trials
+    );
+    write_all(bin, &bin_path, &encode_f32(&mask.values))?;
+    let c = params.kind.channels() as usize;
+    let signed = matches!(params.kind, VectorKind::UnitSphere | VectorKind::CosineHemisphere);
+    for (z, slice) in mask.values.chunks((width * height) as usize * c).enumerate() {
+        let path = out.join(format!("slice_{z:03}.png"));
+        write_vector_png(create_file(&path)?, &path, width, height, c, slice, signed)?;
+    }
+    Ok(())
 }
 
 fn defaults(out: &Path, only: &[DefaultSet]) -> Result<()> {

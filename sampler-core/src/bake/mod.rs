@@ -11,6 +11,12 @@
 //!   [`retarget`](crate::retarget).
 //! - [`anneal_retarget_table`]: the paper's simulated annealing from the
 //!   identity, kept as a baseline for comparison only.
+//! - [`bake_sampler_keys`] / [`bake_key_tile`]: per-pixel keys of the
+//!   screen-space sampler ([`screen_sobol`](crate::screen_sobol)), arranged by
+//!   a swap optimiser so errors on random Heaviside integrands are blue.
+//! - [`bake_vector_stbn`]: vector spatiotemporal masks (2D/3D values, unit
+//!   and cosine-hemisphere directions) with the same swap optimiser and the
+//!   STBN coupling.
 //!
 //! Everything is deterministic: the same parameters and seed give the same
 //! output bit for bit on every machine (integer energies; the only floating
@@ -21,16 +27,23 @@ mod anneal;
 mod assignment;
 mod energy;
 mod extrema;
+mod keys;
 mod retarget_bake;
 mod stbn;
+mod vector_stbn;
 mod void_and_cluster;
 
 pub use anneal::{anneal_retarget_table, AnnealParams};
 pub use assignment::{solve_assignment, Assignment, SparseCosts, SparseMatrix};
+pub use keys::{
+    bake_key_tile, bake_sampler_keys, heaviside_integrands, key_errors, HeavisideIntegrand, KeyParams,
+    SwapReport,
+};
 pub use retarget_bake::{
     bake_retarget_table, bake_retarget_tables, retarget_energy, RetargetBake, RetargetCosts,
 };
 pub use stbn::{bake_stbn, StbnParams};
+pub use vector_stbn::{bake_vector_stbn, VectorKind, VectorStbn, VectorStbnParams};
 pub use void_and_cluster::{bake_mask, MaskParams};
 
 use core::fmt;

@@ -1,0 +1,172 @@
+//! Issue 5, part 2: end-to-end quality on rendered frames, at a CI size.
+//!
+//! The Cornell box at 128x128, 1 spp, 64 frames per method, against a 512-spp reference
+//! (cached under `target/quality-cache`), and a short 4-spp run. Every test prints the
+//! figures it measures; the full-size figures are in QUALITY.md
+//! (`cargo run -p conformance --release -- report --out DIR`).
+//!
+//! Goals (issue 5), relative to fresh white-noise seeds:
+//! - by frame 8, permute's error low-frequency power on the flat insets <= 0.15;
+//! - by frame 8, permute's blurred RMSE (sigma 1, whole image) <= 0.6;
+//! - accumulated RMSE <= 1.05 at 64 frames (128 does not fit the CI budget).
+
+use conformance::render_study::{
+    default_cache_dir, Method, Metric, Study, StudyConfig, StudyResult, GOAL_FRAME,
+};
+use std::sync::OnceLock;
+
+const SIZE: u32 = 128;
+const FRAMES: u32 = 64;
+const REF_SPP: u32 = 512;
+
+fn study(spp: u32, frames: u32, methods: &[Method]) -> StudyResult {
+    let config = StudyConfig::new(SIZE, spp, frames, REF_SPP);
+    let start = std::time::Instant::now();
+    let study = Study::new(config, Some(&default_cache_dir()), |_, _| {}).expect("study setup");
+    let reference = start.elapsed();
+    let result = study.run(methods, |_, _| {}).expect("study run");
+    println!(
+        "{spp} spp: reference {:.1} s, {} methods x {frames} frames {:.1} s",
+        reference.as_secs_f64(),
+        methods.len(),
+        (start.elapsed() - reference).as_secs_f64()
+    );
+    println!("{}", result.summary());
+    result
+}
+
+fn one_spp() -> &'static StudyResult {
+    static RESULT: OnceLock<StudyResult> = OnceLock::new();
+    RESULT.get_or_init(|| study(1, FRAMES, &Method::ALL))
+}
+
+fn rel(r: &StudyResult, m: Method, metric: Metric, i: usize) -> f64 {
+    r.relative(m, metric, i).expect("measured")
+}
+
+#[test]
+fn frame_zero_is_the_same_white_start_for_every_permutation_method() {
+    let r = one_spp();
+    for m in [Method::Sort, Method::Permute, Method::FixedStep] {
+        let lf = rel(r, m, Metric::LowFrequency, 0);
+        let blur = rel(r, m, Metric::Blur1, 0);
+        println!("{}: frame 0 LF {lf:.6}, blur1 {blur:.6} (white = 1)", m.name());
+        assert_eq!(
+            (lf, blur),
+            (1.0, 1.0),
+            "{} must start from white's seeds",
+            m.name()
+        );
+    }
+}
+
+#[test]
+fn insets_are_flat() {
+    let r = one_spp();
+    for inset in &r.insets {
+        println!(
+            "inset {}: ({}, {}) side {}, max relative gradient of the reference {:.3}",
+            inset.name, inset.x0, inset.y0, inset.side, inset.max_gradient
+        );
+        // Reference noise alone (512 spp) gives a few percent; an edge or a shadow
+        // boundary gives far more than 0.5.
+        assert!(inset.max_gradient < 0.5, "{} is not flat", inset.name);
+    }
+}
+
+#[test]
+fn permute_error_low_frequency_power_by_frame_8() {
+    let r = one_spp();
+    let t = GOAL_FRAME as usize;
+    for m in Method::ALL {
+        let per_frame: Vec<String> = (0..=t + 4)
+            .map(|i| format!("{:.3}", rel(r, m, Metric::LowFrequency, i)))
+            .collect();
+        println!(
+            "LF power (white = 1), frames 0..={}: {:<10} {}",
+            t + 4,
+            m.name(),
+            per_frame.join(" ")
+        );
+    }
+    let run = r.run(Method::Permute).unwrap();
+    println!("permute per inset at frame {t}: {:?}", run.lf_insets[t]);
+    let lf = rel(r, Method::Permute, Metric::LowFrequency, t);
+    println!("permute LF at frame {t}: {lf:.3} (goal <= 0.15)");
+    assert!(
+        lf <= 0.15,
+        "permute's LF power at frame {t} is {lf:.3} of white's (goal 0.15)"
+    );
+}
+
+#[test]
+fn permute_blurred_rmse_by_frame_8() {
+    let r = one_spp();
+    let t = GOAL_FRAME as usize;
+    for m in Method::ALL {
+        println!(
+            "{:<10} frame {t}: blur1 {:.3} blur2 {:.3} unblurred {:.3} (white = 1)",
+            m.name(),
+            rel(r, m, Metric::Blur1, t),
+            rel(r, m, Metric::Blur2, t),
+            rel(r, m, Metric::Rmse, t)
+        );
+    }
+    let b = rel(r, Method::Permute, Metric::Blur1, t);
+    println!("permute blurred RMSE (sigma 1) at frame {t}: {b:.3} (goal <= 0.6)");
+    assert!(
+        b <= 0.6,
+        "permute's blurred RMSE at frame {t} is {b:.3} of white's (goal 0.6)"
+    );
+}
+
+#[test]
+fn permute_accumulates_like_white() {
+    let r = one_spp();
+    for m in Method::ALL {
+        let f: Vec<String> = [8usize, 16, 32, 64]
+            .iter()
+            .map(|&n| {
+                format!(
+                    "{n}: {:.3} (raw {:.3})",
+                    rel(r, m, Metric::Accumulated, n - 1),
+                    rel(r, m, Metric::AccumulatedRaw, n - 1)
+                )
+            })
+            .collect();
+        println!("accumulated RMSE (white = 1) {:<10} {}", m.name(), f.join(", "));
+    }
+    let a = rel(r, Method::Permute, Metric::Accumulated, FRAMES as usize - 1);
+    println!("permute accumulated RMSE at {FRAMES} frames: {a:.3} (goal <= 1.05)");
+    assert!(
+        a <= 1.05,
+        "permute's accumulated RMSE at {FRAMES} frames is {a:.3} of white's (goal 1.05)"
+    );
+}
+
+#[test]
+fn the_r2_walk_accumulates_better_than_the_fixed_step() {
+    let r = one_spp();
+    let n = FRAMES as usize;
+    let fixed = rel(r, Method::FixedStep, Metric::Accumulated, n - 1);
+    let walk = rel(r, Method::Permute, Metric::Accumulated, n - 1);
+    println!("accumulated RMSE at {n} frames (white = 1): R2 walk {walk:.3}, fixed step (48, 36) {fixed:.3}");
+    // The fixed step repeats every 16 frames, so it must not beat the aperiodic walk.
+    assert!(
+        fixed > walk,
+        "the fixed step accumulated better ({fixed:.3}) than the R2 walk ({walk:.3})"
+    );
+}
+
+#[test]
+fn four_spp_by_frame_8() {
+    let r = study(4, GOAL_FRAME + 1, &[Method::White, Method::Permute]);
+    let t = GOAL_FRAME as usize;
+    let lf = rel(&r, Method::Permute, Metric::LowFrequency, t);
+    let b = rel(&r, Method::Permute, Metric::Blur1, t);
+    println!("4 spp, frame {t}: permute LF {lf:.3} (goal <= 0.15), blur1 {b:.3} (goal <= 0.6)");
+    assert!(
+        lf <= 0.15 && b <= 0.6,
+        "4 spp: LF {lf:.3} (goal 0.15), blur1 {b:.3} (goal 0.6)"
+    );
+}
