@@ -196,3 +196,119 @@ fn mismatched_sizes_are_errors() {
     )
     .is_err());
 }
+
+/// Per-pixel running sums over frames: mean and variance of the luma.
+struct PixelStats {
+    sum: Vec<f64>,
+    sum_sq: Vec<f64>,
+    frames: u32,
+}
+
+impl PixelStats {
+    fn new(n: usize) -> Self {
+        PixelStats {
+            sum: vec![0.0; n],
+            sum_sq: vec![0.0; n],
+            frames: 0,
+        }
+    }
+    fn add(&mut self, color: &[Vec4]) {
+        for (i, c) in color.iter().enumerate() {
+            let v = luma(c.truncate()) as f64;
+            self.sum[i] += v;
+            self.sum_sq[i] += v * v;
+        }
+        self.frames += 1;
+    }
+    fn mean(&self, i: usize) -> f64 {
+        self.sum[i] / self.frames as f64
+    }
+    /// Variance of the mean of pixel `i` (sample variance / frames).
+    fn var_of_mean(&self, i: usize) -> f64 {
+        let n = self.frames as f64;
+        let m = self.mean(i);
+        ((self.sum_sq[i] / n - m * m).max(0.0) * n / (n - 1.0)) / n
+    }
+}
+
+#[test]
+fn path_traced_frames_agree_statistically_with_the_cpu_renderer() {
+    use gpu_tracer::{
+        cornell::cornell_box, render_cpu, render_gpu, RenderJob, SceneGpu, TileChoice, TraceSettings,
+    };
+    let Some(gpu) = Gpu::for_test("path_traced_frames_agree_statistically_with_the_cpu_renderer") else {
+        return;
+    };
+    let scene = SceneGpu::build(&cornell_box()).unwrap();
+    let (w, h, frames) = (24u32, 20u32, 64u32);
+    let mut settings = TraceSettings::new(w, h);
+    settings.spp = 2;
+    // White noise on both sides, from different salts: independent estimates
+    // of the same per-pixel expectation.
+    let job = |salt| RenderJob {
+        settings,
+        frames,
+        mode: PermuteMode::White,
+        block: 4,
+        tile: TileChoice::Tile64,
+        salt,
+    };
+    let n = (w * h) as usize;
+    let mut cpu = PixelStats::new(n);
+    render_cpu(&scene, &job(1), |_, c| cpu.add(c)).unwrap();
+    let mut gpu_stats = PixelStats::new(n);
+    let mut collect = |_t: u32, c: &[Vec4]| gpu_stats.add(c);
+    let out = render_gpu(&gpu, &scene, &job(1_000_003), |_| {}, Some(&mut collect)).unwrap();
+    assert_eq!(out.last.len(), n);
+    // z-score of the difference of means per pixel; pixels with no variance
+    // on either side (background, light) must agree to float precision.
+    let (mut z2_sum, mut within4, mut counted) = (0.0f64, 0usize, 0usize);
+    for i in 0..n {
+        let var = cpu.var_of_mean(i) + gpu_stats.var_of_mean(i);
+        let d = gpu_stats.mean(i) - cpu.mean(i);
+        if var < 1e-12 {
+            assert!(
+                d.abs() <= 1e-4 * (1.0 + cpu.mean(i).abs()),
+                "pixel {i}: {} vs {}",
+                gpu_stats.mean(i),
+                cpu.mean(i)
+            );
+            continue;
+        }
+        let z = d / var.sqrt();
+        z2_sum += z * z;
+        counted += 1;
+        if z.abs() <= 4.0 {
+            within4 += 1;
+        }
+    }
+    let mean_z2 = z2_sum / counted as f64;
+    let frac4 = within4 as f64 / counted as f64;
+    eprintln!(
+        "{counted} pixels compared: mean z^2 {mean_z2:.3} (expected ~1), {:.2}% within 4 sigma",
+        100.0 * frac4
+    );
+    // Heavy-tailed path-tracing noise inflates sample variances little at 128
+    // samples per pixel; a biased kernel would push mean z^2 far above 1.
+    assert!(counted > n / 2, "too few pixels with variance: {counted}");
+    assert!(mean_z2 < 1.6, "mean z^2 {mean_z2:.3}: GPU and CPU disagree");
+    assert!(
+        frac4 > 0.99,
+        "only {:.2}% of pixels within 4 sigma",
+        100.0 * frac4
+    );
+    // And the image means agree within 4 sigma (pixels are independent in
+    // white mode, so the variances add).
+    let total = |s: &PixelStats| (0..n).map(|i| s.mean(i)).sum::<f64>() / n as f64;
+    let (tc, tg) = (total(&cpu), total(&gpu_stats));
+    let sigma = ((0..n)
+        .map(|i| cpu.var_of_mean(i) + gpu_stats.var_of_mean(i))
+        .sum::<f64>())
+    .sqrt()
+        / n as f64;
+    eprintln!("image means {tc:.4} (CPU) vs {tg:.4} (GPU), sigma {sigma:.4}");
+    assert!(
+        (tc - tg).abs() < 4.0 * sigma,
+        "image means {tc:.4} (CPU) vs {tg:.4} (GPU), sigma {sigma:.4}"
+    );
+}

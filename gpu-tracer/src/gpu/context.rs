@@ -35,7 +35,25 @@ impl Gpu {
     /// if the device cannot be created, [`GpuError::Validation`] if the
     /// shader module is rejected.
     pub fn new() -> Result<Self, GpuError> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle().with_env());
+        Self::from_instance(wgpu::Instance::new(
+            wgpu::InstanceDescriptor::new_without_display_handle().with_env(),
+        ))
+    }
+
+    /// A device of wgpu's no-op backend: validates the kernels module,
+    /// pipelines and bind groups (naga's SPIR-V front end, layouts) without
+    /// any GPU; dispatches do nothing.
+    ///
+    /// # Errors
+    /// As [`Gpu::new`].
+    pub fn noop() -> Result<Self, GpuError> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+        desc.backends = wgpu::Backends::NOOP;
+        desc.backend_options.noop.enable = true;
+        Self::from_instance(wgpu::Instance::new(desc))
+    }
+
+    fn from_instance(instance: wgpu::Instance) -> Result<Self, GpuError> {
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,
             ..Default::default()

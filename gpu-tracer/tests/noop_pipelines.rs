@@ -1,0 +1,38 @@
+//! Validates the committed SPIR-V, every pipeline and every bind group on
+//! wgpu's no-op backend: runs on any machine, GPU or not, so a layout
+//! mistake can never hide behind a skipped GPU test.
+
+use gpu_tracer::cornell::cornell_box;
+use gpu_tracer::gpu::{Gpu, PermuteMode, PermutePipelines, SeedPermuter, TracePipelines, Tracer};
+use gpu_tracer::{SceneGpu, TraceSettings};
+use sampler_core::FrameLayout;
+
+#[test]
+fn kernels_pipelines_and_bind_groups_validate() {
+    let gpu = Gpu::noop().expect("no-op device with the kernels module");
+    let tp = TracePipelines::new(&gpu).expect("trace pipelines");
+    let pp = PermutePipelines::new(&gpu).expect("permute pipelines");
+    let scene = SceneGpu::build(&cornell_box()).unwrap();
+    let layout = FrameLayout::new(33, 17, 4, 64).unwrap();
+    let mut settings = TraceSettings::new(33, 17);
+    settings.padded_width = layout.padded_width();
+    let params = scene.trace_params(&settings, 0).unwrap();
+    let (tile, tables) = (
+        sampler_core::defaults::tile_64(),
+        sampler_core::defaults::tables_64(),
+    );
+    let color = Tracer::color_buffer(&gpu, 33, 17);
+    let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let permuter = SeedPermuter::new(&gpu, &pp, layout, &tile, &tables, &color).unwrap();
+    let tracer = Tracer::new(&gpu, &tp, &scene, &params, &permuter.seeds, color);
+    let mut e = gpu.device.create_command_encoder(&Default::default());
+    tracer.encode_trace(&mut e, &tp, None);
+    tracer.encode_accumulate(&mut e, &tp);
+    permuter.encode_intensity(&mut e, &pp);
+    for mode in [PermuteMode::White, PermuteMode::Sort, PermuteMode::Permute] {
+        permuter.encode_step(&mut e, &pp, 3, mode, None);
+    }
+    gpu.queue.submit([e.finish()]);
+    let error = pollster::block_on(scope.pop());
+    assert!(error.is_none(), "validation error: {error:?}");
+}
