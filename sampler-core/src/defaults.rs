@@ -6,11 +6,13 @@
 //! by the `bake` CLI from recorded seeds: void-and-cluster dither tiles with
 //! sigma 1.9, the exact retarget tables of every step of their offset walk
 //! (energy about 0.011 of the identity's), and a 128x128x64 spatiotemporal
-//! mask with sigma 1.9 in space and time. Tiles and tables are decoded at
-//! compile time into `u32` statics; the mask is read byte-wise.
+//! mask with sigma 1.9 in space and time, and the optimised keys of the
+//! screen-space Sobol sampler. Tiles, tables and keys are decoded at compile
+//! time into `u32` statics; the mask is read byte-wise.
 
 use crate::dither::DitherTile;
 use crate::retarget::RetargetTables;
+use crate::screen_sobol::{ScreenSobolKeys, ScreenSobolLayout};
 use crate::stbn_mask::SpatiotemporalMask;
 use crate::walk::STEP_COUNT;
 
@@ -32,6 +34,10 @@ static TABLES_64: [u32; STEP_COUNT * 64 * 64] = decode_u32(include_bytes!("../da
 static TILE_128: [u32; 128 * 128] = decode_u32(include_bytes!("../data/tile_128.bin"));
 static TABLES_128: [u32; STEP_COUNT * 128 * 128] = decode_u32(include_bytes!("../data/tables_128.bin"));
 static STBN_128: &[u8; 2 * 128 * 128 * 64] = include_bytes!("../data/stbn_128x128x64.bin");
+/// Side, dimension pairs and spp levels of the default screen-space sampler keys.
+const KEYS_LAYOUT: (u32, u32, u32) = (64, 4, 5);
+static SCREEN_SOBOL_KEYS: [u32; 5 * 4 * 64 * 64] =
+    decode_u32(include_bytes!("../data/screen_sobol_keys_64.bin"));
 
 fn tile(side: u32, values: &'static [u32]) -> DitherTile<'static> {
     match DitherTile::new(side, values) {
@@ -99,6 +105,24 @@ pub fn stbn_128() -> SpatiotemporalMask<'static> {
     }
 }
 
+/// The default keys of the screen-space Sobol sampler
+/// ([`screen_sobol`](crate::screen_sobol)): 64x64 tiles for 4 dimension pairs
+/// (dimensions 0..8) and 5 spp levels (optimised for 1, 2, 4, 8 and 16 spp),
+/// trained on 128 random Heaviside integrands with energy sigma `sqrt 2`
+/// (blur of 1 pixel). 320 KiB.
+///
+/// # Panics
+/// Never (the layout is valid and the length fixed above).
+pub fn screen_sobol_keys() -> ScreenSobolKeys<'static> {
+    let (side, pairs, levels) = KEYS_LAYOUT;
+    match ScreenSobolLayout::new(side, pairs, levels)
+        .and_then(|l| ScreenSobolKeys::new(l, &SCREEN_SOBOL_KEYS))
+    {
+        Ok(k) => k,
+        Err(e) => panic!("default screen-space sampler keys are malformed: {e}"),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -132,5 +156,7 @@ mod tests {
             let v = m.value(0, 0, z);
             assert!(v > 0.0 && v < 1.0);
         }
+        let k = screen_sobol_keys();
+        assert_eq!(k.keys().len(), k.layout().key_count());
     }
 }

@@ -4,7 +4,7 @@
 //! `i` with the dimension's **generator matrix**, whose columns are the
 //! direction numbers `v_k = m_k / 2^k` (`k = 1..=32`). We store each column
 //! as the `u32` `m_k << (32 - k)`, so a point is a plain `u32` in 0.32 fixed
-//! point (`x_q32 / 2^32`, see [`crate::r2`]): bit 31 is the first binary
+//! point (`x_q32 / 2^32`, see [`crate::r2`](mod@crate::r2)): bit 31 is the first binary
 //! digit of the coordinate.
 //!
 //! # Where the direction numbers come from
@@ -161,9 +161,8 @@ pub(crate) mod tests {
             assert_eq!(sobol_u32(i, 0), i.reverse_bits());
         }
         // m_k of x + 1: binomial coefficients C(k-1, j) mod 2 as bits.
-        let dirs = &SOBOL_DIRECTIONS[1];
-        for k in 0..32usize {
-            let m = dirs[k] >> (31 - k);
+        for (k, &v) in SOBOL_DIRECTIONS[1].iter().enumerate() {
+            let m = v >> (31 - k);
             for j in 0..=k {
                 // Lucas: C(k, j) is odd iff j & !k == 0.
                 let odd = j & !k == 0;

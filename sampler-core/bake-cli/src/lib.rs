@@ -47,16 +47,17 @@ pub const DEFAULT_STBN_SEED: u64 = 3;
 pub const DEFAULT_KEYS_SEED: u64 = 6;
 
 /// Parameters of the default screen-space sampler keys: 64x64 tiles, 4 dimension pairs,
-/// 5 spp levels (1, 2, 4, 8, 16 spp), 64 training integrands, energy sigma `sqrt 2` (a
-/// blur of 1 pixel), 64 sweeps, seed [`DEFAULT_KEYS_SEED`].
+/// 5 spp levels (1, 2, 4, 8, 16 spp), 128 training integrands, energy sigma `sqrt 2` (a
+/// blur of 1 pixel), 256 sweeps, seed [`DEFAULT_KEYS_SEED`] (the defaults of
+/// `KeyParams` and of `bake keys`).
 pub fn default_key_params() -> KeyParams {
     KeyParams {
         side: 64,
         pairs: 4,
         levels: 5,
-        integrands: 64,
+        integrands: 128,
         sigma: std::f64::consts::SQRT_2,
-        sweeps: 64,
+        sweeps: 256,
         seed: DEFAULT_KEYS_SEED,
     }
 }

@@ -102,13 +102,13 @@ enum Command {
         #[arg(long, default_value_t = 5)]
         levels: u32,
         /// Training Heaviside integrands.
-        #[arg(long, default_value_t = 64)]
+        #[arg(long, default_value_t = 128)]
         integrands: u32,
         /// Energy sigma in pixels (sqrt 2 targets a blur of 1 pixel).
         #[arg(long, default_value_t = std::f64::consts::SQRT_2, allow_negative_numbers = true)]
         sigma: f64,
         /// Optimiser sweeps per tile.
-        #[arg(long, default_value_t = 64)]
+        #[arg(long, default_value_t = 256)]
         sweeps: u32,
         /// Seed of the keys and training integrands.
         #[arg(long, default_value_t = bake::DEFAULT_KEYS_SEED)]
@@ -132,7 +132,7 @@ enum Command {
         #[arg(long, default_value_t = 1.9, allow_negative_numbers = true)]
         temporal_sigma: f64,
         /// Optimiser sweeps.
-        #[arg(long, default_value_t = 64)]
+        #[arg(long, default_value_t = 1024)]
         sweeps: u32,
         /// Seed.
         #[arg(long, default_value_t = 1)]

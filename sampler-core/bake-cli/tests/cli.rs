@@ -60,6 +60,54 @@ fn default_stbn_regenerates_byte_for_byte() {
 }
 
 #[test]
+fn default_sampler_keys_regenerate_byte_for_byte() {
+    check_defaults(&["keys"], &scratch("keys"));
+}
+
+#[test]
+fn keys_and_vector_masks_are_written() {
+    let dir = scratch("apriori");
+    let keys = dir.join("k.bin");
+    let out = bake(&[
+        "keys",
+        "--side",
+        "16",
+        "--pairs",
+        "2",
+        "--levels",
+        "3",
+        "--sweeps",
+        "8",
+        "--out",
+        keys.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    println!("{}", text(&out.stdout));
+    assert_eq!(std::fs::metadata(&keys).unwrap().len(), 4 * 16 * 16 * 2 * 3);
+    let out = bake(&[
+        "vector-stbn",
+        "--kind",
+        "cosine",
+        "--size",
+        "8x8x4",
+        "--sweeps",
+        "8",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    println!("{}", text(&out.stdout));
+    let bin = dir.join("vector_stbn_cosine_8x8x4.bin");
+    assert_eq!(std::fs::metadata(&bin).unwrap().len(), 4 * 3 * 8 * 8 * 4);
+    for z in 0..4 {
+        assert!(dir.join(format!("slice_{z:03}.png")).exists());
+    }
+    let out = bake(&["keys", "--side", "48", "--out", keys.to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("48"), "{}", text(&out.stderr));
+}
+
+#[test]
 fn bad_sizes_are_clear_errors() {
     let dir = scratch("sizes");
     let out_file = dir.join("m.bin");

@@ -321,6 +321,7 @@ impl SwapOptimiser {
     }
 
     /// The current vectors, texel-major.
+    #[cfg(test)]
     pub(crate) fn values(&self) -> &[f64] {
         &self.values
     }
@@ -346,16 +347,16 @@ pub struct KeyParams {
 }
 
 impl Default for KeyParams {
-    /// 64x64 tiles, 4 pairs, 5 levels (1 to 16 spp), 64 integrands,
-    /// sigma `sqrt 2`, 64 sweeps, seed 1.
+    /// 64x64 tiles, 4 pairs, 5 levels (1 to 16 spp), 128 integrands,
+    /// sigma `sqrt 2`, 256 sweeps, seed 1.
     fn default() -> Self {
         KeyParams {
             side: 64,
             pairs: 4,
             levels: 5,
-            integrands: 64,
+            integrands: 128,
             sigma: core::f64::consts::SQRT_2,
-            sweeps: 64,
+            sweeps: 256,
             seed: 1,
         }
     }

@@ -14,7 +14,9 @@
 //!
 //! The correlation energy of the key optimiser (see `keys.rs`):
 //! `E = sum over coupled pairs w_ij <x_i - m, x_j - m>` where `m` is the
-//! slice mean and two texels are coupled only if they are in the same slice
+//! slice mean, each channel is first divided by its standard deviation over
+//! the volume (so the small-spread `z` of the cosine hemisphere counts as
+//! much as `x` and `y`), and two texels are coupled only if they are in the same slice
 //! (`w = exp(-d^2 / (2 sigma^2))`, toroidal distance `d`) or at the same
 //! pixel in different slices (`w = exp(-dt^2 / (2 sigma_t^2))`), the STBN
 //! coupling of Wolfe et al. For any direction `u`, the projection `u . x`
@@ -103,7 +105,7 @@ pub struct VectorStbnParams {
 }
 
 impl Default for VectorStbnParams {
-    /// 64x64x32 [`VectorKind::Vec2`], sigma 1.9 in space and time, 64 sweeps, seed 1.
+    /// 64x64x32 [`VectorKind::Vec2`], sigma 1.9 in space and time, 1024 sweeps, seed 1.
     fn default() -> Self {
         VectorStbnParams {
             width: 64,
@@ -112,7 +114,7 @@ impl Default for VectorStbnParams {
             kind: VectorKind::Vec2,
             sigma: 1.9,
             temporal_sigma: 1.9,
-            sweeps: 64,
+            sweeps: 1024,
             seed: 1,
         }
     }
@@ -177,6 +179,27 @@ pub fn bake_vector_stbn(params: &VectorStbnParams, progress: Progress<'_>) -> Re
             for k in 0..c {
                 centred.push(v[k] - mean[k]);
             }
+        }
+    }
+    // Standardise each channel (unit variance over the volume) so a channel of small
+    // spread (z of the cosine hemisphere) weighs as much as the others.
+    let mut var = [0.0f64; 3];
+    for v in centred.chunks_exact(c) {
+        for k in 0..c {
+            var[k] += v[k] * v[k];
+        }
+    }
+    let texels = (centred.len() / c) as f64;
+    let inv_sd = var.map(|v| {
+        if v > 0.0 {
+            1.0 / libm::sqrt(v / texels)
+        } else {
+            1.0
+        }
+    });
+    for v in centred.chunks_exact_mut(c) {
+        for k in 0..c {
+            v[k] *= inv_sd[k];
         }
     }
     let mut opt = SwapOptimiser::new(
