@@ -30,6 +30,7 @@ pub mod grid;
 pub mod low_frequency;
 pub mod radial;
 pub mod render_study;
+pub mod report;
 pub mod spectrum;
 pub mod temporal;
 pub mod threshold;

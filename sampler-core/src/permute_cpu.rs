@@ -104,18 +104,25 @@ fn permute_full_blocks<T: Intensity, const B: u32, const N: usize>(
                 continue;
             }
             let (x0, y0) = (bx * B, by * B);
-            for (i, k) in block_keys.iter_mut().enumerate() {
-                let (x, y) = (x0 + (i as u32 & (B - 1)), y0 + (i as u32 >> b_log2));
-                *k = intensity_key(intensities[(y * params.width + x) as usize].intensity());
+            let mut seeds = [0u32; N];
+            for r in 0..B as usize {
+                // One bounds check per block row.
+                let at = (y0 as usize + r) * params.width as usize + x0 as usize;
+                let row = &intensities[at..at + B as usize];
+                let s_at = (y0 as usize + r) * pw as usize + x0 as usize;
+                let s_row = &seeds_in[s_at..s_at + B as usize];
+                for c in 0..B as usize {
+                    block_keys[r * B as usize + c] = intensity_key(row[c].intensity());
+                    seeds[r * B as usize + c] = s_row[c];
+                }
             }
             let ranks = block_ranks(&block_keys);
             let class = (((by & (classes - 1)) * classes + (bx & (classes - 1))) as usize) * N;
             for (i, &r) in ranks.iter().enumerate() {
-                let (ox, oy) = dest[class + r as usize];
+                let (ox, oy) = dest[class + (r as usize & (N - 1))];
                 let nx = wrap(x0 as i32 + ox as i32, pw);
                 let ny = wrap(y0 as i32 + oy as i32, ph);
-                let (sx, sy) = (x0 + (i as u32 & (B - 1)), y0 + (i as u32 >> b_log2));
-                seeds_out[(ny * pw + nx) as usize] = seeds_in[(sy * pw + sx) as usize];
+                seeds_out[(ny * pw + nx) as usize] = seeds[i];
             }
         }
     }

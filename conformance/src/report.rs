@@ -1,0 +1,426 @@
+//! The visual report (issue 5, part 3): runs the [`render_study`](crate::render_study)
+//! and writes `index.html` with PNG images and plots.
+//!
+//! Pictures per method: the frame at [`GOAL_FRAME`], the signed luma error on the
+//! back-wall inset (grey = 0, white/black = +/- 3 white-mode RMS of that inset) and its
+//! power spectrum (centred, `log10` of power relative to white's mean, mapped from -2
+//! (black) to +1 (white)). Plots (plotters, no text in the PNGs: the fonts are not
+//! available, so axes and colours are described in the page): radial power of the
+//! error, blurred RMSE against frame, accumulated RMSE against frame count, and the
+//! R2-walk against the fixed-step accumulated RMSE.
+
+use crate::render_study::{
+    crop, Method, Metric, Study, StudyConfig, StudyResult, ACCUMULATION_POINTS, GOAL_FRAME,
+};
+use crate::{Grid, SpectrumAnalyzer};
+use anyhow::{Context, Result};
+use glam::Vec4;
+use plotters::prelude::*;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// What the report renders.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReportConfig {
+    /// Image side.
+    pub size: u32,
+    /// Frames for the single-frame figures; the 1-spp run renders twice as many for
+    /// the accumulation figure.
+    pub frames: u32,
+    /// Reference samples per pixel.
+    pub ref_spp: u32,
+}
+
+/// Colour of each method in the plots (and the page's legend).
+fn colour(m: Method) -> RGBColor {
+    match m {
+        Method::White => RGBColor(128, 128, 128),
+        Method::Sort => RGBColor(230, 159, 0),
+        Method::Permute => RGBColor(0, 114, 178),
+        Method::FixedStep => RGBColor(213, 94, 0),
+        Method::Dither => RGBColor(0, 158, 115),
+    }
+}
+
+fn css(m: Method) -> String {
+    let RGBColor(r, g, b) = colour(m);
+    format!("rgb({r},{g},{b})")
+}
+
+/// Runs the study for 1 spp (`2 * frames` frames) and 4 spp (`frames` frames) and
+/// writes `out/index.html` with its images. `log` receives progress lines.
+///
+/// # Errors
+/// Rendering or I/O errors.
+pub fn write_report(
+    cfg: &ReportConfig,
+    out: &Path,
+    cache_dir: Option<&Path>,
+    mut progress: impl FnMut(&str, u64, u64),
+) -> Result<Vec<StudyResult>> {
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    let mut results = Vec::new();
+    for (spp, frames) in [(1u32, 2 * cfg.frames), (4, cfg.frames)] {
+        let config = StudyConfig::new(cfg.size, spp, frames, cfg.ref_spp);
+        let label = format!("reference {} spp", cfg.ref_spp);
+        let study = Study::new(config, cache_dir, |d, t| progress(&label, d as u64, t as u64))?;
+        let total = frames as u64 * Method::ALL.len() as u64;
+        let mut done = 0;
+        let label = format!("{spp} spp");
+        let result = study.run(&Method::ALL, |_, _| {
+            done += 1;
+            progress(&label, done, total);
+        })?;
+        write_images(&study, &result, out)?;
+        results.push(result);
+    }
+    write_plots(&results[0], out)?;
+    std::fs::write(out.join("index.html"), html(cfg, &results))?;
+    Ok(results)
+}
+
+fn prefix(r: &StudyResult, m: Method) -> String {
+    format!("spp{}-{}", r.config.spp, m.name())
+}
+
+fn write_images(study: &Study, result: &StudyResult, out: &Path) -> Result<()> {
+    let size = study.config.size;
+    let inset = &study.insets[0];
+    let white = result.run(Method::White).context("white run")?;
+    let scale = 3.0 * crop(&white.snapshot.error, size as usize, inset).rms() as f32;
+    let mut analyzer = SpectrumAnalyzer::new();
+    let white_mean = analyzer
+        .power_spectrum(&crop(&white.snapshot.error, size as usize, inset))
+        .mean_power();
+    let reference: Vec<Vec4> = study.reference.rgb.iter().map(|c| c.extend(1.0)).collect();
+    gpu_tracer::image_out::write_png(
+        out.join(format!("spp{}-reference.png", study.config.spp)),
+        size,
+        size,
+        &reference,
+        Default::default(),
+    )?;
+    for run in &result.runs {
+        let p = prefix(result, run.method);
+        let rgb: Vec<Vec4> = run.snapshot.rgb.iter().map(|c| c.extend(1.0)).collect();
+        gpu_tracer::image_out::write_png(
+            out.join(format!("{p}-frame.png")),
+            size,
+            size,
+            &rgb,
+            Default::default(),
+        )?;
+        let err = crop(&run.snapshot.error, size as usize, inset);
+        let grey: Vec<u8> = err
+            .data()
+            .iter()
+            .map(|e| (127.5 + 127.5 * (e / scale).clamp(-1.0, 1.0)) as u8)
+            .collect();
+        save_grey(&out.join(format!("{p}-error.png")), inset.side, &grey)?;
+        let whole: Vec<u8> = run
+            .snapshot
+            .error
+            .iter()
+            .map(|e| (127.5 + 127.5 * (e / scale).clamp(-1.0, 1.0)) as u8)
+            .collect();
+        save_grey(&out.join(format!("{p}-error-full.png")), size, &whole)?;
+        let spectrum = analyzer.power_spectrum(&err);
+        let s = inset.side as usize;
+        let shifted = Grid::from_fn(s, s, |x, y| {
+            let kx = (x + s - s / 2) % s;
+            let ky = (y + s - s / 2) % s;
+            spectrum.get(kx, ky) as f32
+        })?;
+        let grey: Vec<u8> = shifted
+            .data()
+            .iter()
+            .map(|&v| {
+                let l = ((v as f64 / white_mean).max(1e-12)).log10();
+                (((l + 2.0) / 3.0).clamp(0.0, 1.0) * 255.0) as u8
+            })
+            .collect();
+        save_grey(&out.join(format!("{p}-spectrum.png")), inset.side, &grey)?;
+    }
+    Ok(())
+}
+
+fn save_grey(path: &Path, side: u32, data: &[u8]) -> Result<()> {
+    image::save_buffer(path, data, side, side, image::ExtendedColorType::L8)
+        .with_context(|| format!("cannot write {}", path.display()))
+}
+
+type Series = (Method, Vec<(f64, f64)>);
+
+/// A line plot with `series` (x, y) in linear x and `log10` y, grid lines at integer
+/// decades, no text.
+fn plot(path: &Path, series: &[Series], log_y: bool, y_lines: &[f64]) -> Result<()> {
+    let tf = |v: f64| if log_y { v.max(1e-12).log10() } else { v };
+    let pts: Vec<(f64, f64)> = series
+        .iter()
+        .flat_map(|(_, s)| s.iter().map(|&(x, y)| (x, tf(y))))
+        .filter(|p| p.1.is_finite())
+        .collect();
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y) in &pts {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    for &l in y_lines {
+        y0 = y0.min(tf(l));
+        y1 = y1.max(tf(l));
+    }
+    if x1 <= x0 {
+        x1 = x0 + 1.0;
+    }
+    let pad = ((y1 - y0) * 0.05).max(1e-3);
+    let root = BitMapBackend::new(path, (640, 400)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let mut chart = ChartBuilder::on(&root)
+        .margin(10)
+        .build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
+    for &l in y_lines {
+        chart
+            .draw_series(LineSeries::new([(x0, tf(l)), (x1, tf(l))], BLACK.mix(0.4)))
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+    }
+    for (m, s) in series {
+        let data: Vec<(f64, f64)> = s
+            .iter()
+            .map(|&(x, y)| (x, tf(y)))
+            .filter(|p| p.1.is_finite())
+            .collect();
+        chart
+            .draw_series(LineSeries::new(data, colour(*m).stroke_width(2)))
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+    }
+    root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
+    Ok(())
+}
+
+fn rel_series(r: &StudyResult, m: Method, metric: Metric, count_from_one: bool) -> Vec<(f64, f64)> {
+    let n = r.run(m).map(|run| run.rmse.len()).unwrap_or(0);
+    (0..n)
+        .filter_map(|i| {
+            let x = if count_from_one { i + 1 } else { i } as f64;
+            r.relative(m, metric, i).map(|v| (x, v))
+        })
+        .collect()
+}
+
+fn write_plots(r: &StudyResult, out: &Path) -> Result<()> {
+    let white_radial = r.run(Method::White).context("white")?;
+    let side = r.insets[0].side as f64;
+    let norm = mean_nonzero(&white_radial.radial);
+    let radial: Vec<Series> = r
+        .runs
+        .iter()
+        .map(|run| {
+            let s = run
+                .radial
+                .iter()
+                .enumerate()
+                .skip(1)
+                .filter(|(k, _)| (*k as f64) <= side / 2.0)
+                .map(|(k, &p)| (k as f64 / side, p / norm))
+                .collect();
+            (run.method, s)
+        })
+        .collect();
+    plot(&out.join("plot-radial.png"), &radial, true, &[0.01, 0.1, 1.0])?;
+    let all = |metric, one| -> Vec<Series> {
+        r.runs
+            .iter()
+            .map(|run| (run.method, rel_series(r, run.method, metric, one)))
+            .collect()
+    };
+    plot(
+        &out.join("plot-lf.png"),
+        &all(Metric::LowFrequency, false),
+        true,
+        &[0.1, 1.0],
+    )?;
+    plot(
+        &out.join("plot-blur1.png"),
+        &all(Metric::Blur1, false),
+        false,
+        &[0.6, 1.0],
+    )?;
+    plot(
+        &out.join("plot-accumulated.png"),
+        &all(Metric::Accumulated, true),
+        false,
+        &[1.0, 1.05],
+    )?;
+    let walk: Vec<Series> = [Method::White, Method::Permute, Method::FixedStep]
+        .iter()
+        .map(|&m| (m, rel_series(r, m, Metric::Accumulated, true)))
+        .collect();
+    plot(&out.join("plot-walk.png"), &walk, false, &[1.0, 1.05])?;
+    Ok(())
+}
+
+fn mean_nonzero(v: &[f64]) -> f64 {
+    let nz: Vec<f64> = v.iter().copied().skip(1).filter(|x| *x > 0.0).collect();
+    (nz.iter().sum::<f64>() / nz.len().max(1) as f64).max(1e-30)
+}
+
+fn figure_table(r: &StudyResult) -> String {
+    let t = GOAL_FRAME.min(r.config.frames - 1) as usize;
+    let points: Vec<u32> = ACCUMULATION_POINTS
+        .iter()
+        .copied()
+        .filter(|&n| n <= r.config.frames)
+        .collect();
+    let mut h = String::from("<table><tr><th>method</th>");
+    let _ = write!(
+        h,
+        "<th>LF power, frame {t}</th><th>LF mean, frames {t}..</th><th>blur &sigma;1, frame {t}</th><th>blur &sigma;2, frame {t}</th><th>blur &sigma;1 mean</th>"
+    );
+    for n in &points {
+        let _ = write!(h, "<th>accumulated, {n} frames (raw)</th>");
+    }
+    h += "</tr>\n";
+    for run in &r.runs {
+        let m = run.method;
+        let rel = |metric, i| r.relative(m, metric, i).unwrap_or(f64::NAN);
+        let frames = run.rmse.len();
+        let avg = |metric| (t..frames).map(|i| rel(metric, i)).sum::<f64>() / (frames - t).max(1) as f64;
+        let _ = write!(
+            h,
+            "<tr><td style=\"color:{}\">{}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td>",
+            css(m),
+            m.name(),
+            rel(Metric::LowFrequency, t),
+            avg(Metric::LowFrequency),
+            rel(Metric::Blur1, t),
+            rel(Metric::Blur2, t),
+            avg(Metric::Blur1)
+        );
+        for &n in &points {
+            let i = n as usize - 1;
+            let _ = write!(
+                h,
+                "<td>{:.3} ({:.3})</td>",
+                rel(Metric::Accumulated, i),
+                rel(Metric::AccumulatedRaw, i)
+            );
+        }
+        h += "</tr>\n";
+    }
+    h += "</table>\n";
+    h
+}
+
+fn pictures(r: &StudyResult) -> String {
+    let spp = r.config.spp;
+    let mut h = format!(
+        "<div class=\"row\"><figure><img src=\"spp{spp}-reference.png\" alt=\"reference\"><figcaption>reference, {} spp</figcaption></figure></div>\n",
+        r.config.ref_spp
+    );
+    for run in &r.runs {
+        let p = prefix(r, run.method);
+        let _ = writeln!(
+            h,
+            "<div class=\"row\"><h3 style=\"color:{c}\">{n}: {d}</h3>\
+<figure><img src=\"{p}-frame.png\" alt=\"{n} frame\"><figcaption>frame {f}</figcaption></figure>\
+<figure><img src=\"{p}-error-full.png\" alt=\"{n} error\"><figcaption>luma error, whole frame</figcaption></figure>\
+<figure><img class=\"inset\" src=\"{p}-error.png\" alt=\"{n} error inset\"><figcaption>error, {i} inset</figcaption></figure>\
+<figure><img class=\"inset\" src=\"{p}-spectrum.png\" alt=\"{n} spectrum\"><figcaption>its power spectrum</figcaption></figure></div>",
+            c = css(run.method),
+            n = run.method.name(),
+            d = run.method.describe(),
+            f = run.snapshot.frame,
+            i = r.insets[0].name,
+        );
+    }
+    h
+}
+
+fn legend() -> String {
+    Method::ALL
+        .iter()
+        .map(|&m| format!("<span style=\"color:{}\">&#9632; {}</span>", css(m), m.name()))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+fn html(cfg: &ReportConfig, results: &[StudyResult]) -> String {
+    let r1 = &results[0];
+    let mut h = String::from(
+        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Blue-noise seed permutation: rendered quality</title>\n\
+<style>body{font-family:sans-serif;margin:1em} img{image-rendering:pixelated;width:256px;height:256px;border:1px solid #ccc}\
+ figure{display:inline-block;margin:4px} table{border-collapse:collapse} td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}\
+ img.plot{width:640px;height:400px}</style></head>\n<body>\n",
+    );
+    let _ = write!(
+        h,
+        "<h1>Rendered quality of the blue-noise seed permutation</h1>\n<p>Cornell box {s}x{s}, static camera, CPU renderer, \
+reference {r} spp. Command: <code>cargo run -p conformance --release -- report --out DIR --size {s} --frames {f} --ref-spp {r}</code>. \
+Error = luma(frame) - luma(reference). Figures relative to white (fresh white-noise seeds every frame) = 1; frame numbers from 0 \
+(frame 0 is the white start, frame {g} has had {g} permutation passes). Accumulated RMSE has the reference's own noise removed \
+(raw value in brackets). Goals (issue 5): by frame 8 LF power &le; 0.15 and blurred RMSE (&sigma; 1) &le; 0.6; accumulated RMSE &le; 1.05 at 64 and 128 frames.</p>\n",
+        s = cfg.size,
+        f = cfg.frames,
+        r = cfg.ref_spp,
+        g = GOAL_FRAME
+    );
+    h += "<p>Insets (flat regions, checked by casting each pixel's centre ray):";
+    for i in &r1.insets {
+        let _ = write!(
+            h,
+            " {} at ({}, {}), side {} (max relative reference gradient {:.3});",
+            i.name, i.x0, i.y0, i.side, i.max_gradient
+        );
+    }
+    h += "</p>\n";
+    for r in results {
+        let _ = write!(
+            h,
+            "<h2>{} spp, {} frames</h2>\n{}",
+            r.config.spp,
+            r.config.frames,
+            figure_table(r)
+        );
+    }
+    let _ = writeln!(
+        h,
+        "<h2>Plots (1 spp, {} frames)</h2><p>Colours: {}. Grey horizontal lines mark the values given per plot.</p>",
+        r1.config.frames,
+        legend()
+    );
+    let plots = [
+        ("plot-radial.png", "Radial power of the error on the back-wall inset, averaged over frames from 8 on: x = frequency 0..0.5 cycles/pixel, y = log10(power / white's mean power); lines at 0.01, 0.1, 1."),
+        ("plot-lf.png", "Low-frequency power of the error on the insets against frame (white = 1), y = log10; lines at 0.1 and 1."),
+        ("plot-blur1.png", "RMSE after a Gaussian blur (sigma 1, whole image) against frame, white = 1; lines at 0.6 and 1."),
+        ("plot-accumulated.png", "RMSE of the accumulated image against the number of frames, white = 1; lines at 1 and 1.05."),
+        ("plot-walk.png", "Aperiodic R2 walk (permute) against the fixed step floor(W (a1, a2)) = (48, 36) (fixed-step): accumulated RMSE against frames, white = 1; lines at 1 and 1.05."),
+    ];
+    for (file, caption) in plots {
+        let _ = writeln!(
+            h,
+            "<figure><img class=\"plot\" src=\"{file}\" alt=\"{file}\"><figcaption>{caption}</figcaption></figure>"
+        );
+    }
+    for r in results {
+        let _ = write!(
+            h,
+            "<h2>Images, {} spp, frame {}</h2>\n{}",
+            r.config.spp,
+            GOAL_FRAME.min(r.config.frames - 1),
+            pictures(r)
+        );
+    }
+    h += "<pre>";
+    for r in results {
+        h += &r.summary();
+    }
+    h += "</pre>\n<script>window.addEventListener('load', function () {\n\
+  var imgs = Array.prototype.slice.call(document.images);\n\
+  var ok = imgs.filter(function (i) { return i.complete && i.naturalWidth > 0; }).length;\n\
+  document.body.dataset.imagesLoaded = ok + '/' + imgs.length;\n\
+});</script>\n</body></html>\n";
+    h
+}
