@@ -9,13 +9,17 @@
 use crate::error::{Error, Result};
 use crate::scene::SceneGpu;
 use glam::{UVec2, Vec4};
-use kernels::abi::{TraceParams, MAX_DEPTH_LIMIT};
+use kernels::abi::{TraceParams, MAX_DEPTH_LIMIT, SAMPLER_SCREEN_SOBOL};
 use kernels::{accumulate_pixel, trace_pixel};
 use rayon::prelude::*;
 
 /// Traces one frame: `color[y * width + x]` = mean radiance of the pixel's
 /// `params.spp` samples, `(r, g, b, 1)`, with pixel `(x, y)` using seed
-/// `seeds[y * padded_width + x]`.
+/// `seeds[y * padded_width + x]`. The screen-space Sobol sampler
+/// (`params.sampler == SAMPLER_SCREEN_SOBOL`) reads
+/// `sampler_core::defaults::screen_sobol_keys()`, the keys the GPU tracer
+/// binds; `params`' key-layout fields must describe them (as
+/// [`SceneGpu::trace_params`] sets them).
 ///
 /// # Errors
 /// [`Error::FrameSize`] for a zero size or `padded_width < width`;
@@ -29,12 +33,32 @@ pub fn render_frame(scene: &SceneGpu, params: &TraceParams, seeds: &[u32], color
     let pixels = width * params.height as usize;
     check_len("seed buffer", stride * params.height as usize, seeds.len(), true)?;
     check_len("frame colour buffer", pixels, color.len(), false)?;
+    let keys = sampler_core::defaults::screen_sobol_keys();
+    if params.sampler == SAMPLER_SCREEN_SOBOL {
+        let l = keys.layout();
+        let fields = [
+            ("key_side_log2", params.key_side_log2, l.side_log2),
+            ("key_pairs", params.key_pairs, l.pairs),
+            ("key_levels", params.key_levels, l.levels),
+        ];
+        for (name, value, want) in fields {
+            if value != want {
+                return Err(Error::InvalidParameter {
+                    name,
+                    value,
+                    expected: "the layout of sampler_core::defaults::screen_sobol_keys()",
+                });
+            }
+        }
+    }
+    let keys = keys.keys();
     color.par_chunks_mut(width).enumerate().for_each(|(y, row)| {
         for (x, out) in row.iter_mut().enumerate() {
             *out = trace_pixel(
                 params,
                 UVec2::new(x as u32, y as u32),
                 seeds[y * stride + x],
+                keys,
                 &scene.nodes,
                 &scene.triangles,
                 &scene.materials,
@@ -439,6 +463,54 @@ mod tests {
     }
 
     #[test]
+    fn apriori_samplers_use_the_default_keys() {
+        use kernels::abi::{SAMPLER_SEEDS, SAMPLER_ZSOBOL};
+        let scene = SceneGpu::build(&cornell_box()).expect("scene");
+        let keys = sampler_core::defaults::screen_sobol_keys();
+        let mut settings = TraceSettings::new(16, 12);
+        settings.spp = 2;
+        let seeds = white_seeds(16, 12, 3);
+        let mut images = Vec::new();
+        for sampler in [SAMPLER_SEEDS, SAMPLER_SCREEN_SOBOL, SAMPLER_ZSOBOL] {
+            settings.sampler = sampler;
+            let params = scene.trace_params(&settings, 2).expect("params");
+            let mut color = vec![Vec4::ZERO; 16 * 12];
+            render_frame(&scene, &params, &seeds, &mut color).expect("render");
+            for (x, y) in [(0u32, 0u32), (7, 5), (15, 11)] {
+                let want = trace_pixel(
+                    &params,
+                    glam::UVec2::new(x, y),
+                    seeds[(y * 16 + x) as usize],
+                    keys.keys(),
+                    &scene.nodes,
+                    &scene.triangles,
+                    &scene.materials,
+                    &scene.emitters,
+                );
+                assert_eq!(color[(y * 16 + x) as usize], want, "sampler {sampler} ({x}, {y})");
+            }
+            images.push(color);
+        }
+        assert_ne!(images[0], images[1]);
+        assert_ne!(images[0], images[2]);
+        assert_ne!(images[1], images[2]);
+        // Parameters whose key layout is not the default keys' are refused.
+        settings.sampler = SAMPLER_SCREEN_SOBOL;
+        let bad = TraceParams {
+            key_levels: 1,
+            ..scene.trace_params(&settings, 0).expect("params")
+        };
+        let mut color = vec![Vec4::ZERO; 16 * 12];
+        assert!(matches!(
+            render_frame(&scene, &bad, &seeds, &mut color),
+            Err(Error::InvalidParameter {
+                name: "key_levels",
+                ..
+            })
+        ));
+    }
+
+    #[test]
     fn pixel_value_is_the_mean_of_its_stream_samples() {
         // trace_pixel with spp samples = mean of trace_sample over stream
         // samples stream_sample(s), each starting at s * DIMS_PER_SAMPLE.
@@ -455,6 +527,7 @@ mod tests {
             &params,
             pixel,
             seed,
+            &[],
             &scene.nodes,
             &scene.triangles,
             &scene.materials,

@@ -14,7 +14,9 @@ use gpu_tracer::{
     cornell, obj, render_cpu, render_gpu, PermuteMode, RenderJob, SceneGpu, TileChoice, TraceSettings,
 };
 use indicatif::{ProgressBar, ProgressStyle};
-use kernels::abi::{MAX_DEPTH_LIMIT, SEED_MODE_ADVANCE, SEED_MODE_FIXED};
+use kernels::abi::{
+    MAX_DEPTH_LIMIT, SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS, SAMPLER_ZSOBOL, SEED_MODE_ADVANCE, SEED_MODE_FIXED,
+};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -69,6 +71,14 @@ struct RenderArgs {
     /// `advance`: the stream also advances with the frame index.
     #[arg(long, value_enum, default_value_t = SeedModeArg::Fixed)]
     seed_mode: SeedModeArg,
+    /// Source of the first bounce's direction numbers: `seeds` (the seed
+    /// stream, permuted per `--mode`), `screen-sobol` (screen-space Sobol
+    /// with optimised keys, up to 16 spp) or `zsobol` (Morton-ordered
+    /// Sobol, up to 256 spp and 4096 pixels a side). The other numbers still
+    /// come from the seeds, so `--mode white --sampler zsobol` is the
+    /// a-priori sampler alone.
+    #[arg(long, value_enum, default_value_t = SamplerArg::Seeds)]
+    sampler: SamplerArg,
     /// Output directory (created if missing).
     #[arg(long, default_value = "out")]
     out: PathBuf,
@@ -93,6 +103,25 @@ enum SeedModeArg {
     Advance,
 }
 
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum SamplerArg {
+    /// The pixel's seed stream.
+    Seeds,
+    /// Screen-space Owen-scrambled Sobol with optimised per-pixel keys.
+    ScreenSobol,
+    /// Morton-ordered Sobol with hashed digit permutations.
+    Zsobol,
+}
+
+impl SamplerArg {
+    /// The command-line spelling.
+    fn name(self) -> String {
+        self.to_possible_value()
+            .map(|v| v.get_name().to_owned())
+            .unwrap_or_default()
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 enum DeviceArg {
     Auto,
@@ -115,7 +144,6 @@ fn render(args: RenderArgs) -> Result<()> {
         obj::load_obj(&args.scene).with_context(|| format!("cannot load scene {}", args.scene))?
     };
     let scene = SceneGpu::build(&scene).context("cannot prepare the scene")?;
-    prepare_out_dir(&args.out)?;
 
     let mut settings = TraceSettings::new(args.width, args.height);
     settings.spp = args.spp;
@@ -124,6 +152,16 @@ fn render(args: RenderArgs) -> Result<()> {
         SeedModeArg::Fixed => SEED_MODE_FIXED,
         SeedModeArg::Advance => SEED_MODE_ADVANCE,
     };
+    settings.sampler = match args.sampler {
+        SamplerArg::Seeds => SAMPLER_SEEDS,
+        SamplerArg::ScreenSobol => SAMPLER_SCREEN_SOBOL,
+        SamplerArg::Zsobol => SAMPLER_ZSOBOL,
+    };
+    // Settings the chosen sampler does not support fail here, before any work.
+    scene
+        .trace_params(&settings, 0)
+        .with_context(|| format!("--sampler {} cannot render these settings", args.sampler.name()))?;
+    prepare_out_dir(&args.out)?;
     let tile = TileChoice::from_side(args.tile).context("tile must be 64 or 128")?;
     let job = RenderJob {
         settings,
@@ -193,7 +231,7 @@ fn render(args: RenderArgs) -> Result<()> {
         .with_context(|| format!("cannot write {}", path.display()))?;
     }
     println!(
-        "rendered {} frame(s) of {}x{} at {} spp on {} in {:.2} s ({:?} mode); wrote {}",
+        "rendered {} frame(s) of {}x{} at {} spp on {} in {:.2} s ({:?} mode, {} sampler); wrote {}",
         args.frames,
         w,
         h,
@@ -201,6 +239,7 @@ fn render(args: RenderArgs) -> Result<()> {
         output.device,
         secs,
         job.mode,
+        args.sampler.name(),
         files
             .iter()
             .map(|f| f.0.display().to_string())

@@ -11,7 +11,8 @@ use crate::bvh::build_bvh;
 use crate::error::{Error, Result};
 use glam::Vec3;
 use kernels::abi::{
-    BvhNodeGpu, EmitterGpu, MaterialGpu, TraceParams, TriangleGpu, MAX_DEPTH_LIMIT, SEED_MODE_ADVANCE,
+    BvhNodeGpu, EmitterGpu, MaterialGpu, TraceParams, TriangleGpu, MAX_DEPTH_LIMIT, SAMPLER_SCREEN_SOBOL,
+    SAMPLER_ZSOBOL, SEED_MODE_ADVANCE,
 };
 use kernels::trace::normal_and_area;
 
@@ -150,6 +151,22 @@ pub struct TraceSettings {
     pub rr_depth: u32,
     /// [`kernels::abi::SEED_MODE_FIXED`] or [`SEED_MODE_ADVANCE`].
     pub seed_mode: u32,
+    /// Source of vertex 0's BSDF numbers: [`kernels::abi::SAMPLER_SEEDS`]
+    /// (the seed stream), [`SAMPLER_SCREEN_SOBOL`] (at most
+    /// [`screen_sobol_max_spp`] spp) or [`SAMPLER_ZSOBOL`] (at most
+    /// [`ZSOBOL_MAX_SPP`] spp, width and height at most
+    /// `sampler_core::zsobol::ZSOBOL_TILE`). See [`TraceParams::sampler`].
+    pub sampler: u32,
+}
+
+/// Largest spp per frame of [`SAMPLER_ZSOBOL`]: `2^ZSOBOL_MAX_LOG2_SPP` = 256.
+pub const ZSOBOL_MAX_SPP: u32 = 1 << sampler_core::zsobol::ZSOBOL_MAX_LOG2_SPP;
+
+/// Largest spp per frame of [`SAMPLER_SCREEN_SOBOL`] with the default keys
+/// (`sampler_core::defaults::screen_sobol_keys()`): the spp its last key
+/// level is optimised for, `2^(levels - 1)` (16).
+pub fn screen_sobol_max_spp() -> u32 {
+    1 << (sampler_core::defaults::screen_sobol_keys().layout().levels - 1)
 }
 
 impl TraceSettings {
@@ -165,6 +182,7 @@ impl TraceSettings {
             max_depth: 8,
             rr_depth: 3,
             seed_mode: kernels::abi::SEED_MODE_FIXED,
+            sampler: kernels::abi::SAMPLER_SEEDS,
         }
     }
 }
@@ -319,7 +337,14 @@ impl SceneGpu {
     /// # Errors
     /// [`Error::FrameSize`] for a zero size or `padded_width < width`;
     /// [`Error::InvalidParameter`] for `spp == 0`, `max_depth` outside
-    /// `1..=MAX_DEPTH_LIMIT` or an unknown `seed_mode`.
+    /// `1..=MAX_DEPTH_LIMIT`, an unknown `seed_mode` or `sampler`, or a
+    /// sampler that does not support the settings (spp above
+    /// [`screen_sobol_max_spp`] for screen-space Sobol; spp above
+    /// [`ZSOBOL_MAX_SPP`] or a side above 4096 for ZSobol).
+    ///
+    /// The key-layout fields are those of
+    /// `sampler_core::defaults::screen_sobol_keys()`, the keys the CPU
+    /// renderer and the GPU tracer use.
     pub fn trace_params(&self, settings: &TraceSettings, frame: u32) -> Result<TraceParams> {
         let s = settings;
         if s.width == 0 || s.height == 0 || s.padded_width < s.width {
@@ -350,6 +375,43 @@ impl SceneGpu {
                 expected: "0 (fixed) or 1 (advance by frame)",
             });
         }
+        let zsobol_tile = sampler_core::zsobol::ZSOBOL_TILE;
+        let sampler_checks: [(&'static str, u32, bool, &'static str); 4] = [
+            (
+                "sampler",
+                s.sampler,
+                s.sampler <= SAMPLER_ZSOBOL,
+                "0 (seeds), 1 (screen-sobol) or 2 (zsobol)",
+            ),
+            (
+                "spp",
+                s.spp,
+                s.sampler != SAMPLER_SCREEN_SOBOL || s.spp <= screen_sobol_max_spp(),
+                "at most 16 with the screen-sobol sampler (its keys are optimised for 1, 2, 4, 8 and 16 spp)",
+            ),
+            (
+                "spp",
+                s.spp,
+                s.sampler != SAMPLER_ZSOBOL || s.spp <= ZSOBOL_MAX_SPP,
+                "at most 256 with the zsobol sampler (its sample index is 32 bits)",
+            ),
+            (
+                "width or height",
+                s.width.max(s.height),
+                s.sampler != SAMPLER_ZSOBOL || s.width.max(s.height) <= zsobol_tile,
+                "at most 4096 with the zsobol sampler (its pixel order repeats every 4096 pixels)",
+            ),
+        ];
+        for (name, value, ok, expected) in sampler_checks {
+            if !ok {
+                return Err(Error::InvalidParameter {
+                    name,
+                    value,
+                    expected,
+                });
+            }
+        }
+        let key_layout = sampler_core::defaults::screen_sobol_keys().layout();
         let c = &self.camera;
         Ok(TraceParams {
             width: s.width,
@@ -368,6 +430,10 @@ impl SceneGpu {
             camera_forward: c.forward.extend(0.0),
             camera_right: c.right.extend(0.0),
             camera_up: c.up.extend(0.0),
+            sampler: s.sampler,
+            key_side_log2: key_layout.side_log2,
+            key_pairs: key_layout.pairs,
+            key_levels: key_layout.levels,
         })
     }
 
@@ -519,9 +585,36 @@ mod tests {
             TraceSettings { max_depth: 0, ..ok },
             TraceSettings { max_depth: 65, ..ok },
             TraceSettings { seed_mode: 2, ..ok },
+            TraceSettings { sampler: 3, ..ok },
+            TraceSettings {
+                sampler: SAMPLER_SCREEN_SOBOL,
+                spp: 17,
+                ..ok
+            },
+            TraceSettings {
+                sampler: SAMPLER_ZSOBOL,
+                spp: 257,
+                ..ok
+            },
+            TraceSettings {
+                sampler: SAMPLER_ZSOBOL,
+                width: 4097,
+                padded_width: 4097,
+                ..ok
+            },
         ];
         for s in bad {
             assert!(gpu.trace_params(&s, 0).is_err(), "{s:?}");
+        }
+        for (sampler, spp) in [(SAMPLER_SCREEN_SOBOL, 16), (SAMPLER_ZSOBOL, 256)] {
+            let p = gpu
+                .trace_params(&TraceSettings { sampler, spp, ..ok }, 0)
+                .expect("supported");
+            let layout = sampler_core::defaults::screen_sobol_keys().layout();
+            assert_eq!(
+                (p.sampler, p.key_side_log2, p.key_pairs, p.key_levels),
+                (sampler, layout.side_log2, layout.pairs, layout.levels)
+            );
         }
     }
 

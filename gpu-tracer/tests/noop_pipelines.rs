@@ -28,6 +28,14 @@ fn kernels_pipelines_and_bind_groups_validate() {
     let mut e = gpu.device.create_command_encoder(&Default::default());
     tracer.encode_trace(&mut e, &tp, None);
     tracer.encode_accumulate(&mut e, &tp);
+    // The trace bind group holds bindings 0..=7 (7 = screen-space Sobol keys):
+    // auto layouts reject a group with a binding the shader lacks or without
+    // one it declares. Every sampler runs through the same group.
+    for sampler in [kernels::abi::SAMPLER_SCREEN_SOBOL, kernels::abi::SAMPLER_ZSOBOL] {
+        settings.sampler = sampler;
+        tracer.set_params(&gpu, &scene.trace_params(&settings, 1).unwrap());
+        tracer.encode_trace(&mut e, &tp, None);
+    }
     permuter.encode_intensity(&mut e, &pp);
     for mode in [PermuteMode::White, PermuteMode::Sort, PermuteMode::Permute] {
         permuter.encode_step(&mut e, &pp, 3, mode, None);

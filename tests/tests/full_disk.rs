@@ -24,7 +24,10 @@ fn full_disk_fails_cleanly() {
     match mounted {
         Ok(o) if o.status.success() => {}
         Ok(o) => {
-            eprintln!("SKIPPED full_disk_fails_cleanly: cannot mount a tmpfs: {}", text(&o));
+            eprintln!(
+                "SKIPPED full_disk_fails_cleanly: cannot mount a tmpfs: {}",
+                text(&o)
+            );
             return;
         }
         Err(e) => {
@@ -36,19 +39,27 @@ fn full_disk_fails_cleanly() {
     // 96x96: each PNG is a few KiB, each EXR ~100 KiB: the 24 KiB disk fills.
     let o = run(
         &exe,
-        &["render", "--width", "96", "--height", "96", "--frames", "1", "--device", "cpu", "--out"]
-            .into_iter()
-            .chain([dir.path().to_str().unwrap()])
-            .collect::<Vec<_>>(),
+        &[
+            "render", "--width", "96", "--height", "96", "--frames", "1", "--device", "cpu", "--out",
+        ]
+        .into_iter()
+        .chain([dir.path().to_str().unwrap()])
+        .collect::<Vec<_>>(),
     );
     let t = text(&o);
     assert!(!o.status.success(), "writing to a full disk must fail: {t}");
-    assert!(t.contains("cannot write") && t.contains("No space left on device"), "unclear message: {t}");
+    assert!(
+        t.contains("cannot write") && t.contains("No space left on device"),
+        "unclear message: {t}"
+    );
     // Whatever is left must be complete images, and no temporary files.
     for entry in std::fs::read_dir(dir.path()).unwrap() {
         let path = entry.unwrap().path();
         let name = path.file_name().unwrap().to_string_lossy().to_string();
-        assert!(name.ends_with(".png") || name.ends_with(".exr"), "left behind: {name}");
+        assert!(
+            name.ends_with(".png") || name.ends_with(".exr"),
+            "left behind: {name}"
+        );
         image::open(&path).unwrap_or_else(|e| panic!("{name} is half-written: {e}"));
     }
 }

@@ -58,6 +58,48 @@ fn cpu_render_writes_every_image_for_every_mode() {
 }
 
 #[test]
+fn cpu_render_with_each_apriori_sampler() {
+    let exe = tracer();
+    for (sampler, mode) in [("zsobol", "white"), ("screen-sobol", "permute")] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let o = run(
+            &exe,
+            &[
+                "render",
+                "--width",
+                "40",
+                "--height",
+                "24",
+                "--spp",
+                "4",
+                "--frames",
+                "3",
+                "--mode",
+                mode,
+                "--sampler",
+                sampler,
+                "--device",
+                "cpu",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+        );
+        assert!(o.status.success(), "{sampler}: {}", text(&o));
+        let t = text(&o);
+        assert!(
+            t.contains("on CPU") && t.contains(&format!("{sampler} sampler")),
+            "{t}"
+        );
+        let img = image::open(out.join("mean.exr")).unwrap().into_rgb32f();
+        assert_eq!(img.dimensions(), (40, 24));
+        let mean: f32 = img.pixels().map(|p| p[0] + p[1] + p[2]).sum::<f32>() / (40.0 * 24.0);
+        eprintln!("{sampler} ({mode}): mean radiance {mean}");
+        assert!(mean.is_finite() && mean > 0.01, "{sampler}: mean radiance {mean}");
+    }
+}
+
+#[test]
 fn auto_device_renders_on_gpu_or_says_it_fell_back() {
     let exe = tracer();
     let dir = tempfile::tempdir().unwrap();
@@ -203,6 +245,15 @@ fn bad_input_fails_with_a_clear_message_and_writes_nothing() {
         (vec!["--block", "9"], "block"),
         (vec!["--tile", "48"], "tile"),
         (vec!["--mode", "shuffle"], "mode"),
+        (vec!["--sampler", "halton"], "sampler"),
+        (
+            vec!["--sampler", "screen-sobol", "--spp", "32"],
+            "at most 16 with the screen-sobol sampler",
+        ),
+        (
+            vec!["--sampler", "zsobol", "--spp", "512"],
+            "at most 256 with the zsobol sampler",
+        ),
         (vec!["--out", file.to_str().unwrap()], "not a directory"),
         (
             vec!["--out", under_file.to_str().unwrap()],

@@ -22,6 +22,7 @@
 //! | | 4 | storage, read | `[EmitterGpu]` (at least one entry: pad with [`EmitterGpu::NONE`]) |
 //! | | 5 | storage, read | seeds `[u32]`, `padded_width * padded_height` |
 //! | | 6 | storage, write | frame colour `[Vec4]`, `width * height` |
+//! | | 7 | storage, read | screen-space Sobol keys `[u32]` laid out as [`TraceParams::key_side_log2`], [`TraceParams::key_pairs`], [`TraceParams::key_levels`] say (`sampler_core::screen_sobol`; the host binds `sampler_core::defaults::screen_sobol_keys()`); read only with [`SAMPLER_SCREEN_SOBOL`], at least one element |
 //! | [`ACCUMULATE_ENTRY`] | 0 | uniform | [`TraceParams`] |
 //! | | 1 | storage, read | frame colour `[Vec4]`, `width * height` |
 //! | | 2 | storage, read-write | accumulation `[Vec4]`, `width * height` |
@@ -63,8 +64,29 @@ pub const SEED_MODE_ADVANCE: u32 = 1;
 /// exactly like [`SEED_MODE_FIXED`].
 pub const SEED_MODE_BLUE_NOISE_DITHER: u32 = 2;
 
+/// [`TraceParams::sampler`]: every number of a path comes from the pixel's
+/// seed stream (`crate::trace` module docs). The default.
+pub const SAMPLER_SEEDS: u32 = 0;
+/// [`TraceParams::sampler`]: the two numbers of vertex 0's BSDF direction
+/// come from the screen-space Sobol sampler with optimised keys
+/// (`sampler_core::screen_sobol`, dimension pair 0, key binding 7); sample
+/// `s` of frame `t` reads sample index `t * spp + s` (wrapping) of the
+/// pixel's key, with the key tile of level `ceil(log2 spp)` (optimised for
+/// that spp; the host allows `spp <= 2^(key_levels - 1)`). Every other
+/// number still comes from the seed stream.
+pub const SAMPLER_SCREEN_SOBOL: u32 = 1;
+/// [`TraceParams::sampler`]: the two numbers of vertex 0's BSDF direction
+/// come from the Morton-ordered ZSobol sampler (`sampler_core::zsobol`,
+/// dimensions 0 and 1) with `2^ceil(log2 spp)` samples per pixel; sample `s`
+/// of frame `t` is sample `s` of an independent randomisation seeded by `t`
+/// (ZSobol's per-pixel index space is exactly one frame's samples, see
+/// `crate::trace::sampler_pair`). The host allows `spp <= 256` and frames at
+/// most 4096 pixels wide and high (ZSobol's tile). Every other number still
+/// comes from the seed stream.
+pub const SAMPLER_ZSOBOL: u32 = 2;
+
 /// Per-frame parameters of the trace and accumulate passes (uniform buffer,
-/// 112 bytes).
+/// 128 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct TraceParams {
@@ -110,6 +132,20 @@ pub struct TraceParams {
     pub camera_right: Vec4,
     /// Unit vector to the top of the image, orthogonal to both; `w` = 0.
     pub camera_up: Vec4,
+    /// Source of vertex 0's BSDF-direction numbers: [`SAMPLER_SEEDS`],
+    /// [`SAMPLER_SCREEN_SOBOL`] or [`SAMPLER_ZSOBOL`]; any other value
+    /// behaves like [`SAMPLER_SEEDS`]. Independent of [`Self::seed_mode`],
+    /// which still drives every other number.
+    pub sampler: u32,
+    /// `sampler_core::ScreenSobolLayout::side_log2` of the key buffer
+    /// (binding 7): `log2` of the key tile side. Read only with
+    /// [`SAMPLER_SCREEN_SOBOL`].
+    pub key_side_log2: u32,
+    /// `ScreenSobolLayout::pairs` of the key buffer (`>= 1`).
+    pub key_pairs: u32,
+    /// `ScreenSobolLayout::levels` of the key buffer (`>= 1`; level `j` is
+    /// optimised for `2^j` spp).
+    pub key_levels: u32,
 }
 
 /// One node of the BVH2 built by obvhs 0.4 (`Bvh2Node`), 48 bytes.
@@ -190,7 +226,7 @@ impl EmitterGpu {
     };
 }
 
-const _: () = assert!(core::mem::size_of::<TraceParams>() == 112);
+const _: () = assert!(core::mem::size_of::<TraceParams>() == 128);
 const _: () = assert!(core::mem::size_of::<BvhNodeGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<TriangleGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<MaterialGpu>() == 32);

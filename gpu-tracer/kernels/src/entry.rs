@@ -10,7 +10,9 @@ use spirv_std::spirv;
 
 /// [`TRACE_ENTRY`](crate::abi::TRACE_ENTRY): one invocation per visible
 /// pixel `(id.x, id.y)`; writes the frame colour `trace_pixel(...)` of the
-/// pixel's seed. Invocations outside the frame do nothing.
+/// pixel's seed, with the screen-space Sobol keys of binding 7 (read only
+/// when `params.sampler` is `SAMPLER_SCREEN_SOBOL`). Invocations outside the
+/// frame do nothing.
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(8, 8)))]
 pub fn trace_cs(
@@ -22,6 +24,7 @@ pub fn trace_cs(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] emitters: &[EmitterGpu],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] seeds: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] color: &mut [Vec4],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] keys: &[u32],
 ) {
     if id.x >= params.width || id.y >= params.height {
         return;
@@ -31,6 +34,7 @@ pub fn trace_cs(
         params,
         UVec2::new(id.x, id.y),
         seed,
+        keys,
         nodes,
         triangles,
         materials,

@@ -33,7 +33,7 @@
 //!     camera_forward: Vec4::new(0.0, 0.0, -1.0, 0.0), camera_right: Vec4::X, camera_up: Vec4::Y,
 //!     ..Default::default()
 //! };
-//! let c = trace_pixel(&params, UVec2::new(1, 2), 12345, &[node], &[tri], &[material], &[EmitterGpu::NONE]);
+//! let c = trace_pixel(&params, UVec2::new(1, 2), 12345, &[], &[node], &[tri], &[material], &[EmitterGpu::NONE]);
 //! assert_eq!(c, Vec4::new(2.0, 1.0, 0.5, 1.0));
 //! ```
 #![cfg_attr(target_arch = "spirv", no_std)]

@@ -59,10 +59,27 @@
 //! smooth integrand with little variance, while the indirect light gathered
 //! through the first bounce (which hemisphere direction, hence which wall,
 //! the path sees) carries most of the per-pixel variance.
+//!
+//! # A-priori samplers
+//!
+//! [`TraceParams::sampler`] chooses where the same pair (vertex 0's BSDF
+//! direction) comes from in [`trace_pixel`] (see [`sampler_pair`]):
+//! - [`SAMPLER_SEEDS`](crate::abi::SAMPLER_SEEDS): the seed stream, as every
+//!   other dimension;
+//! - [`SAMPLER_SCREEN_SOBOL`]: `sampler_core::screen_sobol`, dimension pair 0
+//!   (the pair its keys optimise first), sample index `frame * spp + s`, key
+//!   tile of level `ceil(log2 spp)`; the keys are binding 7;
+//! - [`SAMPLER_ZSOBOL`]: `sampler_core::zsobol`, dimensions 0 and 1,
+//!   `2^ceil(log2 spp)` samples per pixel, sample `s`, seed `frame`.
+//!
+//! All other dimensions (pixel jitter, next-event estimation, later bounces,
+//! Russian roulette) still come from the seed stream, so `seed_mode` and the
+//! seed permutation keep applying to them. The a-priori pair is the same for
+//! every seed: it depends only on the pixel, the frame and the sample.
 
 use crate::abi::{
-    BvhNodeGpu, EmitterGpu, MaterialGpu, TraceParams, TriangleGpu, MAX_DEPTH_LIMIT, SEED_MODE_ADVANCE,
-    SEED_MODE_BLUE_NOISE_DITHER,
+    BvhNodeGpu, EmitterGpu, MaterialGpu, TraceParams, TriangleGpu, MAX_DEPTH_LIMIT, SAMPLER_SCREEN_SOBOL,
+    SAMPLER_ZSOBOL, SEED_MODE_ADVANCE, SEED_MODE_BLUE_NOISE_DITHER,
 };
 use crate::bvh::{any_hit, closest_hit};
 use crate::camera::primary_ray;
@@ -70,6 +87,9 @@ use crate::intersect::Ray;
 use crate::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_triangle_barycentrics, Frame};
 use core::f32::consts::FRAC_1_PI;
 use glam::{UVec2, Vec2, Vec3, Vec4};
+use sampler_core::r2::q32_to_f32;
+use sampler_core::screen_sobol::{key_sample_u32, ScreenSobolLayout};
+use sampler_core::zsobol::{zsobol_sample_u32, ZSOBOL_MAX_LOG2_SPP};
 use sampler_core::RandomStream;
 
 /// Stream dimensions used before the first vertex (pixel jitter).
@@ -105,26 +125,93 @@ pub fn stream_sample(params: &TraceParams, s: u32) -> u32 {
     }
 }
 
+/// Whether `params.sampler` replaces vertex 0's BSDF numbers
+/// ([`SAMPLER_SCREEN_SOBOL`] or [`SAMPLER_ZSOBOL`]).
+#[inline]
+pub fn uses_apriori_sampler(params: &TraceParams) -> bool {
+    params.sampler == SAMPLER_SCREEN_SOBOL || params.sampler == SAMPLER_ZSOBOL
+}
+
+/// The a-priori numbers of vertex 0's BSDF direction for sample `s` of
+/// `pixel` in frame `params.frame`, each in `[0, 1)` (see the module docs):
+/// - [`SAMPLER_SCREEN_SOBOL`]: dimensions 0 and 1 (key pair 0) of sample
+///   index `frame * spp + s` (wrapping), read from `keys` laid out as
+///   `params.key_side_log2 / key_pairs / key_levels` with the level for
+///   `params.spp` (`ScreenSobolLayout::level_of_spp`). Successive frames
+///   continue the pixel's Owen-scrambled (0, 2)-sequence, so the accumulated
+///   mean keeps converging at the sequence's rate. A key index past the end
+///   of `keys` reads key 0 (still a valid, unoptimised sequence).
+/// - [`SAMPLER_ZSOBOL`]: dimensions 0 and 1 of sample `s` with
+///   `2^ceil(log2 spp)` samples per pixel (at most 256) and seed
+///   `params.frame`. ZSobol's index is `morton(pixel) * 2^log2_spp + s`: the
+///   blue-noise property needs `log2_spp` to be exactly the frame's spp (a
+///   larger one would spread a frame's samples over unrelated strata), so
+///   frames cannot continue one sequence; each frame is an independent
+///   randomisation instead, and the mean converges across frames as Monte
+///   Carlo over per-frame stratified estimates.
+/// - any other value: `Vec2::ZERO` (unused).
+#[inline]
+pub fn sampler_pair(params: &TraceParams, keys: &[u32], pixel: UVec2, s: u32) -> Vec2 {
+    let spp = params.spp.max(1);
+    if params.sampler == SAMPLER_SCREEN_SOBOL {
+        let layout = ScreenSobolLayout {
+            side_log2: params.key_side_log2,
+            pairs: params.key_pairs.max(1),
+            levels: params.key_levels.max(1),
+            pad: 0,
+        };
+        let i = layout.key_index(pixel, layout.level_of_spp(spp), 0) as usize;
+        let key = if i < keys.len() { keys[i] } else { 0 };
+        let index = params.frame.wrapping_mul(spp).wrapping_add(s);
+        let v = key_sample_u32(key, 0, index);
+        Vec2::new(q32_to_f32(v[0]), q32_to_f32(v[1]))
+    } else if params.sampler == SAMPLER_ZSOBOL {
+        let mut log2_spp = 0u32;
+        while log2_spp < ZSOBOL_MAX_LOG2_SPP && (1u32 << log2_spp) < spp {
+            log2_spp += 1;
+        }
+        Vec2::new(
+            q32_to_f32(zsobol_sample_u32(pixel, s, 0, log2_spp, params.frame)),
+            q32_to_f32(zsobol_sample_u32(pixel, s, 1, log2_spp, params.frame)),
+        )
+    } else {
+        Vec2::ZERO
+    }
+}
+
 /// Mean radiance of the pixel's `params.spp` samples for this frame, as
 /// `(r, g, b, 1)`: the value the trace pass writes to the frame colour
 /// buffer. Identical to what [`TRACE_ENTRY`](crate::abi::TRACE_ENTRY) computes
-/// on the GPU. `seed` is the pixel's seed.
+/// on the GPU. `seed` is the pixel's seed; `keys` the screen-space Sobol key
+/// buffer (binding 7; read only with [`SAMPLER_SCREEN_SOBOL`], may be
+/// empty otherwise). With an a-priori `params.sampler`, vertex 0's BSDF
+/// numbers come from [`sampler_pair`].
+#[allow(clippy::too_many_arguments)]
 #[inline]
 pub fn trace_pixel(
     params: &TraceParams,
     pixel: UVec2,
     seed: u32,
+    keys: &[u32],
     nodes: &[BvhNodeGpu],
     triangles: &[TriangleGpu],
     materials: &[MaterialGpu],
     emitters: &[EmitterGpu],
 ) -> Vec4 {
+    let apriori = uses_apriori_sampler(params);
     let spp = params.spp.max(1);
     let mut sum = Vec3::ZERO;
     let mut s = 0u32;
     while s < spp {
         let stream = RandomStream::new(seed, stream_sample(params, s), DIMS_PER_SAMPLE);
-        sum += trace_sample(params, pixel, stream, nodes, triangles, materials, emitters);
+        let u = if apriori {
+            sampler_pair(params, keys, pixel, s)
+        } else {
+            Vec2::ZERO
+        };
+        sum += trace_sample_with(
+            params, pixel, stream, u, apriori, nodes, triangles, materials, emitters,
+        );
         s += 1;
     }
     (sum / spp as f32).extend(1.0)
@@ -163,7 +250,10 @@ pub fn trace_sample(
 /// `frac(dither + s * (a1, a2))` (R2 constants) instead of the stream (see
 /// the module docs). `dither` is the pixel's value of a blue-noise mask for
 /// this frame, each component in `[0, 1)`. With any other seed mode this is
-/// exactly [`trace_pixel`].
+/// exactly [`trace_pixel`] with an empty key buffer (so with
+/// [`SAMPLER_SCREEN_SOBOL`] every pixel reads key 0: pass the keys to
+/// [`trace_pixel`] instead). The dither takes precedence over
+/// `params.sampler`.
 #[allow(clippy::too_many_arguments)]
 #[inline]
 pub fn trace_pixel_dithered(
@@ -177,6 +267,9 @@ pub fn trace_pixel_dithered(
     emitters: &[EmitterGpu],
 ) -> Vec4 {
     let dithered = params.seed_mode == SEED_MODE_BLUE_NOISE_DITHER;
+    if !dithered {
+        return trace_pixel(params, pixel, seed, &[], nodes, triangles, materials, emitters);
+    }
     let spp = params.spp.max(1);
     let mut sum = Vec3::ZERO;
     let mut s = 0u32;
@@ -398,6 +491,7 @@ fn offset_point(p: Vec3, normal: Vec3) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::abi::SAMPLER_SEEDS;
 
     #[test]
     fn power_heuristic_weights_sum_to_one() {
@@ -438,6 +532,213 @@ mod tests {
         assert_eq!(stream_sample(&p, 2), 14);
         p.seed_mode = 7;
         assert_eq!(stream_sample(&p, 2), 2);
+    }
+
+    /// A diffuse floor (y = 0, albedo 0.5) under an emitter covering the
+    /// half-plane x > 0 at y = 1 (facing down, emission 1), seen from above
+    /// the floor at x = 0; no emitter list, so light arrives only through
+    /// vertex 0's BSDF direction: each sample is 0 or 0.5.
+    struct HalfLit {
+        nodes: [BvhNodeGpu; 1],
+        triangles: [TriangleGpu; 2],
+        materials: [MaterialGpu; 2],
+        emitters: [EmitterGpu; 1],
+    }
+
+    fn half_lit() -> HalfLit {
+        let floor = TriangleGpu {
+            v0: Vec4::new(-100.0, 0.0, -100.0, 0.0),
+            v1: Vec4::new(-100.0, 0.0, 200.0, 0.0),
+            v2: Vec4::new(200.0, 0.0, -100.0, 0.0),
+        };
+        let light = TriangleGpu {
+            v0: Vec4::new(0.0, 1.0, -100.0, 1.0),
+            v1: Vec4::new(100.0, 1.0, 0.0, 0.0),
+            v2: Vec4::new(0.0, 1.0, 100.0, 0.0),
+        };
+        HalfLit {
+            nodes: [BvhNodeGpu {
+                min: Vec4::new(-100.0, 0.0, -100.0, 0.0),
+                max: Vec4::new(200.0, 1.0, 200.0, 0.0),
+                info: glam::UVec4::new(2, 0, 0, 0),
+            }],
+            triangles: [floor, light],
+            materials: [
+                MaterialGpu {
+                    albedo: Vec4::new(0.5, 0.5, 0.5, 0.0),
+                    emission: Vec4::ZERO,
+                },
+                MaterialGpu {
+                    albedo: Vec4::ZERO,
+                    emission: Vec4::new(1.0, 1.0, 1.0, 0.0),
+                },
+            ],
+            emitters: [EmitterGpu::NONE],
+        }
+    }
+
+    fn half_lit_params(sampler: u32, spp: u32, frame: u32) -> TraceParams {
+        TraceParams {
+            width: 16,
+            height: 16,
+            padded_width: 16,
+            spp,
+            max_depth: 2,
+            frame,
+            triangle_count: 2,
+            node_count: 1,
+            rr_depth: 3,
+            tan_half_fov_y: 0.2,
+            camera_origin: Vec4::new(0.0, 0.5, 0.0, 0.0),
+            camera_forward: Vec4::new(0.0, -1.0, 0.0, 0.0),
+            camera_right: Vec4::X,
+            camera_up: Vec4::Z,
+            sampler,
+            key_side_log2: 2,
+            key_pairs: 1,
+            key_levels: 3,
+            ..Default::default()
+        }
+    }
+
+    fn test_keys() -> [u32; 48] {
+        core::array::from_fn(|i| sampler_core::seed::hash_u32(i as u32 ^ 0x5bd1_e995))
+    }
+
+    fn render(
+        scene: &HalfLit,
+        params: &TraceParams,
+        keys: &[u32],
+        seed_of: impl Fn(u32, u32) -> u32,
+    ) -> [f32; 256] {
+        core::array::from_fn(|i| {
+            let (x, y) = (i as u32 % 16, i as u32 / 16);
+            trace_pixel(
+                params,
+                UVec2::new(x, y),
+                seed_of(x, y),
+                keys,
+                &scene.nodes,
+                &scene.triangles,
+                &scene.materials,
+                &scene.emitters,
+            )
+            .x
+        })
+    }
+
+    /// `trace_pixel` with an a-priori sampler is the mean of samples whose
+    /// vertex-0 BSDF numbers are exactly `sampler_pair`'s, and differs from
+    /// the seed stream's image with the same seeds.
+    #[test]
+    fn apriori_samplers_drive_the_first_bounce() {
+        let scene = half_lit();
+        let keys = test_keys();
+        let seed_of = |x: u32, y: u32| sampler_core::initial_seed(x, y, 16, 7);
+        for spp in [1u32, 4] {
+            let seeds_img = render(&scene, &half_lit_params(SAMPLER_SEEDS, spp, 3), &keys, seed_of);
+            for sampler in [SAMPLER_SCREEN_SOBOL, SAMPLER_ZSOBOL] {
+                let params = half_lit_params(sampler, spp, 3);
+                let img = render(&scene, &params, &keys, seed_of);
+                let differing = img.iter().zip(&seeds_img).filter(|(a, b)| a != b).count();
+                eprintln!("sampler {sampler} spp {spp}: {differing}/256 pixels differ from the seed stream");
+                assert!(
+                    differing > 16,
+                    "sampler {sampler} spp {spp}: only {differing} pixels differ"
+                );
+                for (x, y) in [(0u32, 0u32), (5, 9), (15, 15)] {
+                    let seed = seed_of(x, y);
+                    let mut sum = Vec3::ZERO;
+                    for s in 0..spp {
+                        let stream = RandomStream::new(seed, stream_sample(&params, s), DIMS_PER_SAMPLE);
+                        let u = sampler_pair(&params, &keys, UVec2::new(x, y), s);
+                        sum += trace_sample_with(
+                            &params,
+                            UVec2::new(x, y),
+                            stream,
+                            u,
+                            true,
+                            &scene.nodes,
+                            &scene.triangles,
+                            &scene.materials,
+                            &scene.emitters,
+                        );
+                    }
+                    assert_eq!(
+                        img[(y * 16 + x) as usize],
+                        (sum / spp as f32).x,
+                        "pixel ({x}, {y})"
+                    );
+                }
+            }
+            // Unknown sampler values fall back to the seed stream.
+            assert_eq!(
+                render(&scene, &half_lit_params(9, spp, 3), &keys, seed_of),
+                seeds_img
+            );
+        }
+        // Screen-space Sobol reads the key buffer: other keys, other image.
+        let params = half_lit_params(SAMPLER_SCREEN_SOBOL, 1, 0);
+        let other: [u32; 48] = core::array::from_fn(|i| keys[(i + 1) % 48]);
+        assert_ne!(
+            render(&scene, &params, &keys, seed_of),
+            render(&scene, &params, &other, seed_of)
+        );
+    }
+
+    /// `sampler_pair` returns the sampler-core samplers' values for the
+    /// documented indices.
+    #[test]
+    fn sampler_pair_matches_sampler_core() {
+        let keys = test_keys();
+        let layout = ScreenSobolLayout::new(4, 1, 3).unwrap();
+        for (spp, frame, s) in [(1u32, 0u32, 0u32), (2, 5, 1), (4, 2, 3), (3, 1, 2)] {
+            for pixel in [UVec2::new(0, 0), UVec2::new(6, 3), UVec2::new(1023, 77)] {
+                let p = TraceParams {
+                    frame,
+                    ..half_lit_params(SAMPLER_SCREEN_SOBOL, spp, 0)
+                };
+                let index = frame * spp + s;
+                let want = Vec2::new(
+                    sampler_core::screen_sobol::screen_sobol_sample(&keys, layout, spp, pixel, index, 0),
+                    sampler_core::screen_sobol::screen_sobol_sample(&keys, layout, spp, pixel, index, 1),
+                );
+                assert_eq!(sampler_pair(&p, &keys, pixel, s), want);
+                let p = TraceParams {
+                    sampler: SAMPLER_ZSOBOL,
+                    ..p
+                };
+                let log2 = 32 - (spp - 1).leading_zeros();
+                let want = Vec2::new(
+                    sampler_core::zsobol_sample(pixel, s, 0, log2, frame),
+                    sampler_core::zsobol_sample(pixel, s, 1, log2, frame),
+                );
+                assert_eq!(sampler_pair(&p, &keys, pixel, s), want);
+            }
+        }
+    }
+
+    /// Screen-space Sobol continues each pixel's sequence across frames: at
+    /// 1 spp, frames 0..4 of a pixel form a (0, 2, 2)-net (one point in each
+    /// elementary interval of area 1/4).
+    #[test]
+    fn screen_sobol_frames_continue_the_sequence() {
+        let keys = test_keys();
+        for pixel in [UVec2::new(0, 0), UVec2::new(3, 1), UVec2::new(2, 2)] {
+            let pts: [Vec2; 4] = core::array::from_fn(|t| {
+                sampler_pair(
+                    &half_lit_params(SAMPLER_SCREEN_SOBOL, 1, t as u32),
+                    &keys,
+                    pixel,
+                    0,
+                )
+            });
+            for (nx, ny) in [(4.0f32, 1.0f32), (2.0, 2.0), (1.0, 4.0)] {
+                let mut cells: [u32; 4] = pts.map(|p| (p.x * nx) as u32 * ny as u32 + (p.y * ny) as u32);
+                cells.sort_unstable();
+                assert_eq!(cells, [0, 1, 2, 3], "pixel {pixel} {pts:?}");
+            }
+        }
     }
 
     #[test]

@@ -43,8 +43,11 @@ pub struct Tracer {
 }
 
 impl Tracer {
-    /// Uploads `scene` and allocates the accumulation buffer for `params`'
-    /// size. `seeds` is the seed buffer the trace pass reads
+    /// Uploads `scene` and the screen-space Sobol keys
+    /// (`sampler_core::defaults::screen_sobol_keys()`, binding 7, read by
+    /// the screen-sobol sampler; [`crate::SceneGpu::trace_params`] writes
+    /// their layout into the parameters) and allocates the accumulation
+    /// buffer for `params`' size. `seeds` is the seed buffer the trace pass reads
     /// (`params.padded_width` wide); `color` (from [`Tracer::color_buffer`])
     /// receives each frame.
     pub fn new(
@@ -61,6 +64,10 @@ impl Tracer {
         let triangles = gpu.storage("triangles", &scene.triangles);
         let materials = gpu.storage("materials", &scene.materials);
         let emitters = gpu.storage("emitters", &scene.emitters);
+        let keys = gpu.storage(
+            "screen-space sobol keys",
+            sampler_core::defaults::screen_sobol_keys().keys(),
+        );
         let accum = gpu.storage_zeroed::<Vec4>("accumulation", n);
         let trace_bg = gpu.bind(
             &pipelines.trace,
@@ -72,6 +79,7 @@ impl Tracer {
                 &emitters,
                 seeds,
                 &color,
+                &keys,
             ],
         );
         let accumulate_bg = gpu.bind(&pipelines.accumulate, &[&params_buf, &color, &accum]);
