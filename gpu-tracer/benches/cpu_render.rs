@@ -4,7 +4,7 @@
 //! rays and Russian roulette.
 //!
 //! `cargo bench -p gpu-tracer --bench cpu_render`; the bench prints
-//! `paths/s` per configuration after criterion's own report.
+//! `rays/s` and `paths/s` per configuration after criterion's own report.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::Vec4;
@@ -40,20 +40,23 @@ fn bench_cpu_render(c: &mut Criterion) {
         // Own measurement for the printed figure: a few whole frames.
         let frames = 5;
         let start = Instant::now();
+        let mut rays = 0u64;
         for _ in 0..frames {
-            pool.install(|| render_frame(&scene, &params, &seeds, &mut color).expect("render"));
+            rays += pool.install(|| render_frame(&scene, &params, &seeds, &mut color).expect("render"));
         }
         let secs = start.elapsed().as_secs_f64();
         report.push((
             threads,
             frames as f64 * pixels as f64 / secs,
+            rays as f64 / secs,
             secs / frames as f64,
         ));
     }
     group.finish();
-    for (threads, paths_per_s, frame_s) in report {
+    for (threads, paths_per_s, rays_per_s, frame_s) in report {
         println!(
-            "cpu_render cornell 256x256 1spp depth 8: {threads} thread(s): {paths_per_s:.0} paths/s ({:.1} ms/frame)",
+            "cpu_render cornell 256x256 1spp depth 8: {threads} thread(s): {rays_per_s:.0} rays/s, \
+             {paths_per_s:.0} paths/s ({:.1} ms/frame)",
             frame_s * 1e3
         );
     }

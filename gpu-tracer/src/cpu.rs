@@ -1,6 +1,6 @@
 //! The CPU renderer: the kernels' own per-pixel functions run with rayon.
 //!
-//! [`render_frame`] calls `kernels::trace_pixel` for every visible pixel,
+//! [`render_frame`] calls `kernels::trace_pixel` (through `trace_pixel_counted`) for every visible pixel,
 //! exactly as the GPU's `trace_cs` does, so the two agree up to
 //! floating-point differences between the host's and the device's math
 //! libraries. Rows are distributed over the current rayon pool (use
@@ -10,7 +10,7 @@ use crate::error::{Error, Result};
 use crate::scene::SceneGpu;
 use glam::{UVec2, Vec4};
 use kernels::abi::{TraceParams, MAX_DEPTH_LIMIT, SAMPLER_SCREEN_SOBOL};
-use kernels::{accumulate_pixel, trace_pixel};
+use kernels::{accumulate_pixel, trace_pixel_counted};
 use rayon::prelude::*;
 
 /// Traces one frame: `color[y * width + x]` = mean radiance of the pixel's
@@ -27,7 +27,14 @@ use rayon::prelude::*;
 /// `1..=MAX_DEPTH_LIMIT`, or counts in `params` that do not match `scene`;
 /// [`Error::BufferSize`] when `seeds` has fewer than `padded_width * height`
 /// entries or `color` is not `width * height` long.
-pub fn render_frame(scene: &SceneGpu, params: &TraceParams, seeds: &[u32], color: &mut [Vec4]) -> Result<()> {
+///
+/// Returns the number of rays traced (camera, continuation and shadow rays).
+pub fn render_frame(
+    scene: &SceneGpu,
+    params: &TraceParams,
+    seeds: &[u32],
+    color: &mut [Vec4],
+) -> Result<u64> {
     check_params(scene, params)?;
     let (width, stride) = (params.width as usize, params.padded_width as usize);
     let pixels = width * params.height as usize;
@@ -52,21 +59,29 @@ pub fn render_frame(scene: &SceneGpu, params: &TraceParams, seeds: &[u32], color
         }
     }
     let keys = keys.keys();
-    color.par_chunks_mut(width).enumerate().for_each(|(y, row)| {
-        for (x, out) in row.iter_mut().enumerate() {
-            *out = trace_pixel(
-                params,
-                UVec2::new(x as u32, y as u32),
-                seeds[y * stride + x],
-                keys,
-                &scene.nodes,
-                &scene.triangles,
-                &scene.materials,
-                &scene.emitters,
-            );
-        }
-    });
-    Ok(())
+    let rays = color
+        .par_chunks_mut(width)
+        .enumerate()
+        .map(|(y, row)| {
+            let mut rays = 0u64;
+            for (x, out) in row.iter_mut().enumerate() {
+                let (c, n) = trace_pixel_counted(
+                    params,
+                    UVec2::new(x as u32, y as u32),
+                    seeds[y * stride + x],
+                    keys,
+                    &scene.nodes,
+                    &scene.triangles,
+                    &scene.materials,
+                    &scene.emitters,
+                );
+                *out = c;
+                rays += n as u64;
+            }
+            rays
+        })
+        .sum();
+    Ok(rays)
 }
 
 /// Folds frame `params.frame`'s colours into the accumulation buffer
@@ -170,6 +185,28 @@ mod tests {
     use glam::Vec3;
     use kernels::abi::SEED_MODE_ADVANCE;
     use kernels::camera::project_point;
+    use kernels::trace_pixel;
+
+    #[test]
+    fn ray_count_is_bounded_by_the_path_layout() {
+        let scene = SceneGpu::build(&cornell_box()).unwrap();
+        let mut settings = TraceSettings::new(16, 16);
+        settings.spp = 2;
+        let params = scene.trace_params(&settings, 0).unwrap();
+        let seeds = white_seeds(16, 16, 3);
+        let mut color = vec![Vec4::ZERO; 256];
+        let rays = render_frame(&scene, &params, &seeds, &mut color).unwrap();
+        let paths = 256 * 2;
+        // Every path traces its camera ray; each vertex adds at most a shadow
+        // and a continuation ray.
+        assert!(rays >= paths, "{rays} rays for {paths} paths");
+        assert!(
+            rays <= paths * (1 + 2 * params.max_depth as u64),
+            "{rays} rays for {paths} paths"
+        );
+        // The Cornell box is closed but for the front: most paths bounce.
+        assert!(rays > 3 * paths, "{rays} rays for {paths} paths");
+    }
 
     /// Renders `frames` frames with fresh white seeds and returns the mean image.
     fn render_mean(scene: &SceneGpu, settings: &TraceSettings, frames: u32) -> Vec<Vec4> {

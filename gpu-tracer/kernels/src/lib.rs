@@ -50,4 +50,4 @@ pub mod sampling;
 pub mod trace;
 
 pub use accumulate::accumulate_pixel;
-pub use trace::{trace_pixel, trace_sample, DIMS_PER_SAMPLE};
+pub use trace::{trace_pixel, trace_pixel_counted, trace_sample, DIMS_PER_SAMPLE};

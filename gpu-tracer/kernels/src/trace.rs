@@ -198,9 +198,27 @@ pub fn trace_pixel(
     materials: &[MaterialGpu],
     emitters: &[EmitterGpu],
 ) -> Vec4 {
+    trace_pixel_counted(params, pixel, seed, keys, nodes, triangles, materials, emitters).0
+}
+
+/// [`trace_pixel`] and the number of rays it traced (camera, continuation
+/// and shadow rays: every BVH query), for throughput measurements.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn trace_pixel_counted(
+    params: &TraceParams,
+    pixel: UVec2,
+    seed: u32,
+    keys: &[u32],
+    nodes: &[BvhNodeGpu],
+    triangles: &[TriangleGpu],
+    materials: &[MaterialGpu],
+    emitters: &[EmitterGpu],
+) -> (Vec4, u32) {
     let apriori = uses_apriori_sampler(params);
     let spp = params.spp.max(1);
     let mut sum = Vec3::ZERO;
+    let mut rays = 0u32;
     let mut s = 0u32;
     while s < spp {
         let stream = RandomStream::new(seed, stream_sample(params, s), DIMS_PER_SAMPLE);
@@ -210,11 +228,11 @@ pub fn trace_pixel(
             Vec2::ZERO
         };
         sum += trace_sample_with(
-            params, pixel, stream, u, apriori, nodes, triangles, materials, emitters,
+            params, pixel, stream, u, apriori, nodes, triangles, materials, emitters, &mut rays,
         );
         s += 1;
     }
-    (sum / spp as f32).extend(1.0)
+    ((sum / spp as f32).extend(1.0), rays)
 }
 
 /// Radiance (linear RGB, `>= 0`) carried by one path through `pixel`, using
@@ -231,6 +249,7 @@ pub fn trace_sample(
     materials: &[MaterialGpu],
     emitters: &[EmitterGpu],
 ) -> Vec3 {
+    let mut rays = 0u32;
     trace_sample_with(
         params,
         pixel,
@@ -241,6 +260,7 @@ pub fn trace_sample(
         triangles,
         materials,
         emitters,
+        &mut rays,
     )
 }
 
@@ -280,8 +300,9 @@ pub fn trace_pixel_dithered(
         let rx = s.wrapping_mul(0xC13F_A9A9) as f32 * (1.0 / 4_294_967_296.0);
         let ry = s.wrapping_mul(0x91E1_0DA6) as f32 * (1.0 / 4_294_967_296.0);
         let u = Vec2::new(frac01(dither.x + rx), frac01(dither.y + ry));
+        let mut rays = 0u32;
         sum += trace_sample_with(
-            params, pixel, stream, u, dithered, nodes, triangles, materials, emitters,
+            params, pixel, stream, u, dithered, nodes, triangles, materials, emitters, &mut rays,
         );
         s += 1;
     }
@@ -314,6 +335,7 @@ fn trace_sample_with(
     triangles: &[TriangleGpu],
     materials: &[MaterialGpu],
     emitters: &[EmitterGpu],
+    rays: &mut u32,
 ) -> Vec3 {
     let max_depth = params.max_depth.min(MAX_DEPTH_LIMIT);
     let base = stream.index;
@@ -328,6 +350,7 @@ fn trace_sample_with(
     let mut depth = 0u32;
     while depth < max_depth {
         // f32::MAX, not INFINITY: naga rejects infinite literals in SPIR-V.
+        *rays += 1;
         let hit = match closest_hit(nodes, triangles, &ray, 0.0, f32::MAX) {
             Some(h) => h,
             None => break,
@@ -389,7 +412,10 @@ fn trace_sample_with(
                     let light_pdf = e.pdf * dist2 / (light_area * cos_light);
                     let weight = power_heuristic(light_pdf, cosine_hemisphere_pdf(cos_surface));
                     let t_max = dist - 2.0 * surface_offset(q);
-                    if t_max > 0.0 && !any_hit(nodes, triangles, &Ray::new(origin, wi), 0.0, t_max) {
+                    if t_max > 0.0 && {
+                        *rays += 1;
+                        !any_hit(nodes, triangles, &Ray::new(origin, wi), 0.0, t_max)
+                    } {
                         let light_emission = materials[lt.v0.w as u32 as usize].emission.truncate();
                         let brdf_cos = albedo * (FRAC_1_PI * cos_surface);
                         radiance += throughput * brdf_cos * light_emission * (weight / light_pdf);
@@ -662,6 +688,7 @@ mod tests {
                             &scene.triangles,
                             &scene.materials,
                             &scene.emitters,
+                            &mut 0,
                         );
                     }
                     assert_eq!(
