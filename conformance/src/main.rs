@@ -32,6 +32,9 @@ enum Command {
         /// Samples per pixel of the reference.
         #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(2..=1_000_000))]
         ref_spp: u32,
+        /// Maximum path length in segments (2 = direct light only).
+        #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=64))]
+        max_depth: u32,
         /// Do not read or write the reference cache under target/quality-cache.
         #[arg(long)]
         no_cache: bool,
@@ -45,12 +48,14 @@ fn main() -> Result<()> {
             size,
             frames,
             ref_spp,
+            max_depth,
             no_cache,
         } => {
             let cfg = ReportConfig {
                 size,
                 frames,
                 ref_spp,
+                max_depth,
             };
             let cache = default_cache_dir();
             let bar = ProgressBar::new(1);

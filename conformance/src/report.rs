@@ -29,6 +29,8 @@ pub struct ReportConfig {
     pub frames: u32,
     /// Reference samples per pixel.
     pub ref_spp: u32,
+    /// Maximum path length in segments (8 in the study; 2 = direct light only).
+    pub max_depth: u32,
 }
 
 /// Colour of each method in the plots (and the page's legend).
@@ -61,7 +63,8 @@ pub fn write_report(
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     let mut results = Vec::new();
     for (spp, frames) in [(1u32, 2 * cfg.frames), (4, cfg.frames)] {
-        let config = StudyConfig::new(cfg.size, spp, frames, cfg.ref_spp);
+        let mut config = StudyConfig::new(cfg.size, spp, frames, cfg.ref_spp);
+        config.max_depth = cfg.max_depth;
         let label = format!("reference {} spp", cfg.ref_spp);
         let study = Study::new(config, cache_dir, |d, t| progress(&label, d as u64, t as u64))?;
         let total = frames as u64 * Method::ALL.len() as u64;
