@@ -147,6 +147,27 @@ impl RenderJob {
         )?)
     }
 
+    /// Validates the job and returns its layout, trace settings (padded to
+    /// the layout), tile and tables.
+    fn prepare(
+        &self,
+    ) -> Result<
+        (
+            FrameLayout,
+            TraceSettings,
+            DitherTile<'static>,
+            RetargetTables<'static>,
+        ),
+        RenderError,
+    > {
+        if self.frames == 0 {
+            return Err(RenderError::NoFrames);
+        }
+        let layout = self.layout()?;
+        let (tile, tables) = self.tile.load();
+        Ok((layout, self.settings_for(&layout), tile, tables))
+    }
+
     fn settings_for(&self, layout: &FrameLayout) -> TraceSettings {
         TraceSettings {
             padded_width: layout.padded_width(),
@@ -165,12 +186,7 @@ pub fn render_cpu(
     job: &RenderJob,
     mut on_frame: impl FnMut(u32, &[Vec4]),
 ) -> Result<RenderOutput, RenderError> {
-    if job.frames == 0 {
-        return Err(RenderError::NoFrames);
-    }
-    let layout = job.layout()?;
-    let settings = job.settings_for(&layout);
-    let (tile, tables) = job.tile.load();
+    let (layout, settings, tile, tables) = job.prepare()?;
     let n = layout.pixel_count();
     let mut seeds = cpu::white_seeds(layout.padded_width(), layout.padded_height(), job.salt);
     let mut next = vec![0u32; seeds.len()];
@@ -219,12 +235,7 @@ pub fn render_gpu(
     mut on_submit: impl FnMut(u32),
     mut on_frame: Option<&mut FrameCallback<'_>>,
 ) -> Result<RenderOutput, RenderError> {
-    if job.frames == 0 {
-        return Err(RenderError::NoFrames);
-    }
-    let layout = job.layout()?;
-    let settings = job.settings_for(&layout);
-    let (tile, tables) = job.tile.load();
+    let (layout, settings, tile, tables) = job.prepare()?;
     let params0 = scene.trace_params(&settings, 0)?;
     let trace_pipelines = TracePipelines::new(gpu)?;
     let permute_pipelines = PermutePipelines::new(gpu)?;
