@@ -70,8 +70,8 @@ use gpu_tracer::{cpu, PermuteMode, RenderJob, TileChoice};
 use kernels::abi::{TraceParams, SEED_MODE_BLUE_NOISE_DITHER, SEED_MODE_FIXED};
 use rayon::prelude::*;
 use sampler_core::{
-    intensity_key, luma, retarget_destination, sort_block, tile_texel, walk_offset, DitherTile, FrameLayout,
-    Intensity, RetargetTable,
+    luma, retarget_pixel_at_offset, sort_block_at_offset, walk_offset, DitherTile, FrameLayout, Intensity,
+    RetargetTable,
 };
 use std::path::{Path, PathBuf};
 
@@ -839,8 +839,8 @@ impl Walk {
 /// One permutation step with an explicit tile offset: sorting pass against
 /// `tile[(p + offset) mod W]` in every block, then the retargeting scatter with `table`
 /// read at `(p + offset) mod W`. Same conventions and tie-breaking as
-/// `sampler_core::permute_frame` (sort = `sampler_core::sort_block`, scatter =
-/// `sampler_core::retarget_destination`).
+/// `sampler_core::permute_frame`: `sampler_core::sort_block_at_offset` per block,
+/// then `sampler_core::retarget_pixel_at_offset` per seed.
 ///
 /// # Panics
 /// If a buffer does not match `layout`.
@@ -853,45 +853,27 @@ pub fn permute_with_offset<T: Intensity>(
     seeds_in: &[u32],
     seeds_out: &mut [u32],
 ) {
-    use sampler_core::sort::MAX_BLOCK_PIXELS;
     let p = layout.params(0);
     assert_eq!(seeds_in.len(), layout.seed_count());
     assert_eq!(seeds_out.len(), layout.seed_count());
     assert_eq!(intensities.len(), layout.pixel_count());
-    let padded = UVec2::new(p.padded_width, p.padded_height);
     let mut sorted = seeds_in.to_vec();
     for by in 0..p.blocks_y() {
         for bx in 0..p.blocks_x() {
-            let mut keys = [0u32; MAX_BLOCK_PIXELS];
-            let mut dither = [0u32; MAX_BLOCK_PIXELS];
-            let mut seeds = [0u32; MAX_BLOCK_PIXELS];
-            let mut index = [0usize; MAX_BLOCK_PIXELS];
-            let mut len = 0usize;
-            for dy in 0..p.block {
-                for dx in 0..p.block {
-                    let (x, y) = (bx * p.block + dx, by * p.block + dy);
-                    if x < p.width && y < p.height {
-                        keys[len] = intensity_key(intensities[(y * p.width + x) as usize].intensity());
-                        dither[len] =
-                            tile.values()[tile_texel(UVec2::new(x, y), offset, p.tile_log2) as usize];
-                        let s = (y * p.padded_width + x) as usize;
-                        seeds[len] = seeds_in[s];
-                        index[len] = s;
-                        len += 1;
-                    }
-                }
-            }
-            let mut out = [0u32; MAX_BLOCK_PIXELS];
-            sort_block(len as u32, &keys, &dither, &seeds, &mut out);
-            for i in 0..len {
-                sorted[index[i]] = out[i];
-            }
+            sort_block_at_offset(
+                &p,
+                offset,
+                bx,
+                by,
+                intensities,
+                tile.values(),
+                seeds_in,
+                &mut sorted,
+            );
         }
     }
-    for (i, &seed) in sorted.iter().enumerate() {
-        let px = UVec2::new(i as u32 % p.padded_width, i as u32 / p.padded_width);
-        let d = retarget_destination(px, offset, p.tile_log2, table.packed(), padded);
-        seeds_out[(d.y * p.padded_width + d.x) as usize] = seed;
+    for i in 0..p.seed_count() {
+        retarget_pixel_at_offset(&p, offset, i, table.packed(), &sorted, seeds_out);
     }
 }
 

@@ -37,6 +37,24 @@ pub fn sort_block_in_frame<T: Intensity>(
     seeds_out: &mut [u32],
 ) {
     let offset = walk_offset(params.frame, params.tile_log2);
+    sort_block_at_offset(params, offset, bx, by, intensities, tile, seeds_in, seeds_out);
+}
+
+/// [`sort_block_in_frame`] with an explicit tile offset (each component in
+/// `0..W`) instead of the walk's `o_frame`: for renderers with their own
+/// offset schedule, and for studying other walks. `params.frame` is ignored.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn sort_block_at_offset<T: Intensity>(
+    params: &FrameParams,
+    offset: UVec2,
+    bx: u32,
+    by: u32,
+    intensities: &[T],
+    tile: &[u32],
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+) {
     let x0 = bx * params.block;
     let y0 = by * params.block;
     let mut keys = [0u32; MAX_BLOCK_PIXELS];
@@ -80,8 +98,23 @@ pub fn retarget_pixel(
     seeds_in: &[u32],
     seeds_out: &mut [u32],
 ) {
-    let p = UVec2::new(seed_index % params.padded_width, seed_index / params.padded_width);
     let offset = walk_offset(params.frame, params.tile_log2);
+    retarget_pixel_at_offset(params, offset, seed_index, table, seeds_in, seeds_out);
+}
+
+/// [`retarget_pixel`] with an explicit tile offset (each component in
+/// `0..W`) instead of the walk's `o_frame`; `table` must be the one baked
+/// for the step to the next offset. `params.frame` is ignored.
+#[inline]
+pub fn retarget_pixel_at_offset(
+    params: &FrameParams,
+    offset: UVec2,
+    seed_index: u32,
+    table: &[u32],
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+) {
+    let p = UVec2::new(seed_index % params.padded_width, seed_index / params.padded_width);
     let padded = UVec2::new(params.padded_width, params.padded_height);
     let d = retarget_destination(p, offset, params.tile_log2, table, padded);
     seeds_out[(d.y * params.padded_width + d.x) as usize] = seeds_in[seed_index as usize];
