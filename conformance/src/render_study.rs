@@ -94,16 +94,23 @@ pub enum Method {
     /// Fresh white seeds plus a spatiotemporal blue-noise mask driving the first
     /// bounce's direction.
     Dither,
+    /// Fresh white seeds, first bounce's direction from the screen-space Sobol
+    /// sampler with our optimised keys (`--sampler screen-sobol`, issue 6).
+    ScreenSobol,
+    /// Fresh white seeds, first bounce's direction from ZSobol (`--sampler zsobol`).
+    ZSobol,
 }
 
 impl Method {
     /// Every method, white first.
-    pub const ALL: [Method; 5] = [
+    pub const ALL: [Method; 7] = [
         Method::White,
         Method::Sort,
         Method::Permute,
         Method::FixedStep,
         Method::Dither,
+        Method::ScreenSobol,
+        Method::ZSobol,
     ];
 
     /// Short name used in tables, files and on the command line.
@@ -114,6 +121,8 @@ impl Method {
             Method::Permute => "permute",
             Method::FixedStep => "fixed-step",
             Method::Dither => "bn-dither",
+            Method::ScreenSobol => "screen-sobol",
+            Method::ZSobol => "zsobol",
         }
     }
 
@@ -125,6 +134,10 @@ impl Method {
             Method::Permute => "sorting + retargeting, aperiodic R2 offset walk",
             Method::FixedStep => "sorting + retargeting, fixed integer step floor(W*(a1,a2))",
             Method::Dither => "white seeds + STBN mask on the first bounce direction",
+            Method::ScreenSobol => {
+                "white seeds + screen-space Sobol (our keys) on the first bounce direction"
+            }
+            Method::ZSobol => "white seeds + ZSobol on the first bounce direction",
         }
     }
 }
@@ -644,6 +657,23 @@ impl Study {
             }
             Method::FixedStep => render_walk(self, Walk::FixedStep, &mut on_frame)?,
             Method::Dither => render_dither(self, &mut on_frame)?,
+            Method::ScreenSobol | Method::ZSobol => {
+                let mut settings = self.config.settings();
+                settings.sampler = if method == Method::ScreenSobol {
+                    kernels::abi::SAMPLER_SCREEN_SOBOL
+                } else {
+                    kernels::abi::SAMPLER_ZSOBOL
+                };
+                let job = RenderJob {
+                    settings,
+                    frames: self.config.frames,
+                    mode: PermuteMode::White,
+                    block: self.config.block,
+                    tile: self.config.tile,
+                    salt: self.config.salt,
+                };
+                gpu_tracer::render_cpu(&self.scene, &job, &mut on_frame)?;
+            }
         }
         meter.finish()
     }

@@ -41,6 +41,8 @@ fn colour(m: Method) -> RGBColor {
         Method::Permute => RGBColor(0, 114, 178),
         Method::FixedStep => RGBColor(213, 94, 0),
         Method::Dither => RGBColor(0, 158, 115),
+        Method::ScreenSobol => RGBColor(204, 121, 167),
+        Method::ZSobol => RGBColor(86, 180, 233),
     }
 }
 
