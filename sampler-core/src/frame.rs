@@ -244,9 +244,7 @@ pub fn permute_frame<T: Intensity>(
 }
 
 /// The general CPU path of [`permute_frame`] (any block and tile size; see
-/// `permute_cpu` for the faster common case): per block, packs (key, index)
-/// pairs into `u64`s and insertion-sorts them (no `O(n^2)` rank counting),
-/// then writes each seed straight to its retargeted place.
+/// `permute_cpu` for the faster common case): [`permute_block`] per block.
 fn permute_blocks<T: Intensity>(
     params: &FrameParams,
     intensities: &[T],
@@ -255,54 +253,65 @@ fn permute_blocks<T: Intensity>(
     seeds_in: &[u32],
     seeds_out: &mut [u32],
 ) {
-    let log2 = params.tile_log2;
-    let mask = (1u32 << log2) - 1;
-    let offset = walk_offset(params.frame, log2);
-    let (pw, ph) = (params.padded_width, params.padded_height);
-    let padded = UVec2::new(pw, ph);
-    let packed = table.packed();
-    let b = params.block;
-    let mut keys = [0u64; MAX_BLOCK_PIXELS];
-    let mut dither = [0u64; MAX_BLOCK_PIXELS];
-    let mut pos = [0u32; MAX_BLOCK_PIXELS];
-    for y0 in (0..ph).step_by(b as usize) {
-        let y1 = (y0 + b).min(ph);
-        let vis_y1 = y1.min(params.height);
-        for x0 in (0..pw).step_by(b as usize) {
-            let x1 = (x0 + b).min(pw);
-            let vis_x1 = x1.min(params.width);
-            let mut n = 0usize;
-            for y in y0..vis_y1 {
-                let row = (y * params.width) as usize;
-                let ty = (y.wrapping_add(offset.y) & mask) << log2;
-                for x in x0..vis_x1 {
-                    let i = n as u64;
-                    let key = intensity_key(intensities[row + x as usize].intensity());
-                    keys[n] = ((key as u64) << 6) | i;
-                    let d = tile[(ty | (x.wrapping_add(offset.x) & mask)) as usize];
-                    dither[n] = ((d as u64) << 6) | i;
-                    pos[n] = y * pw + x;
-                    n += 1;
-                }
-            }
-            crate::permute_cpu::insertion_sort(&mut keys[..n]);
-            crate::permute_cpu::insertion_sort(&mut dither[..n]);
-            for k in 0..n {
-                let src = pos[(keys[k] & 63) as usize];
-                let dst = pos[(dither[k] & 63) as usize];
-                let p = UVec2::new(dst % pw, dst / pw);
-                let d = retarget_destination(p, offset, log2, packed, padded);
-                seeds_out[(d.y * pw + d.x) as usize] = seeds_in[src as usize];
-            }
-            // Padding pixels of this block: not sorted, only retargeted.
-            for y in y0..y1 {
-                for x in x0..x1 {
-                    if x >= vis_x1 || y >= vis_y1 {
-                        let d = retarget_destination(UVec2::new(x, y), offset, log2, packed, padded);
-                        seeds_out[(d.y * pw + d.x) as usize] = seeds_in[(y * pw + x) as usize];
-                    }
-                }
+    for by in 0..params.blocks_y() {
+        for bx in 0..params.blocks_x() {
+            permute_block(
+                params,
+                bx,
+                by,
+                intensities,
+                tile,
+                table.packed(),
+                seeds_in,
+                seeds_out,
+            );
+        }
+    }
+}
+
+/// Sorting + retargeting of one block, fused: the reference sort
+/// ([`sort_block`]) of its visible pixels, then every seed of the block
+/// (padding included) goes straight to its retargeted place. The general CPU
+/// path of [`permute_frame`], and the fast path's clipped edge blocks.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn permute_block<T: Intensity>(
+    params: &FrameParams,
+    bx: u32,
+    by: u32,
+    intensities: &[T],
+    tile: &[u32],
+    packed: &[u32],
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+) {
+    let offset = walk_offset(params.frame, params.tile_log2);
+    let padded = UVec2::new(params.padded_width, params.padded_height);
+    let mut keys = [0u32; MAX_BLOCK_PIXELS];
+    let mut dither = [0u32; MAX_BLOCK_PIXELS];
+    let mut seeds = [0u32; MAX_BLOCK_PIXELS];
+    let mut pos = [UVec2::ZERO; MAX_BLOCK_PIXELS];
+    let mut len = 0usize;
+    let mut sorted = [0u32; MAX_BLOCK_PIXELS];
+    let (x0, y0) = (bx * params.block, by * params.block);
+    for y in y0..(y0 + params.block).min(params.padded_height) {
+        for x in x0..(x0 + params.block).min(params.padded_width) {
+            let p = UVec2::new(x, y);
+            let s = seeds_in[(y * params.padded_width + x) as usize];
+            if x < params.width && y < params.height {
+                keys[len] = intensity_key(intensities[(y * params.width + x) as usize].intensity());
+                dither[len] = tile[tile_texel(p, offset, params.tile_log2) as usize];
+                seeds[len] = s;
+                pos[len] = p;
+                len += 1;
+            } else {
+                let d = retarget_destination(p, offset, params.tile_log2, packed, padded);
+                seeds_out[(d.y * params.padded_width + d.x) as usize] = s;
             }
         }
+    }
+    sort_block(len as u32, &keys, &dither, &seeds, &mut sorted);
+    for i in 0..len {
+        let d = retarget_destination(pos[i], offset, params.tile_log2, packed, padded);
+        seeds_out[(d.y * params.padded_width + d.x) as usize] = sorted[i];
     }
 }

@@ -19,9 +19,10 @@
 //! Blocks clipped by the frame edge take the reference path.
 
 use crate::dither::tile_texel;
+use crate::frame::permute_block;
 use crate::layout::FrameParams;
 use crate::retarget::{unpack_offset, RetargetTable};
-use crate::sort::{intensity_key, sort_block, Intensity, MAX_BLOCK_PIXELS};
+use crate::sort::{intensity_key, Intensity};
 use crate::walk::walk_offset;
 use glam::UVec2;
 
@@ -100,7 +101,7 @@ fn permute_full_blocks<T: Intensity, const B: u32, const N: usize>(
     for by in 0..params.blocks_y() {
         for bx in 0..params.blocks_x() {
             if bx >= full_x || by >= full_y {
-                edge_block(params, bx, by, intensities, tile, packed, seeds_in, seeds_out);
+                permute_block(params, bx, by, intensities, tile, packed, seeds_in, seeds_out);
                 continue;
             }
             let (x0, y0) = (bx * B, by * B);
@@ -157,54 +158,9 @@ fn block_ranks<const N: usize>(keys: &[u32; N]) -> [u8; N] {
     ranks
 }
 
-/// A block clipped by the visible frame: the reference sort of its visible
-/// pixels, then every seed of the block (padding included) is retargeted.
-#[allow(clippy::too_many_arguments)]
-fn edge_block<T: Intensity>(
-    params: &FrameParams,
-    bx: u32,
-    by: u32,
-    intensities: &[T],
-    tile: &[u32],
-    packed: &[u32],
-    seeds_in: &[u32],
-    seeds_out: &mut [u32],
-) {
-    let offset = walk_offset(params.frame, params.tile_log2);
-    let padded = UVec2::new(params.padded_width, params.padded_height);
-    let mut keys = [0u32; MAX_BLOCK_PIXELS];
-    let mut dither = [0u32; MAX_BLOCK_PIXELS];
-    let mut seeds = [0u32; MAX_BLOCK_PIXELS];
-    let mut pos = [UVec2::ZERO; MAX_BLOCK_PIXELS];
-    let mut len = 0usize;
-    let mut sorted = [0u32; MAX_BLOCK_PIXELS];
-    let (x0, y0) = (bx * params.block, by * params.block);
-    for y in y0..(y0 + params.block).min(params.padded_height) {
-        for x in x0..(x0 + params.block).min(params.padded_width) {
-            let p = UVec2::new(x, y);
-            let s = seeds_in[(y * params.padded_width + x) as usize];
-            if x < params.width && y < params.height {
-                keys[len] = intensity_key(intensities[(y * params.width + x) as usize].intensity());
-                dither[len] = tile[tile_texel(p, offset, params.tile_log2) as usize];
-                seeds[len] = s;
-                pos[len] = p;
-                len += 1;
-            } else {
-                let d = crate::retarget_destination(p, offset, params.tile_log2, packed, padded);
-                seeds_out[(d.y * params.padded_width + d.x) as usize] = s;
-            }
-        }
-    }
-    sort_block(len as u32, &keys, &dither, &seeds, &mut sorted);
-    for i in 0..len {
-        let d = crate::retarget_destination(pos[i], offset, params.tile_log2, packed, padded);
-        seeds_out[(d.y * params.padded_width + d.x) as usize] = sorted[i];
-    }
-}
-
 /// Insertion sort, ascending.
 #[inline]
-pub(crate) fn insertion_sort(v: &mut [u64]) {
+fn insertion_sort(v: &mut [u64]) {
     for i in 1..v.len() {
         let x = v[i];
         let mut j = i;
