@@ -130,13 +130,13 @@ fn check_common<T>(
     if tile.tile() != layout.tile() {
         return Err(Error::TileSize { tile: tile.tile() });
     }
-    layout.check(Buffer::Intensities, layout.pixel_count(), intensities.len())?;
+    layout.check_intensity_buffer(intensities.len())?;
     check_seeds(layout, seeds_in, seeds_out)
 }
 
 fn check_seeds(layout: &FrameLayout, seeds_in: &[u32], seeds_out: &[u32]) -> Result<(), Error> {
-    layout.check(Buffer::SeedsIn, layout.seed_count(), seeds_in.len())?;
-    layout.check(Buffer::SeedsOut, layout.seed_count(), seeds_out.len())
+    layout.check_seed_buffer(Buffer::SeedsIn, seeds_in.len())?;
+    layout.check_seed_buffer(Buffer::SeedsOut, seeds_out.len())
 }
 
 /// Sorting pass over a whole frame: `seeds_out` = `seeds_in` permuted inside

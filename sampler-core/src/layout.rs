@@ -155,16 +155,34 @@ impl FrameLayout {
         self.params.pixel_count() as usize
     }
 
-    pub(crate) fn check(&self, buffer: crate::Buffer, expected: usize, actual: usize) -> Result<(), Error> {
-        if expected == actual {
-            Ok(())
-        } else {
-            Err(Error::BufferSize {
-                buffer,
-                expected,
-                actual,
-            })
-        }
+    /// Checks that a seed buffer (`buffer` names which, for the error) has
+    /// [`seed_count`](Self::seed_count) elements.
+    ///
+    /// # Errors
+    /// [`Error::BufferSize`] otherwise.
+    pub fn check_seed_buffer(&self, buffer: crate::Buffer, len: usize) -> Result<(), Error> {
+        check_len(buffer, self.seed_count(), len)
+    }
+
+    /// Checks that an intensity buffer has [`pixel_count`](Self::pixel_count)
+    /// elements.
+    ///
+    /// # Errors
+    /// [`Error::BufferSize`] otherwise.
+    pub fn check_intensity_buffer(&self, len: usize) -> Result<(), Error> {
+        check_len(crate::Buffer::Intensities, self.pixel_count(), len)
+    }
+}
+
+fn check_len(buffer: crate::Buffer, expected: usize, actual: usize) -> Result<(), Error> {
+    if expected == actual {
+        Ok(())
+    } else {
+        Err(Error::BufferSize {
+            buffer,
+            expected,
+            actual,
+        })
     }
 }
 

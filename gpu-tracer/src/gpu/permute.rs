@@ -190,11 +190,8 @@ impl SeedPermuter {
     /// # Errors
     /// [`GpuError::Input`] for a wrong length.
     pub fn upload_seeds(&self, gpu: &Gpu, seeds: &[u32]) -> Result<(), GpuError> {
-        check_len(
-            sampler_core::Buffer::SeedsIn,
-            self.layout.seed_count(),
-            seeds.len(),
-        )?;
+        self.layout
+            .check_seed_buffer(sampler_core::Buffer::SeedsIn, seeds.len())?;
         gpu.queue
             .write_buffer(&self.seeds, 0, bytemuck::cast_slice(seeds));
         Ok(())
@@ -205,11 +202,7 @@ impl SeedPermuter {
     /// # Errors
     /// [`GpuError::Input`] for a wrong length.
     pub fn upload_intensity(&self, gpu: &Gpu, values: &[f32]) -> Result<(), GpuError> {
-        check_len(
-            sampler_core::Buffer::Intensities,
-            self.layout.pixel_count(),
-            values.len(),
-        )?;
+        self.layout.check_intensity_buffer(values.len())?;
         gpu.queue
             .write_buffer(&self.intensity, 0, bytemuck::cast_slice(values));
         Ok(())
@@ -229,18 +222,6 @@ impl SeedPermuter {
     /// [`GpuError::Readback`].
     pub fn read_sorted(&self, gpu: &Gpu) -> Result<Vec<u32>, GpuError> {
         gpu.read(&self.scratch, self.layout.seed_count())
-    }
-}
-
-fn check_len(buffer: sampler_core::Buffer, expected: usize, actual: usize) -> Result<(), GpuError> {
-    if expected == actual {
-        Ok(())
-    } else {
-        Err(GpuError::Input(sampler_core::Error::BufferSize {
-            buffer,
-            expected,
-            actual,
-        }))
     }
 }
 
