@@ -94,10 +94,10 @@ pub enum Method {
     /// Fresh white seeds plus a spatiotemporal blue-noise mask driving the first
     /// bounce's direction.
     Dither,
-    /// Fresh white seeds, first bounce's direction from the screen-space Sobol
+    /// Fresh white seeds, the path's 2D decisions from the screen-space Sobol
     /// sampler with our optimised keys (`--sampler screen-sobol`, issue 6).
     ScreenSobol,
-    /// Fresh white seeds, first bounce's direction from ZSobol (`--sampler zsobol`).
+    /// Fresh white seeds, the path's 2D decisions from ZSobol (`--sampler zsobol`).
     ZSobol,
 }
 
@@ -134,10 +134,8 @@ impl Method {
             Method::Permute => "sorting + retargeting, aperiodic R2 offset walk",
             Method::FixedStep => "sorting + retargeting, fixed integer step floor(W*(a1,a2))",
             Method::Dither => "white seeds + STBN mask on the first bounce direction",
-            Method::ScreenSobol => {
-                "white seeds + screen-space Sobol (our keys) on the first bounce direction"
-            }
-            Method::ZSobol => "white seeds + ZSobol on the first bounce direction",
+            Method::ScreenSobol => "white seeds + screen-space Sobol (our keys) on every 2D decision",
+            Method::ZSobol => "white seeds + ZSobol on every 2D decision",
         }
     }
 }

@@ -300,7 +300,7 @@ fn apriori_samplers_agree_with_the_cpu_renderer() {
 }
 
 /// Per-pixel means of 64 white-mode frames on the CPU and the GPU, from
-/// different salts, with vertex 0's BSDF numbers from `sampler`: the
+/// different salts, with the path's 2D decisions from `sampler`: the
 /// differences must look like noise (mean z^2 near 1 or below). With an
 /// a-priori sampler both sides share those numbers (they depend only on
 /// pixel and frame), which correlates the estimates and makes the test

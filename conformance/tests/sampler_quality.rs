@@ -15,10 +15,16 @@
 //! white noise) at the same spp. Issue 6's goals: blurred <= 0.8 and
 //! unblurred <= 1.05 of white's, for both samplers at 1 and 4 spp.
 //!
-//! The a-priori samplers replace only vertex 0's BSDF direction (the pair
-//! that matters most on flat regions, `kernels::trace` docs); pixel jitter,
-//! next-event estimation and later bounces still come from white seeds, so
-//! only part of the error can become blue.
+//! The a-priori samplers drive every 2D decision of the path (pixel jitter,
+//! each vertex's light sample and BSDF direction; `kernels::trace` docs);
+//! only Russian roulette still reads the white seeds. At 4 spp both goals
+//! are met. At 1 spp the blurred goal is missed: about 97% of the squared
+//! error sits in the ~50 pixels along the light's silhouette (emission
+//! about 30x the walls' radiance), a 1-pixel-wide line that only the jitter
+//! pair drives; a 2D blue-noise pattern seen through that line is only
+//! slightly anticorrelated, and elsewhere each pixel's integrand (penumbrae,
+//! edges, indirect light) changes from pixel to pixel, which is what
+//! screen-space samplers need to be similar.
 
 use conformance::{GaussianBlur, Grid};
 use glam::Vec4;
@@ -106,13 +112,11 @@ struct Errors {
     mse: f64,
     /// The same after the sigma-1 blur.
     mse_blurred: f64,
-    /// Luma error image of every frame.
-    frames: Vec<Grid>,
 }
 
 /// Errors of `FRAMES` frames of `sampler` at `spp`. Every sampler uses the
 /// same seeds (salt 17), so frame `t` differs between samplers only through
-/// vertex 0's BSDF numbers.
+/// the numbers the sampler drives.
 fn errors(sampler: u32, spp: u32) -> Errors {
     let reference = reference();
     let blur = blur();
@@ -130,7 +134,6 @@ fn errors(sampler: u32, spp: u32) -> Errors {
     let n = (SIZE * SIZE) as usize;
     let (mut mse, mut mse_blurred) = (0.0f64, 0.0f64);
     let mut per_frame = Vec::new();
-    let mut frames = Vec::new();
     render_cpu(scene(), &job, |_, color| {
         let err: Vec<f32> = color
             .iter()
@@ -144,7 +147,6 @@ fn errors(sampler: u32, spp: u32) -> Errors {
         per_frame.push(b.sqrt());
         mse += a;
         mse_blurred += b;
-        frames.push(e);
     })
     .expect("render");
     println!(
@@ -157,38 +159,7 @@ fn errors(sampler: u32, spp: u32) -> Errors {
     Errors {
         mse: (mse / FRAMES as f64 - reference.var).max(0.0),
         mse_blurred: (mse_blurred / FRAMES as f64 - reference.var_blurred).max(0.0),
-        frames,
     }
-}
-
-/// Share of white's error (unblurred, blurred) that vertex 0's BSDF pair
-/// carries: with the same seeds, `d = e_sampler - e_white` only holds the two
-/// pairs' contributions, independent with equal variance for a sampler that
-/// is no better per pixel than white, so `mean(d^2) / 2` estimates the
-/// pair's part of white's mean squared error. If an a-priori sampler removed
-/// that part entirely from the blurred error, white's blurred RMSE would
-/// shrink at best by `sqrt(1 - share)`.
-fn pair_share(sampler: &Errors, white: &Errors) -> (f64, f64) {
-    let blur = blur();
-    let (mut sq, mut sq_blurred) = (0.0f64, 0.0f64);
-    for (a, b) in sampler.frames.iter().zip(&white.frames) {
-        let d: Vec<f32> = a.data().iter().zip(b.data()).map(|(x, y)| x - y).collect();
-        let d = Grid::new(a.width(), a.height(), d).expect("grid");
-        let n = d.data().len() as f64;
-        sq += d.data().iter().map(|&v| (v as f64).powi(2)).sum::<f64>() / n;
-        sq_blurred += blur
-            .apply(&d)
-            .data()
-            .iter()
-            .map(|&v| (v as f64).powi(2))
-            .sum::<f64>()
-            / n;
-    }
-    let frames = sampler.frames.len() as f64;
-    (
-        sq / frames / 2.0 / white.mse,
-        sq_blurred / frames / 2.0 / white.mse_blurred,
-    )
 }
 
 /// (RMSE, blurred RMSE) of each sampler relative to white's at `spp`.
@@ -201,7 +172,7 @@ fn relative(spp: u32) -> Vec<(&'static str, f64, f64)> {
         start.elapsed().as_secs_f64()
     );
     let mut out = Vec::new();
-    for (&(sampler, name), e) in SAMPLERS.iter().zip(&abs) {
+    for (&(_, name), e) in SAMPLERS.iter().zip(&abs) {
         let (mse, mse_blur) = (e.mse, e.mse_blurred);
         let (r, rb) = ((mse / white).sqrt(), (mse_blur / white_blur).sqrt());
         println!(
@@ -209,16 +180,6 @@ fn relative(spp: u32) -> Vec<(&'static str, f64, f64)> {
             mse.sqrt(),
             mse_blur.sqrt()
         );
-        if sampler != SAMPLER_SEEDS {
-            let (share, share_blurred) = pair_share(e, &abs[0]);
-            println!(
-                "  {:14} vertex 0's BSDF pair carries {:.1}% of white's MSE ({:.1}% blurred): best possible blurred ratio {:.3}",
-                "",
-                100.0 * share,
-                100.0 * share_blurred,
-                (1.0 - share_blurred).max(0.0).sqrt()
-            );
-        }
         out.push((name, r, rb));
     }
     out
@@ -233,11 +194,12 @@ fn figures() -> &'static Figures {
     FIGURES.get_or_init(|| [1u32, 4].iter().map(|&spp| (spp, relative(spp))).collect())
 }
 
-/// Goal rows that exceed `goal` in column `blurred` (false: RMSE, true:
-/// blurred RMSE), described with the amount they miss by.
-fn missed(blurred: bool, goal: f64) -> Vec<String> {
+/// Goal rows at the spp levels `spps` that exceed `goal` in column
+/// `blurred` (false: RMSE, true: blurred RMSE), described with the amount
+/// they miss by.
+fn missed(spps: &[u32], blurred: bool, goal: f64) -> Vec<String> {
     let mut out = Vec::new();
-    for (spp, rows) in figures() {
+    for (spp, rows) in figures().iter().filter(|(spp, _)| spps.contains(spp)) {
         for &(name, r, rb) in &rows[1..] {
             let (v, what) = if blurred {
                 (rb, "blurred RMSE")
@@ -259,16 +221,23 @@ fn missed(blurred: bool, goal: f64) -> Vec<String> {
 /// white's (<= 1.05) at 1 and 4 spp.
 #[test]
 fn apriori_samplers_rmse_is_no_worse_than_white() {
-    let missed = missed(false, RMSE_GOAL);
+    let missed = missed(&[1, 4], false, RMSE_GOAL);
     assert!(missed.is_empty(), "issue 6 goal missed:\n{}", missed.join("\n"));
 }
 
 /// Issue 6: the blurred (sigma 1) RMSE of each a-priori sampler is clearly
-/// below white's (<= 0.8) at 1 and 4 spp. Missed: replacing vertex 0's BSDF
-/// pair leaves most of the error white (the test prints the pair's share).
+/// below white's (<= 0.8) at 4 spp.
 #[test]
-#[ignore = "issue 6 goal not met: blurred RMSE about 1.0 of white (see the printed pair share); run with --ignored"]
-fn apriori_samplers_blurred_rmse_is_below_white() {
-    let missed = missed(true, BLUR_GOAL);
+fn apriori_samplers_blurred_rmse_is_below_white_at_4_spp() {
+    let missed = missed(&[4], true, BLUR_GOAL);
+    assert!(missed.is_empty(), "issue 6 goal missed:\n{}", missed.join("\n"));
+}
+
+/// Issue 6: the same at 1 spp. Missed (module docs: the light's silhouette
+/// carries almost all of the error and only the jitter pair drives it).
+#[test]
+#[ignore = "issue 6 goal not met at 1 spp: blurred RMSE 0.92 (screen-sobol) / 1.02 (zsobol) of white; run with --ignored"]
+fn apriori_samplers_blurred_rmse_is_below_white_at_1_spp() {
+    let missed = missed(&[1], true, BLUR_GOAL);
     assert!(missed.is_empty(), "issue 6 goal missed:\n{}", missed.join("\n"));
 }

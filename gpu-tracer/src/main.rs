@@ -71,12 +71,11 @@ struct RenderArgs {
     /// `advance`: the stream also advances with the frame index.
     #[arg(long, value_enum, default_value_t = SeedModeArg::Fixed)]
     seed_mode: SeedModeArg,
-    /// Source of the first bounce's direction numbers: `seeds` (the seed
-    /// stream, permuted per `--mode`), `screen-sobol` (screen-space Sobol
-    /// with optimised keys, up to 16 spp) or `zsobol` (Morton-ordered
-    /// Sobol, up to 256 spp and 4096 pixels a side). The other numbers still
-    /// come from the seeds, so `--mode white --sampler zsobol` is the
-    /// a-priori sampler alone.
+    /// Source of the path's 2D decisions (pixel jitter, light samples, BSDF
+    /// directions): `seeds` (the seed stream, permuted per `--mode`),
+    /// `screen-sobol` (screen-space Sobol with optimised keys, up to 16 spp)
+    /// or `zsobol` (Morton-ordered Sobol, up to 256 spp and 4096 pixels a
+    /// side). Russian roulette still reads the seeds.
     #[arg(long, value_enum, default_value_t = SamplerArg::Seeds)]
     sampler: SamplerArg,
     /// Output directory (created if missing).

@@ -151,7 +151,8 @@ pub struct TraceSettings {
     pub rr_depth: u32,
     /// [`kernels::abi::SEED_MODE_FIXED`] or [`SEED_MODE_ADVANCE`].
     pub seed_mode: u32,
-    /// Source of vertex 0's BSDF numbers: [`kernels::abi::SAMPLER_SEEDS`]
+    /// Source of the path's 2D decisions (jitter, light samples, BSDF
+    /// directions): [`kernels::abi::SAMPLER_SEEDS`]
     /// (the seed stream), [`SAMPLER_SCREEN_SOBOL`] (at most
     /// [`screen_sobol_max_spp`] spp) or [`SAMPLER_ZSOBOL`] (at most
     /// [`ZSOBOL_MAX_SPP`] spp, width and height at most

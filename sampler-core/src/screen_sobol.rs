@@ -132,10 +132,34 @@ pub fn key_sample_u32(key: u32, pair: u32, index: u32) -> [u32; 2] {
     [owen_sobol_u32(shuffled, 0, key), owen_sobol_u32(shuffled, 1, key)]
 }
 
+/// Pair `pair` (dimensions `2 pair` and `2 pair + 1`) of sample
+/// `sample_index` of `pixel`, both in 0.32 fixed point, when rendering `spp`
+/// samples per pixel. `keys` and `layout` must have been validated together
+/// ([`ScreenSobolKeys::new`]); an index past the end of `keys` reads key 0
+/// instead of panicking. Pairs `>= layout.pairs` rehash the key of pair
+/// `pair % layout.pairs` with `pair` (valid, not optimised).
+#[inline]
+pub fn screen_sobol_pair_u32(
+    keys: &[u32],
+    layout: ScreenSobolLayout,
+    spp: u32,
+    pixel: UVec2,
+    sample_index: u32,
+    pair: u32,
+) -> [u32; 2] {
+    let level = layout.level_of_spp(spp);
+    let stored_pair = pair % layout.pairs;
+    let i = layout.key_index(pixel, level, stored_pair) as usize;
+    let mut key = if i < keys.len() { keys[i] } else { 0 };
+    if pair >= layout.pairs {
+        key = hash_u32(key ^ hash_u32(pair));
+    }
+    key_sample_u32(key, pair, sample_index)
+}
+
 /// Dimension `dimension` of sample `sample_index` of `pixel`, in 0.32 fixed
-/// point, when rendering `spp` samples per pixel; `keys` and `layout` must
-/// have been validated together ([`ScreenSobolKeys::new`]); an index past
-/// the end of `keys` reads key 0 instead of panicking.
+/// point: coordinate `dimension % 2` of [`screen_sobol_pair_u32`]'s pair
+/// `dimension / 2`.
 #[inline]
 pub fn screen_sobol_sample_u32(
     keys: &[u32],
@@ -145,15 +169,7 @@ pub fn screen_sobol_sample_u32(
     sample_index: u32,
     dimension: u32,
 ) -> u32 {
-    let pair = dimension / 2;
-    let level = layout.level_of_spp(spp);
-    let stored_pair = pair % layout.pairs;
-    let i = layout.key_index(pixel, level, stored_pair) as usize;
-    let mut key = if i < keys.len() { keys[i] } else { 0 };
-    if pair >= layout.pairs {
-        key = hash_u32(key ^ hash_u32(pair));
-    }
-    key_sample_u32(key, pair, sample_index)[(dimension & 1) as usize]
+    screen_sobol_pair_u32(keys, layout, spp, pixel, sample_index, dimension / 2)[(dimension & 1) as usize]
 }
 
 /// [`screen_sobol_sample_u32`] in `[0, 1)` (24 bits).

@@ -67,22 +67,23 @@ pub const SEED_MODE_BLUE_NOISE_DITHER: u32 = 2;
 /// [`TraceParams::sampler`]: every number of a path comes from the pixel's
 /// seed stream (`crate::trace` module docs). The default.
 pub const SAMPLER_SEEDS: u32 = 0;
-/// [`TraceParams::sampler`]: the two numbers of vertex 0's BSDF direction
+/// [`TraceParams::sampler`]: the path's 2D decisions (pixel jitter, each
+/// vertex's light sample and BSDF direction; `crate::trace` module docs)
 /// come from the screen-space Sobol sampler with optimised keys
-/// (`sampler_core::screen_sobol`, dimension pair 0, key binding 7); sample
-/// `s` of frame `t` reads sample index `t * spp + s` (wrapping) of the
-/// pixel's key, with the key tile of level `ceil(log2 spp)` (optimised for
-/// that spp; the host allows `spp <= 2^(key_levels - 1)`). Every other
-/// number still comes from the seed stream.
+/// (`sampler_core::screen_sobol`, key binding 7), one dimension pair each;
+/// sample `s` of frame `t` reads sample index `t * spp + s` (wrapping) of the
+/// pixel's keys, with the key tile of level `ceil(log2 spp)` (optimised for
+/// that spp; the host allows `spp <= 2^(key_levels - 1)`). Russian roulette
+/// still reads the seed stream.
 pub const SAMPLER_SCREEN_SOBOL: u32 = 1;
-/// [`TraceParams::sampler`]: the two numbers of vertex 0's BSDF direction
-/// come from the Morton-ordered ZSobol sampler (`sampler_core::zsobol`,
-/// dimensions 0 and 1) with `2^ceil(log2 spp)` samples per pixel; sample `s`
-/// of frame `t` is sample `s` of an independent randomisation seeded by `t`
-/// (ZSobol's per-pixel index space is exactly one frame's samples, see
-/// `crate::trace::sampler_pair`). The host allows `spp <= 256` and frames at
-/// most 4096 pixels wide and high (ZSobol's tile). Every other number still
-/// comes from the seed stream.
+/// [`TraceParams::sampler`]: the path's 2D decisions come from the
+/// Morton-ordered ZSobol sampler (`sampler_core::zsobol`), one dimension pair
+/// each, with `2^ceil(log2 spp)` samples per pixel; sample `s` of frame `t`
+/// is sample `s` of an independent randomisation seeded by `t` (ZSobol's
+/// per-pixel index space is exactly one frame's samples, see
+/// `crate::trace::apriori_pair`). The host allows `spp <= 256` and frames at
+/// most 4096 pixels wide and high (ZSobol's tile). Russian roulette still
+/// reads the seed stream.
 pub const SAMPLER_ZSOBOL: u32 = 2;
 
 /// Per-frame parameters of the trace and accumulate passes (uniform buffer,
@@ -132,10 +133,10 @@ pub struct TraceParams {
     pub camera_right: Vec4,
     /// Unit vector to the top of the image, orthogonal to both; `w` = 0.
     pub camera_up: Vec4,
-    /// Source of vertex 0's BSDF-direction numbers: [`SAMPLER_SEEDS`],
+    /// Source of the path's 2D decisions: [`SAMPLER_SEEDS`],
     /// [`SAMPLER_SCREEN_SOBOL`] or [`SAMPLER_ZSOBOL`]; any other value
-    /// behaves like [`SAMPLER_SEEDS`]. Independent of [`Self::seed_mode`],
-    /// which still drives every other number.
+    /// behaves like [`SAMPLER_SEEDS`]. [`Self::seed_mode`] still drives the
+    /// seed stream (Russian roulette, and everything with `SAMPLER_SEEDS`).
     pub sampler: u32,
     /// `sampler_core::ScreenSobolLayout::side_log2` of the key buffer
     /// (binding 7): `log2` of the key tile side. Read only with

@@ -35,16 +35,21 @@
 //! | dimension | use |
 //! |---|---|
 //! | 0, 1 | position inside the pixel |
-//! | `2 + 6 d + 0` | vertex `d`: which emitter |
-//! | `2 + 6 d + 1, 2` | vertex `d`: point on the emitter |
+//! | `2 + 6 d + 0` | vertex `d`: reserved (unused) |
+//! | `2 + 6 d + 1, 2` | vertex `d`: which emitter and the point on it |
 //! | `2 + 6 d + 3, 4` | vertex `d`: BSDF direction |
 //! | `2 + 6 d + 5` | vertex `d`: Russian roulette |
 //!
 //! Every vertex draws its six numbers whether or not it uses them, so a
 //! dimension always drives the same decision: that is what lets the seed
-//! permutation correlate pixels' estimates. The stream sample `s` is the
-//! sample index within the frame in [`SEED_MODE_FIXED`](crate::abi::SEED_MODE_FIXED) and
-//! `frame * spp + s` in [`SEED_MODE_ADVANCE`] (see [`stream_sample`]).
+//! permutation correlate pixels' estimates. The light pair picks the emitter
+//! with its first number and reuses that number, rescaled to `[0, 1)` within
+//! the emitter's probability interval, for the point
+//! ([`select_emitter_reusing`]): one 2D pair covers all the emitters, so a
+//! stratified or blue-noise pair stays so over the whole light. The stream
+//! sample `s` is the sample index within the frame in
+//! [`SEED_MODE_FIXED`](crate::abi::SEED_MODE_FIXED) and `frame * spp + s` in
+//! [`SEED_MODE_ADVANCE`] (see [`stream_sample`]).
 //!
 //! # Blue-noise dither baseline
 //!
@@ -62,20 +67,26 @@
 //!
 //! # A-priori samplers
 //!
-//! [`TraceParams::sampler`] chooses where the same pair (vertex 0's BSDF
-//! direction) comes from in [`trace_pixel`] (see [`sampler_pair`]):
-//! - [`SAMPLER_SEEDS`](crate::abi::SAMPLER_SEEDS): the seed stream, as every
-//!   other dimension;
-//! - [`SAMPLER_SCREEN_SOBOL`]: `sampler_core::screen_sobol`, dimension pair 0
-//!   (the pair its keys optimise first), sample index `frame * spp + s`, key
-//!   tile of level `ceil(log2 spp)`; the keys are binding 7;
-//! - [`SAMPLER_ZSOBOL`]: `sampler_core::zsobol`, dimensions 0 and 1,
-//!   `2^ceil(log2 spp)` samples per pixel, sample `s`, seed `frame`.
+//! [`TraceParams::sampler`] chooses where a path sample's 2D decisions come
+//! from in [`trace_pixel`]:
+//! - [`SAMPLER_SEEDS`](crate::abi::SAMPLER_SEEDS): the seed stream (table
+//!   above);
+//! - [`SAMPLER_SCREEN_SOBOL`] or [`SAMPLER_ZSOBOL`]: the a-priori sampler's
+//!   dimension pairs ([`apriori_pair`]), in path order:
 //!
-//! All other dimensions (pixel jitter, next-event estimation, later bounces,
-//! Russian roulette) still come from the seed stream, so `seed_mode` and the
-//! seed permutation keep applying to them. The a-priori pair is the same for
-//! every seed: it depends only on the pixel, the frame and the sample.
+//! | sampler pair | use |
+//! |---|---|
+//! | 0 ([`PAIR_JITTER`]) | position inside the pixel |
+//! | `1 + 2 d` ([`pair_light`]) | vertex `d`: emitter and point on it |
+//! | `2 + 2 d` ([`pair_bsdf`]) | vertex `d`: BSDF direction |
+//!
+//! The first pairs are the ones the screen-space Sobol keys are optimised
+//! for (jitter, vertex 0's light, vertex 0's BSDF, vertex 1's light with the
+//! default 4 pairs); later pairs are valid, unoptimised Owen-scrambled
+//! sequences. Russian roulette still reads the seed stream, so `seed_mode`
+//! and the seed permutation keep applying to it. The a-priori pairs are the
+//! same for every seed: they depend only on the pixel, the frame and the
+//! sample.
 
 use crate::abi::{
     BvhNodeGpu, EmitterGpu, MaterialGpu, TraceParams, TriangleGpu, MAX_DEPTH_LIMIT, SAMPLER_SCREEN_SOBOL,
@@ -88,9 +99,9 @@ use crate::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_tr
 use core::f32::consts::FRAC_1_PI;
 use glam::{UVec2, Vec2, Vec3, Vec4};
 use sampler_core::r2::q32_to_f32;
-use sampler_core::screen_sobol::{key_sample_u32, ScreenSobolLayout};
+use sampler_core::screen_sobol::{screen_sobol_pair_u32, ScreenSobolLayout};
 use sampler_core::zsobol::{zsobol_sample_u32, ZSOBOL_MAX_LOG2_SPP};
-use sampler_core::RandomStream;
+use sampler_core::{walk_offset, RandomStream};
 
 /// Stream dimensions used before the first vertex (pixel jitter).
 pub const DIMS_CAMERA: u32 = 2;
@@ -125,33 +136,53 @@ pub fn stream_sample(params: &TraceParams, s: u32) -> u32 {
     }
 }
 
-/// Whether `params.sampler` replaces vertex 0's BSDF numbers
-/// ([`SAMPLER_SCREEN_SOBOL`] or [`SAMPLER_ZSOBOL`]).
+/// Whether `params.sampler` is an a-priori sampler ([`SAMPLER_SCREEN_SOBOL`]
+/// or [`SAMPLER_ZSOBOL`]) that drives the path's 2D decisions.
 #[inline]
 pub fn uses_apriori_sampler(params: &TraceParams) -> bool {
     params.sampler == SAMPLER_SCREEN_SOBOL || params.sampler == SAMPLER_ZSOBOL
 }
 
-/// The a-priori numbers of vertex 0's BSDF direction for sample `s` of
-/// `pixel` in frame `params.frame`, each in `[0, 1)` (see the module docs):
-/// - [`SAMPLER_SCREEN_SOBOL`]: dimensions 0 and 1 (key pair 0) of sample
-///   index `frame * spp + s` (wrapping), read from `keys` laid out as
-///   `params.key_side_log2 / key_pairs / key_levels` with the level for
-///   `params.spp` (`ScreenSobolLayout::level_of_spp`). Successive frames
-///   continue the pixel's Owen-scrambled (0, 2)-sequence, so the accumulated
-///   mean keeps converging at the sequence's rate. A key index past the end
-///   of `keys` reads key 0 (still a valid, unoptimised sequence).
-/// - [`SAMPLER_ZSOBOL`]: dimensions 0 and 1 of sample `s` with
-///   `2^ceil(log2 spp)` samples per pixel (at most 256) and seed
-///   `params.frame`. ZSobol's index is `morton(pixel) * 2^log2_spp + s`: the
-///   blue-noise property needs `log2_spp` to be exactly the frame's spp (a
-///   larger one would spread a frame's samples over unrelated strata), so
-///   frames cannot continue one sequence; each frame is an independent
-///   randomisation instead, and the mean converges across frames as Monte
+/// A-priori sampler pair of the position inside the pixel.
+pub const PAIR_JITTER: u32 = 0;
+
+/// A-priori sampler pair of vertex `depth`'s next-event estimation (emitter
+/// and point on it): `1 + 2 depth`.
+#[inline]
+pub fn pair_light(depth: u32) -> u32 {
+    1 + 2 * depth
+}
+
+/// A-priori sampler pair of vertex `depth`'s BSDF direction: `2 + 2 depth`.
+#[inline]
+pub fn pair_bsdf(depth: u32) -> u32 {
+    2 + 2 * depth
+}
+
+/// Pair `pair` (dimensions `2 pair`, `2 pair + 1`) of sample `s` of `pixel`
+/// in frame `params.frame` from the a-priori sampler `params.sampler`, each
+/// coordinate in `[0, 1)` (24 bits):
+/// - [`SAMPLER_SCREEN_SOBOL`]: sample index `s` with the keys of `keys`
+///   laid out as `params.key_side_log2 / key_pairs / key_levels`, level
+///   `ceil(log2 spp)` (`sampler_core::screen_sobol::screen_sobol_pair_u32`),
+///   read at `pixel + o_t` where `o_t = sampler_core::walk_offset(frame,
+///   key_side_log2)` is the R2 walk that also moves the dither tile. The
+///   keys are optimised for the first `2^level` indices only, so every frame
+///   uses exactly those (a sequence continued across frames loses the
+///   blue-noise error after frame 0); the toroidal shift gives each pixel
+///   other keys every frame, so the accumulated mean converges as Monte
 ///   Carlo over per-frame stratified estimates.
+/// - [`SAMPLER_ZSOBOL`]: sample `s` with `2^ceil(log2 spp)` samples per pixel
+///   (at most 256) and seed `params.frame`. ZSobol's index is
+///   `morton(pixel) * 2^log2_spp + s`: the blue-noise property needs
+///   `log2_spp` to be exactly the frame's spp (a larger one would spread a
+///   frame's samples over unrelated strata), so frames cannot continue one
+///   sequence; each frame is an independent randomisation instead, and the
+///   mean converges across frames as Monte Carlo over per-frame stratified
+///   estimates.
 /// - any other value: `Vec2::ZERO` (unused).
 #[inline]
-pub fn sampler_pair(params: &TraceParams, keys: &[u32], pixel: UVec2, s: u32) -> Vec2 {
+pub fn apriori_pair(params: &TraceParams, keys: &[u32], pixel: UVec2, s: u32, pair: u32) -> Vec2 {
     let spp = params.spp.max(1);
     if params.sampler == SAMPLER_SCREEN_SOBOL {
         let layout = ScreenSobolLayout {
@@ -160,10 +191,8 @@ pub fn sampler_pair(params: &TraceParams, keys: &[u32], pixel: UVec2, s: u32) ->
             levels: params.key_levels.max(1),
             pad: 0,
         };
-        let i = layout.key_index(pixel, layout.level_of_spp(spp), 0) as usize;
-        let key = if i < keys.len() { keys[i] } else { 0 };
-        let index = params.frame.wrapping_mul(spp).wrapping_add(s);
-        let v = key_sample_u32(key, 0, index);
+        let shifted = pixel + walk_offset(params.frame, params.key_side_log2);
+        let v = screen_sobol_pair_u32(keys, layout, spp, shifted, s, pair);
         Vec2::new(q32_to_f32(v[0]), q32_to_f32(v[1]))
     } else if params.sampler == SAMPLER_ZSOBOL {
         let mut log2_spp = 0u32;
@@ -171,8 +200,8 @@ pub fn sampler_pair(params: &TraceParams, keys: &[u32], pixel: UVec2, s: u32) ->
             log2_spp += 1;
         }
         Vec2::new(
-            q32_to_f32(zsobol_sample_u32(pixel, s, 0, log2_spp, params.frame)),
-            q32_to_f32(zsobol_sample_u32(pixel, s, 1, log2_spp, params.frame)),
+            q32_to_f32(zsobol_sample_u32(pixel, s, 2 * pair, log2_spp, params.frame)),
+            q32_to_f32(zsobol_sample_u32(pixel, s, 2 * pair + 1, log2_spp, params.frame)),
         )
     } else {
         Vec2::ZERO
@@ -184,8 +213,8 @@ pub fn sampler_pair(params: &TraceParams, keys: &[u32], pixel: UVec2, s: u32) ->
 /// buffer. Identical to what [`TRACE_ENTRY`](crate::abi::TRACE_ENTRY) computes
 /// on the GPU. `seed` is the pixel's seed; `keys` the screen-space Sobol key
 /// buffer (binding 7; read only with [`SAMPLER_SCREEN_SOBOL`], may be
-/// empty otherwise). With an a-priori `params.sampler`, vertex 0's BSDF
-/// numbers come from [`sampler_pair`].
+/// empty otherwise). With an a-priori `params.sampler`, the path's 2D
+/// decisions come from [`apriori_pair`] (module docs).
 #[allow(clippy::too_many_arguments)]
 #[inline]
 pub fn trace_pixel(
@@ -215,20 +244,14 @@ pub fn trace_pixel_counted(
     materials: &[MaterialGpu],
     emitters: &[EmitterGpu],
 ) -> (Vec4, u32) {
-    let apriori = uses_apriori_sampler(params);
     let spp = params.spp.max(1);
     let mut sum = Vec3::ZERO;
     let mut rays = 0u32;
     let mut s = 0u32;
     while s < spp {
-        let stream = RandomStream::new(seed, stream_sample(params, s), DIMS_PER_SAMPLE);
-        let u = if apriori {
-            sampler_pair(params, keys, pixel, s)
-        } else {
-            Vec2::ZERO
-        };
+        let numbers = PathNumbers::new(params, pixel, seed, s);
         sum += trace_sample_with(
-            params, pixel, stream, u, apriori, nodes, triangles, materials, emitters, &mut rays,
+            params, keys, numbers, nodes, triangles, materials, emitters, &mut rays,
         );
         s += 1;
     }
@@ -250,12 +273,11 @@ pub fn trace_sample(
     emitters: &[EmitterGpu],
 ) -> Vec3 {
     let mut rays = 0u32;
+    let numbers = PathNumbers::from_stream(stream, pixel);
     trace_sample_with(
         params,
-        pixel,
-        stream,
-        Vec2::ZERO,
-        false,
+        &[],
+        numbers,
         nodes,
         triangles,
         materials,
@@ -294,15 +316,23 @@ pub fn trace_pixel_dithered(
     let mut sum = Vec3::ZERO;
     let mut s = 0u32;
     while s < spp {
-        let stream = RandomStream::new(seed, stream_sample(params, s), DIMS_PER_SAMPLE);
         // R2 rotation in 0.32 fixed point (sampler_core's walk constants), so
         // the value stays exact for any sample index.
         let rx = s.wrapping_mul(0xC13F_A9A9) as f32 * (1.0 / 4_294_967_296.0);
         let ry = s.wrapping_mul(0x91E1_0DA6) as f32 * (1.0 / 4_294_967_296.0);
-        let u = Vec2::new(frac01(dither.x + rx), frac01(dither.y + ry));
+        let stream = RandomStream::new(seed, stream_sample(params, s), DIMS_PER_SAMPLE);
+        let numbers = PathNumbers::from_stream(stream, pixel)
+            .with_first_bsdf(Vec2::new(frac01(dither.x + rx), frac01(dither.y + ry)));
         let mut rays = 0u32;
         sum += trace_sample_with(
-            params, pixel, stream, u, dithered, nodes, triangles, materials, emitters, &mut rays,
+            params,
+            &[],
+            numbers,
+            nodes,
+            triangles,
+            materials,
+            emitters,
+            &mut rays,
         );
         s += 1;
     }
@@ -321,16 +351,129 @@ fn frac01(x: f32) -> f32 {
     }
 }
 
-/// [`trace_sample`], with vertex 0's BSDF numbers replaced by `first_bsdf`
-/// when `use_first_bsdf` is set.
+/// Where one path sample's numbers come from (module docs): the seed
+/// stream, the a-priori sampler of `params.sampler`, or the dither override
+/// of vertex 0's BSDF pair. Plain data; the parameters and the key buffer
+/// are passed to the methods, and must be the ones it was made with.
+#[derive(Clone, Copy, Debug)]
+pub struct PathNumbers {
+    /// The seed's stream at the sample's first dimension.
+    stream: RandomStream,
+    /// The pixel being rendered.
+    pixel: UVec2,
+    /// Sample index `s` within the frame.
+    sample: u32,
+    /// 1: 2D decisions from [`apriori_pair`]; 0: from the stream.
+    apriori: u32,
+    /// Vertex 0's BSDF pair when [`Self::first_bsdf_set`] is 1.
+    first_bsdf: Vec2,
+    /// 1: use [`Self::first_bsdf`]; 0: the sampler's or stream's pair.
+    first_bsdf_set: u32,
+}
+
+impl PathNumbers {
+    /// Sample `s` of `pixel` with seed `seed` under `params` (its
+    /// `seed_mode` and `sampler`).
+    #[inline]
+    pub fn new(params: &TraceParams, pixel: UVec2, seed: u32, s: u32) -> Self {
+        let stream = RandomStream::new(seed, stream_sample(params, s), DIMS_PER_SAMPLE);
+        PathNumbers {
+            sample: s,
+            apriori: uses_apriori_sampler(params) as u32,
+            ..Self::from_stream(stream, pixel)
+        }
+    }
+
+    /// Every number from `stream` (positioned at the sample's first
+    /// dimension).
+    #[inline]
+    pub fn from_stream(stream: RandomStream, pixel: UVec2) -> Self {
+        PathNumbers {
+            stream,
+            pixel,
+            sample: 0,
+            apriori: 0,
+            first_bsdf: Vec2::ZERO,
+            first_bsdf_set: 0,
+        }
+    }
+
+    /// The same numbers with vertex 0's BSDF pair replaced by `u` (each
+    /// coordinate in `[0, 1)`).
+    #[inline]
+    pub fn with_first_bsdf(self, u: Vec2) -> Self {
+        PathNumbers {
+            first_bsdf: u,
+            first_bsdf_set: 1,
+            ..self
+        }
+    }
+
+    /// Stream dimensions `dim`, `dim + 1` after the sample's first.
+    #[inline]
+    fn stream_pair(&self, dim: u32) -> Vec2 {
+        let mut d = RandomStream {
+            seed: self.stream.seed,
+            index: self.stream.index.wrapping_add(dim),
+        };
+        d.next_vec2()
+    }
+
+    /// Sampler pair `pair` if the sampler is a-priori, else stream
+    /// dimensions `dim`, `dim + 1`.
+    #[inline]
+    fn pair(&self, params: &TraceParams, keys: &[u32], pair: u32, dim: u32) -> Vec2 {
+        if self.apriori == 1 {
+            apriori_pair(params, keys, self.pixel, self.sample, pair)
+        } else {
+            self.stream_pair(dim)
+        }
+    }
+
+    /// Position inside the pixel, each coordinate in `[0, 1)`.
+    #[inline]
+    pub fn jitter(&self, params: &TraceParams, keys: &[u32]) -> Vec2 {
+        self.pair(params, keys, PAIR_JITTER, 0)
+    }
+
+    /// Vertex `depth`'s next-event pair (emitter and point).
+    #[inline]
+    pub fn light(&self, params: &TraceParams, keys: &[u32], depth: u32) -> Vec2 {
+        self.pair(params, keys, pair_light(depth), vertex_dim(depth) + 1)
+    }
+
+    /// Vertex `depth`'s BSDF pair.
+    #[inline]
+    pub fn bsdf(&self, params: &TraceParams, keys: &[u32], depth: u32) -> Vec2 {
+        if depth == 0 && self.first_bsdf_set == 1 {
+            self.first_bsdf
+        } else {
+            self.pair(params, keys, pair_bsdf(depth), vertex_dim(depth) + 3)
+        }
+    }
+
+    /// Vertex `depth`'s Russian-roulette number (always the seed stream).
+    #[inline]
+    pub fn roulette(&self, depth: u32) -> f32 {
+        self.stream_pair(vertex_dim(depth) + 5).x
+    }
+}
+
+/// First stream dimension of vertex `depth`: `DIMS_CAMERA + DIMS_PER_VERTEX * depth`.
+#[inline]
+fn vertex_dim(depth: u32) -> u32 {
+    DIMS_CAMERA.wrapping_add(DIMS_PER_VERTEX.wrapping_mul(depth))
+}
+
+/// One path sample (as [`trace_sample`]) drawing its numbers from
+/// `numbers`; `keys` is the screen-space Sobol key buffer. Adds the rays it
+/// traces to `rays`.
 #[allow(clippy::too_many_arguments)]
 #[inline]
 fn trace_sample_with(
     params: &TraceParams,
-    pixel: UVec2,
-    stream: RandomStream,
-    first_bsdf: Vec2,
-    use_first_bsdf: bool,
+    keys: &[u32],
+    numbers: PathNumbers,
     nodes: &[BvhNodeGpu],
     triangles: &[TriangleGpu],
     materials: &[MaterialGpu],
@@ -338,9 +481,8 @@ fn trace_sample_with(
     rays: &mut u32,
 ) -> Vec3 {
     let max_depth = params.max_depth.min(MAX_DEPTH_LIMIT);
-    let base = stream.index;
-    let mut camera_dims = stream;
-    let jitter = camera_dims.next_vec2();
+    let pixel = numbers.pixel;
+    let jitter = numbers.jitter(params, keys);
     let mut ray = primary_ray(params, pixel.x, pixel.y, jitter);
     let mut throughput = Vec3::ONE;
     let mut radiance = Vec3::ZERO;
@@ -378,24 +520,13 @@ fn trace_sample_with(
         // Shading frame faces the incoming ray (two-sided diffuse).
         let normal = if cos_out > 0.0 { geo_normal } else { -geo_normal };
         let albedo = material.albedo.truncate();
-        let mut dims = RandomStream {
-            seed: stream.seed,
-            index: base
-                .wrapping_add(DIMS_CAMERA)
-                .wrapping_add(DIMS_PER_VERTEX.wrapping_mul(depth)),
-        };
-        let u_emitter = dims.next_f32();
-        let u_point = dims.next_vec2();
-        let mut u_bsdf = dims.next_vec2();
-        if use_first_bsdf && depth == 0 {
-            u_bsdf = first_bsdf;
-        }
-        let u_rr = dims.next_f32();
+        let u_light = numbers.light(params, keys, depth);
         let origin = offset_point(point, normal);
 
         // Next-event estimation.
         if params.emitter_count > 0 && depth + 2 <= max_depth && albedo.max_element() > 0.0 {
-            let e = emitters[select_emitter(emitters, params.emitter_count, u_emitter) as usize];
+            let (index, u_point) = select_emitter_reusing(emitters, params.emitter_count, u_light);
+            let e = emitters[index as usize];
             let lt = triangles[e.triangle as usize];
             let (l0, l1, l2) = (lt.v0.truncate(), lt.v1.truncate(), lt.v2.truncate());
             let (light_normal, light_area) = normal_and_area(l0, l1, l2);
@@ -429,7 +560,7 @@ fn trace_sample_with(
         }
 
         // BSDF sampling: f cos / pdf = albedo for a cosine-weighted direction.
-        let local = sample_cosine_hemisphere(u_bsdf);
+        let local = sample_cosine_hemisphere(numbers.bsdf(params, keys, depth));
         if local.z <= 0.0 {
             break;
         }
@@ -439,7 +570,7 @@ fn trace_sample_with(
 
         if depth >= params.rr_depth {
             let survive = throughput.max_element().min(RR_MAX_SURVIVAL);
-            if u_rr >= survive {
+            if numbers.roulette(depth) >= survive {
                 break;
             }
             throughput /= survive;
@@ -487,6 +618,27 @@ pub fn select_emitter(emitters: &[EmitterGpu], count: u32, u: f32) -> u32 {
         }
     }
     lo
+}
+
+/// [`select_emitter`] with `u.x`, and the pair for the point on that
+/// emitter: `u.x` rescaled to `[0, 1)` within the emitter's interval
+/// `[cdf - pdf, cdf)` (sample reuse, so `u`'s stratification carries over to
+/// the whole set of emitters), and `u.y` unchanged.
+#[inline]
+pub fn select_emitter_reusing(emitters: &[EmitterGpu], count: u32, u: Vec2) -> (u32, Vec2) {
+    let index = select_emitter(emitters, count, u.x);
+    let e = emitters[index as usize];
+    let mut x = 0.0f32;
+    if e.pdf > 0.0 {
+        x = (u.x - (e.cdf - e.pdf)) / e.pdf;
+    }
+    // f32 rounding of the cumulative sums can land just outside [0, 1).
+    // Not `f32::clamp`: it asserts `min <= max`, a panic path in shaders.
+    #[allow(clippy::manual_clamp)]
+    {
+        x = x.max(0.0).min(0.999_999_94);
+    }
+    (index, Vec2::new(x, u.y))
 }
 
 /// Power heuristic weight `a^2 / (a^2 + b^2)` of the strategy with density
@@ -544,6 +696,34 @@ mod tests {
         assert_eq!(select_emitter(&list, 4, 0.6), 3);
         assert_eq!(select_emitter(&list, 4, 0.999_999_9), 3);
         assert_eq!(select_emitter(&list, 1, 0.7), 0);
+    }
+
+    /// The reused number spans `[0, 1)` inside each emitter's interval, in
+    /// order, and the second number passes through.
+    #[test]
+    fn emitter_selection_reuses_the_number() {
+        let e = |cdf: f32, pdf: f32| EmitterGpu {
+            cdf,
+            pdf,
+            ..EmitterGpu::NONE
+        };
+        let list = [e(0.25, 0.25), e(1.0, 0.75)];
+        let pick = |x: f32| select_emitter_reusing(&list, 2, Vec2::new(x, 0.3));
+        assert_eq!(pick(0.0), (0, Vec2::new(0.0, 0.3)));
+        assert_eq!(pick(0.125), (0, Vec2::new(0.5, 0.3)));
+        assert_eq!(pick(0.25), (1, Vec2::new(0.0, 0.3)));
+        assert_eq!(pick(0.625), (1, Vec2::new(0.5, 0.3)));
+        let mut last = (0u32, -1.0f32);
+        for i in 0..1000 {
+            let (k, u) = pick(i as f32 / 1000.0);
+            assert!((0.0..1.0).contains(&u.x), "{i}: {u}");
+            if k == last.0 {
+                assert!(u.x > last.1, "{i}: not increasing");
+            }
+            last = (k, u.x);
+        }
+        assert_eq!(pick(0.999_999_94).0, 1);
+        assert!(pick(0.999_999_94).1.x < 1.0);
     }
 
     #[test]
@@ -653,37 +833,58 @@ mod tests {
         })
     }
 
-    /// `trace_pixel` with an a-priori sampler is the mean of samples whose
-    /// vertex-0 BSDF numbers are exactly `sampler_pair`'s, and differs from
-    /// the seed stream's image with the same seeds.
+    /// With an a-priori sampler every decision of these paths (depth 2, no
+    /// Russian roulette) comes from the sampler: the image does not depend
+    /// on the seeds, differs from the seed stream's, and equals the mean of
+    /// `spp` samples built from `PathNumbers::new`.
     #[test]
-    fn apriori_samplers_drive_the_first_bounce() {
+    fn apriori_samplers_drive_every_pair() {
         let scene = half_lit();
         let keys = test_keys();
         let seed_of = |x: u32, y: u32| sampler_core::initial_seed(x, y, 16, 7);
+        let other_seed_of = |x: u32, y: u32| sampler_core::initial_seed(x, y, 16, 8);
         for spp in [1u32, 4] {
             let seeds_img = render(&scene, &half_lit_params(SAMPLER_SEEDS, spp, 3), &keys, seed_of);
+            assert_ne!(
+                seeds_img,
+                render(
+                    &scene,
+                    &half_lit_params(SAMPLER_SEEDS, spp, 3),
+                    &keys,
+                    other_seed_of
+                ),
+                "the seed stream depends on the seeds"
+            );
             for sampler in [SAMPLER_SCREEN_SOBOL, SAMPLER_ZSOBOL] {
                 let params = half_lit_params(sampler, spp, 3);
                 let img = render(&scene, &params, &keys, seed_of);
+                assert_eq!(
+                    img,
+                    render(&scene, &params, &keys, other_seed_of),
+                    "sampler {sampler}"
+                );
                 let differing = img.iter().zip(&seeds_img).filter(|(a, b)| a != b).count();
-                eprintln!("sampler {sampler} spp {spp}: {differing}/256 pixels differ from the seed stream");
                 assert!(
                     differing > 16,
                     "sampler {sampler} spp {spp}: only {differing} pixels differ"
                 );
                 for (x, y) in [(0u32, 0u32), (5, 9), (15, 15)] {
-                    let seed = seed_of(x, y);
+                    let pixel = UVec2::new(x, y);
                     let mut sum = Vec3::ZERO;
                     for s in 0..spp {
-                        let stream = RandomStream::new(seed, stream_sample(&params, s), DIMS_PER_SAMPLE);
-                        let u = sampler_pair(&params, &keys, UVec2::new(x, y), s);
+                        let numbers = PathNumbers::new(&params, pixel, seed_of(x, y), s);
+                        assert_eq!(
+                            numbers.jitter(&params, &keys),
+                            apriori_pair(&params, &keys, pixel, s, 0)
+                        );
+                        assert_eq!(
+                            numbers.bsdf(&params, &keys, 1),
+                            apriori_pair(&params, &keys, pixel, s, pair_bsdf(1))
+                        );
                         sum += trace_sample_with(
                             &params,
-                            UVec2::new(x, y),
-                            stream,
-                            u,
-                            true,
+                            &keys,
+                            numbers,
                             &scene.nodes,
                             &scene.triangles,
                             &scene.materials,
@@ -713,53 +914,74 @@ mod tests {
         );
     }
 
-    /// `sampler_pair` returns the sampler-core samplers' values for the
-    /// documented indices.
+    /// The pair layout: jitter 0, then light and BSDF of each vertex.
     #[test]
-    fn sampler_pair_matches_sampler_core() {
+    fn apriori_pair_layout() {
+        assert_eq!(PAIR_JITTER, 0);
+        assert_eq!(
+            (pair_light(0), pair_bsdf(0), pair_light(1), pair_bsdf(1)),
+            (1, 2, 3, 4)
+        );
+    }
+
+    /// `apriori_pair` returns the sampler-core samplers' values for the
+    /// documented indices, for optimised and padded pairs.
+    #[test]
+    fn apriori_pair_matches_sampler_core() {
         let keys = test_keys();
         let layout = ScreenSobolLayout::new(4, 1, 3).unwrap();
         for (spp, frame, s) in [(1u32, 0u32, 0u32), (2, 5, 1), (4, 2, 3), (3, 1, 2)] {
             for pixel in [UVec2::new(0, 0), UVec2::new(6, 3), UVec2::new(1023, 77)] {
-                let p = TraceParams {
-                    frame,
-                    ..half_lit_params(SAMPLER_SCREEN_SOBOL, spp, 0)
-                };
-                let index = frame * spp + s;
-                let want = Vec2::new(
-                    sampler_core::screen_sobol::screen_sobol_sample(&keys, layout, spp, pixel, index, 0),
-                    sampler_core::screen_sobol::screen_sobol_sample(&keys, layout, spp, pixel, index, 1),
-                );
-                assert_eq!(sampler_pair(&p, &keys, pixel, s), want);
-                let p = TraceParams {
-                    sampler: SAMPLER_ZSOBOL,
-                    ..p
-                };
-                let log2 = 32 - (spp - 1).leading_zeros();
-                let want = Vec2::new(
-                    sampler_core::zsobol_sample(pixel, s, 0, log2, frame),
-                    sampler_core::zsobol_sample(pixel, s, 1, log2, frame),
-                );
-                assert_eq!(sampler_pair(&p, &keys, pixel, s), want);
+                for pair in [0u32, 1, 5] {
+                    let p = TraceParams {
+                        frame,
+                        ..half_lit_params(SAMPLER_SCREEN_SOBOL, spp, 0)
+                    };
+                    let d = 2 * pair;
+                    let at = pixel + sampler_core::walk_offset(frame, p.key_side_log2);
+                    let want = Vec2::new(
+                        sampler_core::screen_sobol::screen_sobol_sample(&keys, layout, spp, at, s, d),
+                        sampler_core::screen_sobol::screen_sobol_sample(&keys, layout, spp, at, s, d + 1),
+                    );
+                    assert_eq!(apriori_pair(&p, &keys, pixel, s, pair), want);
+                    let p = TraceParams {
+                        sampler: SAMPLER_ZSOBOL,
+                        ..p
+                    };
+                    let log2 = 32 - (spp - 1).leading_zeros();
+                    let want = Vec2::new(
+                        sampler_core::zsobol_sample(pixel, s, d, log2, frame),
+                        sampler_core::zsobol_sample(pixel, s, d + 1, log2, frame),
+                    );
+                    assert_eq!(apriori_pair(&p, &keys, pixel, s, pair), want);
+                }
             }
         }
     }
 
-    /// Screen-space Sobol continues each pixel's sequence across frames: at
-    /// 1 spp, frames 0..4 of a pixel form a (0, 2, 2)-net (one point in each
-    /// elementary interval of area 1/4).
+    /// Screen-space Sobol: frame `t` reads the key tile shifted by the R2
+    /// walk offset `o_t`, and a pixel's samples of one frame (here 4 spp,
+    /// key level 2) form a (0, 2, 2)-net: one point in each elementary
+    /// interval of area 1/4.
     #[test]
-    fn screen_sobol_frames_continue_the_sequence() {
+    fn screen_sobol_frames_shift_the_keys_and_keep_the_net() {
         let keys = test_keys();
+        let params = |frame: u32| half_lit_params(SAMPLER_SCREEN_SOBOL, 4, frame);
+        for t in [1u32, 2, 7] {
+            let o = sampler_core::walk_offset(t, params(t).key_side_log2);
+            assert_ne!(o, UVec2::ZERO);
+            for pixel in [UVec2::new(0, 0), UVec2::new(3, 1)] {
+                for s in 0..4 {
+                    assert_eq!(
+                        apriori_pair(&params(t), &keys, pixel, s, 1),
+                        apriori_pair(&params(0), &keys, pixel + o, s, 1)
+                    );
+                }
+            }
+        }
         for pixel in [UVec2::new(0, 0), UVec2::new(3, 1), UVec2::new(2, 2)] {
-            let pts: [Vec2; 4] = core::array::from_fn(|t| {
-                sampler_pair(
-                    &half_lit_params(SAMPLER_SCREEN_SOBOL, 1, t as u32),
-                    &keys,
-                    pixel,
-                    0,
-                )
-            });
+            let pts: [Vec2; 4] =
+                core::array::from_fn(|s| apriori_pair(&params(5), &keys, pixel, s as u32, 0));
             for (nx, ny) in [(4.0f32, 1.0f32), (2.0, 2.0), (1.0, 4.0)] {
                 let mut cells: [u32; 4] = pts.map(|p| (p.x * nx) as u32 * ny as u32 + (p.y * ny) as u32);
                 cells.sort_unstable();
