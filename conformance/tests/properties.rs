@@ -272,3 +272,52 @@ fn bad_input_is_an_error_not_a_panic() {
         Err(Error::TileSize { tile: 12 })
     ));
 }
+
+/// The fast path's vector groups (8 blocks side by side) and its interior
+/// scatter only run on frames wider than `properties`' cases: frames of a
+/// few hundred pixels, every fast-path block size and tile, intensities with
+/// ties and special values, against the two separate passes.
+#[test]
+fn fused_frame_pass_equals_sort_then_retarget_on_large_frames() {
+    let mut state = 0x1234_5678u32;
+    let mut next = move || {
+        state = seed::hash_u32(state);
+        state
+    };
+    for (width, height) in [(300u32, 200u32), (256, 128), (517, 93)] {
+        for block in [2u32, 4, 8] {
+            for tile_size in [16u32, 64, 128] {
+                let layout = FrameLayout::new(width, height, block, tile_size).unwrap();
+                let intensities: Vec<f32> = (0..layout.pixel_count())
+                    .map(|_| match next() % 8 {
+                        0 => f32::NAN,
+                        1 => f32::NEG_INFINITY,
+                        2 | 3 => (next() % 4) as f32, // ties
+                        _ => f32::from_bits(next()),
+                    })
+                    .collect();
+                let salt = next();
+                let tile_values = random_tile(tile_size, salt, false);
+                let tile = DitherTile::new(tile_size, &tile_values).unwrap();
+                let packed: Vec<Vec<u32>> = (0..STEP_COUNT as u32)
+                    .map(|i| random_table(tile_size, salt.wrapping_add(i), 300))
+                    .collect();
+                let tables =
+                    RetargetTables::new(tile_size, [&packed[0], &packed[1], &packed[2], &packed[3]]).unwrap();
+                let seeds = seeds_for(&layout, salt);
+                for frame in [0u32, 5] {
+                    let mut fused = vec![0; seeds.len()];
+                    permute_frame(&layout, frame, &intensities, &tile, &tables, &seeds, &mut fused).unwrap();
+                    let mut mid = vec![0; seeds.len()];
+                    let mut two_pass = vec![0; seeds.len()];
+                    sort_frame(&layout, frame, &intensities, &tile, &seeds, &mut mid).unwrap();
+                    retarget_frame(&layout, frame, &tables, &mid, &mut two_pass).unwrap();
+                    assert!(
+                        fused == two_pass,
+                        "{width}x{height}, block {block}, tile {tile_size}, frame {frame}"
+                    );
+                }
+            }
+        }
+    }
+}

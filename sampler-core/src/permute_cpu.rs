@@ -11,17 +11,27 @@
 //!   windows per frame. For each, the pixel of dither rank `k` and that
 //!   pixel's retarget offset are resolved once per frame into a stack array
 //!   of `W * W` offset pairs (32 KiB for W = 128).
-//! - **Branch-free ranks.** Each full block ranks its intensity keys by
-//!   all-pairs counting over a fixed-size array, which vectorises.
-//! - **No division.** Positions come from shifts; the toroidal wrap
-//!   (`|offset| <= B + 6 < W <= padded size`) is one conditional add.
+//! - **Eight blocks ranked at once.** Eight full blocks side by side are
+//!   ranked together, one block per vector lane (`lane_ranks`): each of
+//!   the `N (N - 1) / 2` pixel pairs costs one comparison and two updates
+//!   per lane, ties rank by index for free, and no horizontal sums are
+//!   needed. Keys are converted row by row in memory order, then transposed
+//!   into lanes.
+//! - **Linear destinations.** For blocks whose destinations cannot wrap
+//!   (at least `B + 6` pixels from the padded frame's edge) the cached
+//!   offsets are also stored as seed-index offsets, so each seed is one
+//!   table load, one add and one store; seeds are read straight from the
+//!   input rows.
+//! - **No division.** Positions come from shifts; near the edge the
+//!   toroidal wrap (`|offset| <= B + 6 < W <= padded size`) is one
+//!   conditional add.
 //!
 //! Blocks clipped by the frame edge take the reference path.
 
 use crate::dither::tile_texel;
 use crate::frame::permute_block;
 use crate::layout::FrameParams;
-use crate::retarget::{unpack_offset, RetargetTable};
+use crate::retarget::{unpack_offset, RetargetTable, RETARGET_RADIUS};
 use crate::sort::{intensity_key, Intensity};
 use crate::walk::walk_offset;
 use glam::UVec2;
@@ -56,6 +66,8 @@ pub(crate) fn permute_blocks_cached<T: Intensity>(
 }
 
 /// [`permute_blocks_cached`] for block side `B` (`N = B * B` pixels).
+// Lane loops index several lane arrays at once; iterators would hide that.
+#[allow(clippy::needless_range_loop)]
 fn permute_full_blocks<T: Intensity, const B: u32, const N: usize>(
     params: &FrameParams,
     intensities: &[T],
@@ -74,8 +86,11 @@ fn permute_full_blocks<T: Intensity, const B: u32, const N: usize>(
 
     // Per window class and dither rank k: where, relative to the block's
     // origin, the seed of intensity rank k ends up after the sort (the
-    // pixel of dither rank k) and the retarget scatter (its table offset).
+    // pixel of dither rank k) and the retarget scatter (its table offset),
+    // as a 2D offset (for blocks near the frame edge, which wrap) and as a
+    // linear seed-index offset (for interior blocks).
     let mut dest = [(0i8, 0i8); (MAX_CACHED_TILE * MAX_CACHED_TILE) as usize];
+    let mut dest_linear = [0i32; (MAX_CACHED_TILE * MAX_CACHED_TILE) as usize];
     let mut keys = [0u64; N];
     for cy in 0..classes {
         for cx in 0..classes {
@@ -90,25 +105,94 @@ fn permute_full_blocks<T: Intensity, const B: u32, const N: usize>(
                 let (jx, jy) = (j & (B - 1), j >> b_log2);
                 let t = tile_texel(UVec2::new(cx * B + jx, cy * B + jy), offset, log2);
                 let d = unpack_offset(packed[t as usize]);
-                dest[base + k] = ((jx as i32 + d.x) as i8, (jy as i32 + d.y) as i8);
+                let (ox, oy) = (jx as i32 + d.x, jy as i32 + d.y);
+                dest[base + k] = (ox as i8, oy as i8);
+                dest_linear[base + k] = oy * pw as i32 + ox;
             }
         }
     }
 
     let full_x = params.width / B; // blocks fully inside the visible frame
     let full_y = params.height / B;
-    let mut block_keys = [0u32; N];
+    // Blocks whose destinations cannot wrap: offsets lie in
+    // `-RETARGET_RADIUS..B + RETARGET_RADIUS` on each axis.
+    let reach = RETARGET_RADIUS as u32;
+    let interior =
+        |x0: u32, y0: u32| x0 >= reach && y0 >= reach && x0 + B + reach <= pw && y0 + B + reach <= ph;
+    let w = params.width as usize;
     for by in 0..params.blocks_y() {
-        for bx in 0..params.blocks_x() {
+        let y0 = by * B;
+        let class_row = ((by & (classes - 1)) * classes) as usize;
+        let mut bx = 0u32;
+        if by < full_y {
+            // LANES full blocks at a time, one block per vector lane.
+            while bx + LANES as u32 <= full_x {
+                let x_start = (bx * B) as usize;
+                let mut lane_keys = [[0i32; LANES]; N];
+                for r in 0..B as usize {
+                    let at = (y0 as usize + r) * w + x_start;
+                    let row = &intensities[at..at + LANES * B as usize];
+                    // Convert the strip row in memory order (vectorises),
+                    // then transpose it into lanes.
+                    let mut strip = [0i32; LANES * MAX_FAST_BLOCK];
+                    for (k, v) in strip.iter_mut().zip(row) {
+                        *k = signed_key(v.intensity());
+                    }
+                    for l in 0..LANES {
+                        for c in 0..B as usize {
+                            lane_keys[r * B as usize + c][l] = strip[l * B as usize + c];
+                        }
+                    }
+                }
+                let ranks = lane_ranks(&lane_keys);
+                let last_x0 = (bx + LANES as u32 - 1) * B;
+                for l in 0..LANES {
+                    let b = bx + l as u32;
+                    let x0 = b * B;
+                    let class = (class_row + (b & (classes - 1)) as usize) * N;
+                    let origin = y0 as usize * pw as usize + x0 as usize;
+                    if interior(bx * B, y0) && interior(last_x0, y0) {
+                        // Seeds read straight from the input rows; destinations
+                        // are linear offsets from the block origin.
+                        let dest = &dest_linear[class..class + N];
+                        for r in 0..B as usize {
+                            let src = &seeds_in[origin + r * pw as usize..][..B as usize];
+                            for (c, &seed) in src.iter().enumerate() {
+                                let rank = ranks[r * B as usize + c][l] as usize & (N - 1);
+                                seeds_out[(origin as i32 + dest[rank]) as usize] = seed;
+                            }
+                        }
+                    } else {
+                        scatter_block::<B, N>(
+                            x0,
+                            y0,
+                            pw,
+                            ph,
+                            false,
+                            &dest[class..class + N],
+                            &dest_linear[class..class + N],
+                            core::array::from_fn(|i| ranks[i][l]),
+                            core::array::from_fn(|i| {
+                                seeds_in[origin + (i >> b_log2) * pw as usize + (i & (B as usize - 1))]
+                            }),
+                            seeds_out,
+                        );
+                    }
+                }
+                bx += LANES as u32;
+            }
+        }
+        while bx < params.blocks_x() {
             if bx >= full_x || by >= full_y {
                 permute_block(params, bx, by, intensities, tile, packed, seeds_in, seeds_out);
+                bx += 1;
                 continue;
             }
-            let (x0, y0) = (bx * B, by * B);
+            let x0 = bx * B;
+            let mut block_keys = [0u32; N];
             let mut seeds = [0u32; N];
             for r in 0..B as usize {
-                // One bounds check per block row.
-                let at = (y0 as usize + r) * params.width as usize + x0 as usize;
+                let at = (y0 as usize + r) * w + x0 as usize;
                 let row = &intensities[at..at + B as usize];
                 let s_at = (y0 as usize + r) * pw as usize + x0 as usize;
                 let s_row = &seeds_in[s_at..s_at + B as usize];
@@ -117,16 +201,92 @@ fn permute_full_blocks<T: Intensity, const B: u32, const N: usize>(
                     seeds[r * B as usize + c] = s_row[c];
                 }
             }
-            let ranks = block_ranks(&block_keys);
-            let class = (((by & (classes - 1)) * classes + (bx & (classes - 1))) as usize) * N;
-            for (i, &r) in ranks.iter().enumerate() {
-                let (ox, oy) = dest[class + (r as usize & (N - 1))];
-                let nx = wrap(x0 as i32 + ox as i32, pw);
-                let ny = wrap(y0 as i32 + oy as i32, ph);
-                seeds_out[(ny * pw + nx) as usize] = seeds[i];
-            }
+            let class = (class_row + (bx & (classes - 1)) as usize) * N;
+            scatter_block::<B, N>(
+                x0,
+                y0,
+                pw,
+                ph,
+                interior(x0, y0),
+                &dest[class..class + N],
+                &dest_linear[class..class + N],
+                block_ranks(&block_keys),
+                seeds,
+                seeds_out,
+            );
+            bx += 1;
         }
     }
+}
+
+/// Blocks ranked side by side, one per vector lane.
+const LANES: usize = 8;
+/// Largest block side of the fast path.
+const MAX_FAST_BLOCK: usize = 8;
+
+/// [`intensity_key`] with the sign bit flipped: the same order as `i32`
+/// (baseline x86-64 vectors compare signed integers only).
+#[inline(always)]
+fn signed_key(value: f32) -> i32 {
+    (intensity_key(value) ^ 0x8000_0000) as i32
+}
+
+/// Writes the `N` seeds of the block at `(x0, y0)`: the seed of intensity
+/// rank `ranks[i]` goes to the block origin plus `dest[rank]` (wrapped on the
+/// padded frame) or, for an `interior` block, plus `dest_linear[rank]`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn scatter_block<const B: u32, const N: usize>(
+    x0: u32,
+    y0: u32,
+    pw: u32,
+    ph: u32,
+    interior: bool,
+    dest: &[(i8, i8)],
+    dest_linear: &[i32],
+    ranks: [u32; N],
+    seeds: [u32; N],
+    seeds_out: &mut [u32],
+) {
+    if interior {
+        let base = (y0 * pw + x0) as i32;
+        for (&r, &seed) in ranks.iter().zip(&seeds) {
+            seeds_out[(base + dest_linear[r as usize & (N - 1)]) as usize] = seed;
+        }
+    } else {
+        for (&r, &seed) in ranks.iter().zip(&seeds) {
+            let (ox, oy) = dest[r as usize & (N - 1)];
+            let nx = wrap(x0 as i32 + ox as i32, pw);
+            let ny = wrap(y0 as i32 + oy as i32, ph);
+            seeds_out[(ny * pw + nx) as usize] = seed;
+        }
+    }
+}
+
+/// Ranks of `LANES` independent blocks at once: `keys[i][l]` is pixel `i`
+/// of block `l`; the result is each pixel's rank in its block's total order
+/// (key, then index). Each unordered pair `i < j` costs one comparison and
+/// two updates per lane: pixel `j` starts with rank `j` (every `i < j`
+/// counted as smaller) and gives one back to `i` when `key_i > key_j`. Ties
+/// therefore rank by index with no extra work.
+#[inline(always)]
+fn lane_ranks<const N: usize>(keys: &[[i32; LANES]; N]) -> [[u32; LANES]; N] {
+    let mut ranks: [[u32; LANES]; N] = core::array::from_fn(|j| [j as u32; LANES]);
+    for i in 0..N {
+        // Pixel i's rank stays in a register across the inner loop (an
+        // update through memory would chain store-to-load latencies).
+        let ki = keys[i];
+        let mut acc = ranks[i];
+        for j in i + 1..N {
+            for l in 0..LANES {
+                let g = (ki[l] > keys[j][l]) as u32;
+                acc[l] += g;
+                ranks[j][l] -= g;
+            }
+        }
+        ranks[i] = acc;
+    }
+    ranks
 }
 
 /// `v mod m` for `v` in `-m..2m` (one conditional add or subtract).
@@ -143,17 +303,21 @@ fn wrap(v: i32, m: u32) -> u32 {
 }
 
 /// Rank of each key in the block's total order (key, then index): branch-free
-/// all-pairs counting, which the compiler vectorises for fixed `N`.
+/// all-pairs counting. The loop over `i` is the inner one, so every rank
+/// accumulates in a vector lane (no horizontal sums) and each key `j` costs
+/// one broadcast, one greater-than and one equality test per lane group.
+/// Keys are compared as `i32` after flipping the sign bit (same order as
+/// `u32`), since baseline x86-64 vectors only compare signed integers.
 #[inline(always)]
-fn block_ranks<const N: usize>(keys: &[u32; N]) -> [u8; N] {
-    let mut ranks = [0u8; N];
-    for i in 0..N {
-        let ki = keys[i];
-        let mut r = 0u32;
-        for (j, &kj) in keys.iter().enumerate() {
-            r += (kj < ki) as u32 + ((kj == ki) & (j < i)) as u32;
+fn block_ranks<const N: usize>(keys: &[u32; N]) -> [u32; N] {
+    let signed: [i32; N] = core::array::from_fn(|i| (keys[i] ^ 0x8000_0000) as i32);
+    let mut ranks = [0u32; N];
+    for j in 0..N {
+        let kj = signed[j];
+        for i in 0..N {
+            let ki = signed[i];
+            ranks[i] += (ki > kj) as u32 + ((ki == kj) & (i > j)) as u32;
         }
-        ranks[i] = r as u8;
     }
     ranks
 }
@@ -175,6 +339,27 @@ fn insertion_sort(v: &mut [u64]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn lane_ranks_equal_block_ranks() {
+        let mut state = 99u32;
+        for _ in 0..300 {
+            let mut lanes = [[0i32; LANES]; 16];
+            for row in lanes.iter_mut() {
+                for k in row.iter_mut() {
+                    state = crate::seed::hash_u32(state);
+                    *k = ((state % 7) as i32 - 3).wrapping_add(if state & 8 != 0 { i32::MIN } else { 0 });
+                }
+            }
+            let ranks = lane_ranks(&lanes);
+            for l in 0..LANES {
+                let keys: [u32; 16] = core::array::from_fn(|i| lanes[i][l] as u32 ^ 0x8000_0000);
+                let want = block_ranks(&keys);
+                let got: [u32; 16] = core::array::from_fn(|i| ranks[i][l]);
+                assert_eq!(got, want, "lane {l}");
+            }
+        }
+    }
 
     #[test]
     fn block_ranks_follow_key_then_index() {
