@@ -52,7 +52,10 @@ fn tables(c: &mut Criterion) {
             b.iter(|| bake_retarget_tables(black_box(t)).unwrap())
         });
         g.bench_with_input(BenchmarkId::new("exact_all4_rayon", side), &tile, |b, t| {
-            b.iter(|| bake::bake_tables_parallel(black_box(t), &|| {}).unwrap())
+            b.iter(|| {
+                bake::bake_tables_parallel(black_box(t), sampler_core::bake::DISPLACEMENT_COST, &|| {})
+                    .unwrap()
+            })
         });
     }
     // Baseline: the paper's simulated annealing, one table, 200 sweeps.

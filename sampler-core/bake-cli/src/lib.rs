@@ -21,8 +21,8 @@
 use anyhow::{bail, ensure, Context, Result};
 use rayon::prelude::*;
 use sampler_core::bake::{
-    bake_key_tile, bake_mask, bake_retarget_table, bake_stbn, no_progress, KeyParams, MaskParams,
-    RetargetBake, StbnParams, SwapReport, MAX_MASK_SIDE,
+    bake_key_tile, bake_mask, bake_retarget_table_with, bake_stbn, no_progress, KeyParams, MaskParams,
+    RetargetBake, StbnParams, SwapReport, DISPLACEMENT_COST, MAX_MASK_SIDE,
 };
 use sampler_core::{DitherTile, ScreenSobolLayout, STEP_COUNT};
 use std::fs;
@@ -278,15 +278,21 @@ pub fn parse_size(text: &str, max_parts: usize) -> Result<Vec<u32>> {
 }
 
 /// Bakes the tables of every step for `tile`, in parallel (one rayon task
-/// per table), in index order. `done` is called once per finished table.
+/// per table), in index order, with `displacement_cost` per texel of
+/// `|dx| + |dy|` (`sampler_core::bake::DISPLACEMENT_COST` for the defaults).
+/// `done` is called once per finished table.
 ///
 /// # Errors
-/// As [`bake_retarget_table`].
-pub fn bake_tables_parallel(tile: &DitherTile<'_>, done: &(dyn Fn() + Sync)) -> Result<Vec<RetargetBake>> {
+/// As [`bake_retarget_table_with`].
+pub fn bake_tables_parallel(
+    tile: &DitherTile<'_>,
+    displacement_cost: u32,
+    done: &(dyn Fn() + Sync),
+) -> Result<Vec<RetargetBake>> {
     (0..STEP_COUNT as u32)
         .into_par_iter()
         .map(|i| {
-            let b = bake_retarget_table(tile, i);
+            let b = bake_retarget_table_with(tile, i, displacement_cost);
             done();
             b.map_err(anyhow::Error::from)
         })
@@ -347,7 +353,7 @@ pub fn bake_default_tile(
     };
     let ranks = bake_mask(&params, report)?;
     let tile = DitherTile::new(side, &ranks)?;
-    let tables = bake_tables_parallel(&tile, &|| {})?;
+    let tables = bake_tables_parallel(&tile, DISPLACEMENT_COST, &|| {})?;
     Ok((encode_u32(&ranks), encode_tables(&tables), tables))
 }
 

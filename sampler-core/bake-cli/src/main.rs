@@ -19,8 +19,8 @@ use bake::{
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use sampler_core::bake::{
-    anneal_retarget_table, bake_mask, bake_stbn, bake_vector_stbn, AnnealParams, KeyParams, MaskParams,
-    StbnParams, VectorKind, VectorStbnParams,
+    anneal_retarget_table, bake_mask, bake_stbn, bake_vector_stbn, mean_displacement, AnnealParams,
+    KeyParams, MaskParams, StbnParams, VectorKind, VectorStbnParams,
 };
 use sampler_core::{DitherTile, STEP_COUNT};
 use std::path::{Path, PathBuf};
@@ -89,6 +89,11 @@ enum Command {
         /// Also run the simulated-annealing baseline with this many sweeps and print its energy.
         #[arg(long)]
         anneal: Option<u32>,
+        /// Cost per texel of displacement |dx| + |dy|, in dither-rank units, added to the
+        /// dither energy: larger values move seeds less (closer to where their estimate was
+        /// measured) at the price of a worse fit to the next frame's tile.
+        #[arg(long, default_value_t = sampler_core::bake::DISPLACEMENT_COST)]
+        displacement_cost: u32,
     },
     /// Per-pixel keys of the screen-space Sobol sampler, optimised for blue-noise error.
     Keys {
@@ -203,7 +208,12 @@ fn main() -> Result<()> {
             out,
             bits,
         } => stbn(&size, sigma, temporal_sigma, seed, &out, bits),
-        Command::Retarget { tile, out, anneal } => retarget(&tile, &out, anneal),
+        Command::Retarget {
+            tile,
+            out,
+            anneal,
+            displacement_cost,
+        } => retarget(&tile, &out, anneal, displacement_cost),
         Command::Keys {
             side,
             pairs,
@@ -318,7 +328,7 @@ fn stbn(size: &str, sigma: f64, temporal_sigma: f64, seed: u64, out: &Path, bits
     Ok(())
 }
 
-fn retarget(tile_path: &Path, out: &Path, anneal: Option<u32>) -> Result<()> {
+fn retarget(tile_path: &Path, out: &Path, anneal: Option<u32>, displacement_cost: u32) -> Result<()> {
     let (side, values) = read_tile(tile_path)?;
     let tile = DitherTile::new(side, &values).context("invalid dither tile")?;
     create_dir(out)?;
@@ -326,7 +336,7 @@ fn retarget(tile_path: &Path, out: &Path, anneal: Option<u32>) -> Result<()> {
     let file = create_file(&path)?;
     let pb = bar(STEP_COUNT as u64, "tables");
     let start = Instant::now();
-    let tables = bake_tables_parallel(&tile, &|| pb.inc(1))?;
+    let tables = bake_tables_parallel(&tile, displacement_cost, &|| pb.inc(1))?;
     pb.finish_and_clear();
     println!(
         "{side}x{side} tile: {STEP_COUNT} tables in {:.3} s",
@@ -334,14 +344,15 @@ fn retarget(tile_path: &Path, out: &Path, anneal: Option<u32>) -> Result<()> {
     );
     for t in &tables {
         println!(
-            "table {} step ({}, {}): energy identity {} -> exact {} (ratio {:.5}, {} bids)",
+            "table {} step ({}, {}): energy identity {} -> exact {} (ratio {:.5}, {} bids), mean displacement {:.2}",
             t.index,
             t.step.x,
             t.step.y,
             t.energy_identity,
             t.energy,
             t.energy_ratio(),
-            t.bids
+            t.bids,
+            mean_displacement(&t.packed)
         );
     }
     if let Some(sweeps) = anneal {

@@ -40,7 +40,8 @@ pub use keys::{
     SwapReport,
 };
 pub use retarget_bake::{
-    bake_retarget_table, bake_retarget_tables, retarget_energy, RetargetBake, RetargetCosts,
+    bake_retarget_table, bake_retarget_table_with, bake_retarget_tables, mean_displacement, retarget_energy,
+    RetargetBake, RetargetCosts, DISPLACEMENT_COST,
 };
 pub use stbn::{bake_stbn, StbnParams};
 pub use vector_stbn::{bake_vector_stbn, VectorKind, VectorStbn, VectorStbnParams};
