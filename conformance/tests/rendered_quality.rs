@@ -122,8 +122,10 @@ fn permute_blurred_rmse_by_frame_8() {
     );
 }
 
+/// Met at this CI size (128x128, 64 frames: about 1.03); at the issue's
+/// full size (256x256) the same goal is missed, 1.11 at 64 and 128 frames
+/// (QUALITY.md).
 #[test]
-#[ignore = "issue 5 goal not met yet (see QUALITY.md); run with --ignored"]
 fn permute_accumulates_like_white() {
     let r = one_spp();
     for m in Method::ALL {
