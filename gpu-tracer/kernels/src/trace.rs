@@ -191,7 +191,9 @@ pub fn apriori_pair(params: &TraceParams, keys: &[u32], pixel: UVec2, s: u32, pa
             levels: params.key_levels.max(1),
             pad: 0,
         };
-        let shifted = pixel + walk_offset(params.frame, params.key_side_log2);
+        // Wrapping: `key_index` keeps only the low `key_side_log2` bits.
+        let o = walk_offset(params.frame, params.key_side_log2);
+        let shifted = UVec2::new(pixel.x.wrapping_add(o.x), pixel.y.wrapping_add(o.y));
         let v = screen_sobol_pair_u32(keys, layout, spp, shifted, s, pair);
         Vec2::new(q32_to_f32(v[0]), q32_to_f32(v[1]))
     } else if params.sampler == SAMPLER_ZSOBOL {
@@ -912,6 +914,21 @@ mod tests {
             render(&scene, &params, &keys, seed_of),
             render(&scene, &params, &other, seed_of)
         );
+    }
+
+    /// Degenerate key layouts never panic: a 1x1 key tile (`key_side_log2`
+    /// 0) with any frame reads key 0 for every pixel.
+    #[test]
+    fn screen_sobol_with_a_one_texel_tile_does_not_overflow() {
+        let keys = [0x1234_5678u32; 3];
+        let p = TraceParams {
+            key_side_log2: 0,
+            frame: 0xFFFF_FFF0,
+            ..half_lit_params(SAMPLER_SCREEN_SOBOL, 1, 0)
+        };
+        let a = apriori_pair(&p, &keys, UVec2::new(u32::MAX, 7), 0, 0);
+        assert_eq!(a, apriori_pair(&p, &keys, UVec2::new(0, 0), 0, 0));
+        assert!((0.0..1.0).contains(&a.x) && (0.0..1.0).contains(&a.y));
     }
 
     /// The pair layout: jitter 0, then light and BSDF of each vertex.
