@@ -36,6 +36,9 @@ use crate::sort::{intensity_key, Intensity};
 use crate::walk::walk_offset;
 use glam::UVec2;
 
+#[cfg(target_arch = "x86_64")]
+mod avx2;
+
 /// Largest tile side the cached dither order supports.
 const MAX_CACHED_TILE: u32 = 128;
 /// Smallest tile side: offsets (|d| <= 6) must wrap at most once.
@@ -49,7 +52,9 @@ pub(crate) fn applies(params: &FrameParams) -> bool {
         && (MIN_CACHED_TILE..=MAX_CACHED_TILE).contains(&w)
 }
 
-/// Sorting + retargeting of a whole frame; see the module docs.
+/// Sorting + retargeting of a whole frame; see the module docs. Uses the
+/// AVX2 ranker for 4x4 blocks where the CPU has it (checked once, at run
+/// time), the portable one otherwise; both give identical output.
 pub(crate) fn permute_blocks_cached<T: Intensity>(
     params: &FrameParams,
     intensities: &[T],
@@ -58,17 +63,65 @@ pub(crate) fn permute_blocks_cached<T: Intensity>(
     seeds_in: &[u32],
     seeds_out: &mut [u32],
 ) {
+    #[cfg(target_arch = "x86_64")]
+    if params.block == 4 && avx2::available() {
+        avx2::permute_4x4(params, intensities, tile, table, seeds_in, seeds_out);
+        return;
+    }
+    permute_blocks_portable(params, intensities, tile, table, seeds_in, seeds_out);
+}
+
+/// [`permute_blocks_cached`] with the portable ranker only (baseline
+/// instruction set); also the reference the AVX2 path is tested against.
+pub(crate) fn permute_blocks_portable<T: Intensity>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+) {
+    type P = PortableRanker;
     match params.block {
-        2 => permute_full_blocks::<T, 2, 4>(params, intensities, tile, table, seeds_in, seeds_out),
-        4 => permute_full_blocks::<T, 4, 16>(params, intensities, tile, table, seeds_in, seeds_out),
-        _ => permute_full_blocks::<T, 8, 64>(params, intensities, tile, table, seeds_in, seeds_out),
+        2 => permute_full_blocks::<T, P, 2, 4>(params, intensities, tile, table, seeds_in, seeds_out),
+        4 => permute_full_blocks::<T, P, 4, 16>(params, intensities, tile, table, seeds_in, seeds_out),
+        _ => permute_full_blocks::<T, P, 8, 64>(params, intensities, tile, table, seeds_in, seeds_out),
+    }
+}
+
+/// Ranks `LANES` side-by-side `B x B` blocks at once.
+trait LaneRanker {
+    /// `strips[r][l * B + c]` is the signed key ([`signed_key`]) of pixel
+    /// `(c, r)` of block `l`; rows `r >= B` are unused. Returns, for pixel
+    /// `i = r * B + c` and block `l`, the pixel's rank in its block's total
+    /// order (key, then index) at `[i][l]`.
+    fn rank_strips<const B: u32, const N: usize>(
+        strips: &[[i32; LANES * MAX_FAST_BLOCK]; MAX_FAST_BLOCK],
+    ) -> [[u32; LANES]; N];
+}
+
+/// Scalar transposition and [`lane_ranks`]; the compiler vectorises the
+/// lanes with whatever vector width the build targets.
+struct PortableRanker;
+
+impl LaneRanker for PortableRanker {
+    #[inline(always)]
+    fn rank_strips<const B: u32, const N: usize>(
+        strips: &[[i32; LANES * MAX_FAST_BLOCK]; MAX_FAST_BLOCK],
+    ) -> [[u32; LANES]; N] {
+        let lane_keys: [[i32; LANES]; N] = core::array::from_fn(|i| {
+            let (r, c) = (i / B as usize, i % B as usize);
+            core::array::from_fn(|l| strips[r][l * B as usize + c])
+        });
+        lane_ranks(&lane_keys)
     }
 }
 
 /// [`permute_blocks_cached`] for block side `B` (`N = B * B` pixels).
 // Lane loops index several lane arrays at once; iterators would hide that.
 #[allow(clippy::needless_range_loop)]
-fn permute_full_blocks<T: Intensity, const B: u32, const N: usize>(
+#[inline(always)]
+fn permute_full_blocks<T: Intensity, R: LaneRanker, const B: u32, const N: usize>(
     params: &FrameParams,
     intensities: &[T],
     tile: &[u32],
@@ -91,21 +144,32 @@ fn permute_full_blocks<T: Intensity, const B: u32, const N: usize>(
     // linear seed-index offset (for interior blocks).
     let mut dest = [(0i8, 0i8); (MAX_CACHED_TILE * MAX_CACHED_TILE) as usize];
     let mut dest_linear = [0i32; (MAX_CACHED_TILE * MAX_CACHED_TILE) as usize];
-    let mut keys = [0u64; N];
+    // Smallest and largest destination offset on each axis over all cached
+    // entries (within `-RETARGET_RADIUS..B + RETARGET_RADIUS` for a valid
+    // table); the unchecked interior stores below rely on these bounds.
+    let (mut lo, mut hi) = (0i32, B as i32 - 1);
     for cy in 0..classes {
         for cx in 0..classes {
-            for i in 0..N as u32 {
-                let p = UVec2::new(cx * B + (i & (B - 1)), cy * B + (i >> b_log2));
-                keys[i as usize] = ((tile[tile_texel(p, offset, log2) as usize] as u64) << 6) | i as u64;
+            // Dither ranks (value, then index: the sorting pass's order),
+            // inverted into the pixel of each rank.
+            let mut texels = [0u32; N];
+            for (i, t) in texels.iter_mut().enumerate() {
+                let i = i as u32;
+                *t = tile_texel(UVec2::new(cx * B + (i & (B - 1)), cy * B + (i >> b_log2)), offset, log2);
             }
-            insertion_sort(&mut keys);
+            let values: [u32; N] = core::array::from_fn(|i| tile[texels[i] as usize]);
+            let ranks = block_ranks(&values);
+            let mut pixel_of_rank = [0u32; N];
+            for (i, &r) in ranks.iter().enumerate() {
+                pixel_of_rank[r as usize & (N - 1)] = i as u32;
+            }
             let base = ((cy * classes + cx) as usize) * N;
-            for k in 0..N {
-                let j = (keys[k] & 63) as u32;
+            for (k, &j) in pixel_of_rank.iter().enumerate() {
                 let (jx, jy) = (j & (B - 1), j >> b_log2);
-                let t = tile_texel(UVec2::new(cx * B + jx, cy * B + jy), offset, log2);
-                let d = unpack_offset(packed[t as usize]);
+                let d = unpack_offset(packed[texels[j as usize] as usize]);
                 let (ox, oy) = (jx as i32 + d.x, jy as i32 + d.y);
+                lo = lo.min(ox).min(oy);
+                hi = hi.max(ox).max(oy);
                 dest[base + k] = (ox as i8, oy as i8);
                 dest_linear[base + k] = oy * pw as i32 + ox;
             }
@@ -114,11 +178,13 @@ fn permute_full_blocks<T: Intensity, const B: u32, const N: usize>(
 
     let full_x = params.width / B; // blocks fully inside the visible frame
     let full_y = params.height / B;
-    // Blocks whose destinations cannot wrap: offsets lie in
-    // `-RETARGET_RADIUS..B + RETARGET_RADIUS` on each axis.
-    let reach = RETARGET_RADIUS as u32;
+    // Blocks whose destinations cannot wrap: every cached offset, on each
+    // axis, lies in `lo..=hi` (measured above, not assumed), so the block
+    // origin plus any offset stays inside the padded frame.
+    debug_assert!(-lo <= RETARGET_RADIUS && hi < B as i32 + RETARGET_RADIUS);
+    let (before, after) = ((-lo) as u32, (hi + 1) as u32);
     let interior =
-        |x0: u32, y0: u32| x0 >= reach && y0 >= reach && x0 + B + reach <= pw && y0 + B + reach <= ph;
+        |x0: u32, y0: u32| x0 >= before && y0 >= before && x0 + after <= pw && y0 + after <= ph;
     let w = params.width as usize;
     for by in 0..params.blocks_y() {
         let y0 = by * B;
@@ -128,38 +194,39 @@ fn permute_full_blocks<T: Intensity, const B: u32, const N: usize>(
             // LANES full blocks at a time, one block per vector lane.
             while bx + LANES as u32 <= full_x {
                 let x_start = (bx * B) as usize;
-                let mut lane_keys = [[0i32; LANES]; N];
-                for r in 0..B as usize {
+                // Convert each strip row in memory order (vectorises); the
+                // ranker transposes the strips into lanes.
+                let mut strips = [[0i32; LANES * MAX_FAST_BLOCK]; MAX_FAST_BLOCK];
+                for (r, strip) in strips.iter_mut().enumerate().take(B as usize) {
                     let at = (y0 as usize + r) * w + x_start;
                     let row = &intensities[at..at + LANES * B as usize];
-                    // Convert the strip row in memory order (vectorises),
-                    // then transpose it into lanes.
-                    let mut strip = [0i32; LANES * MAX_FAST_BLOCK];
                     for (k, v) in strip.iter_mut().zip(row) {
                         *k = signed_key(v.intensity());
                     }
-                    for l in 0..LANES {
-                        for c in 0..B as usize {
-                            lane_keys[r * B as usize + c][l] = strip[l * B as usize + c];
-                        }
-                    }
                 }
-                let ranks = lane_ranks(&lane_keys);
-                let last_x0 = (bx + LANES as u32 - 1) * B;
+                let ranks = R::rank_strips::<B, N>(&strips);
                 for l in 0..LANES {
                     let b = bx + l as u32;
                     let x0 = b * B;
                     let class = (class_row + (b & (classes - 1)) as usize) * N;
                     let origin = y0 as usize * pw as usize + x0 as usize;
-                    if interior(bx * B, y0) && interior(last_x0, y0) {
+                    if interior(x0, y0) {
                         // Seeds read straight from the input rows; destinations
                         // are linear offsets from the block origin.
                         let dest = &dest_linear[class..class + N];
+                        let out = seeds_out.as_mut_ptr();
                         for r in 0..B as usize {
                             let src = &seeds_in[origin + r * pw as usize..][..B as usize];
                             for (c, &seed) in src.iter().enumerate() {
                                 let rank = ranks[r * B as usize + c][l] as usize & (N - 1);
-                                seeds_out[(origin as i32 + dest[rank]) as usize] = seed;
+                                let at = (origin as isize + dest[rank] as isize) as usize;
+                                debug_assert!(at < seeds_out.len());
+                                // SAFETY: `interior` holds for this block, so
+                                // with `lo <= dx, dy <= hi` the destination
+                                // lies inside the padded frame, whose
+                                // `pw * ph` seeds `seeds_out` holds (checked
+                                // by `permute_frame`).
+                                unsafe { *out.add(at) = seed };
                             }
                         }
                     } else {
@@ -320,20 +387,6 @@ fn block_ranks<const N: usize>(keys: &[u32; N]) -> [u32; N] {
         }
     }
     ranks
-}
-
-/// Insertion sort, ascending.
-#[inline]
-fn insertion_sort(v: &mut [u64]) {
-    for i in 1..v.len() {
-        let x = v[i];
-        let mut j = i;
-        while j > 0 && v[j - 1] > x {
-            v[j] = v[j - 1];
-            j -= 1;
-        }
-        v[j] = x;
-    }
 }
 
 #[cfg(test)]
