@@ -104,6 +104,7 @@ fn main() {
     let mut scratch = vec![0f32; intensities.len()];
 
     let (mut t_copy, mut t_fast, mut t_naive, mut t_shader) = (vec![], vec![], vec![], vec![]);
+    let mut t_baseline = vec![];
     for r in 0..rounds {
         let frame = r as u32;
         t_copy.push(time(&mut || {
@@ -111,6 +112,18 @@ fn main() {
         }));
         t_fast.push(time(&mut || {
             permute_frame(
+                &layout,
+                frame,
+                black_box(&intensities),
+                &tile,
+                &tables,
+                &seeds,
+                &mut out,
+            )
+            .unwrap()
+        }));
+        t_baseline.push(time(&mut || {
+            permute_frame_baseline_isa(
                 &layout,
                 frame,
                 black_box(&intensities),
@@ -150,6 +163,7 @@ fn main() {
     for (name, t) in [
         ("copy of the same bytes", copy),
         ("permute_frame (fused, fast path)", median(&mut t_fast)),
+        ("  same, baseline ISA (no AVX2)", median(&mut t_baseline)),
         ("sort_frame + retarget_frame (GPU path)", median(&mut t_shader)),
         ("naive (alloc + std sort per block)", median(&mut t_naive)),
     ] {

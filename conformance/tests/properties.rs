@@ -316,6 +316,22 @@ fn fused_frame_pass_equals_sort_then_retarget_on_large_frames() {
                         fused == two_pass,
                         "{width}x{height}, block {block}, tile {tile_size}, frame {frame}"
                     );
+                    // The baseline-ISA fast path (what CPUs without AVX2 run).
+                    let mut baseline = vec![0; seeds.len()];
+                    permute_frame_baseline_isa(
+                        &layout,
+                        frame,
+                        &intensities,
+                        &tile,
+                        &tables,
+                        &seeds,
+                        &mut baseline,
+                    )
+                    .unwrap();
+                    assert!(
+                        baseline == two_pass,
+                        "baseline ISA: {width}x{height}, block {block}, tile {tile_size}, frame {frame}"
+                    );
                 }
             }
         }

@@ -222,23 +222,67 @@ pub fn permute_frame<T: Intensity>(
     seeds_in: &[u32],
     seeds_out: &mut [u32],
 ) -> Result<(), Error> {
+    permute_frame_with(
+        layout,
+        frame,
+        intensities,
+        tile,
+        tables,
+        seeds_in,
+        seeds_out,
+        true,
+    )
+}
+
+/// [`permute_frame`] without the run-time choice of a wider instruction set
+/// (the build's baseline only): identical output, for benchmarks and tests
+/// that compare the two.
+#[doc(hidden)]
+pub fn permute_frame_baseline_isa<T: Intensity>(
+    layout: &FrameLayout,
+    frame: u32,
+    intensities: &[T],
+    tile: &DitherTile<'_>,
+    tables: &RetargetTables<'_>,
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+) -> Result<(), Error> {
+    permute_frame_with(
+        layout,
+        frame,
+        intensities,
+        tile,
+        tables,
+        seeds_in,
+        seeds_out,
+        false,
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+fn permute_frame_with<T: Intensity>(
+    layout: &FrameLayout,
+    frame: u32,
+    intensities: &[T],
+    tile: &DitherTile<'_>,
+    tables: &RetargetTables<'_>,
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+    dispatch: bool,
+) -> Result<(), Error> {
     check_common(layout, tile, intensities, seeds_in, seeds_out)?;
     if tables.tile() != layout.tile() {
         return Err(Error::TileSize { tile: tables.tile() });
     }
     let params = layout.params(frame);
     let table = tables.table(step_index(frame, params.tile_log2));
-    if crate::permute_cpu::applies(&params) {
-        crate::permute_cpu::permute_blocks_cached(
-            &params,
-            intensities,
-            tile.values(),
-            table,
-            seeds_in,
-            seeds_out,
-        );
+    let (values, cached) = (tile.values(), crate::permute_cpu::applies(&params));
+    if cached && dispatch {
+        crate::permute_cpu::permute_blocks_cached(&params, intensities, values, table, seeds_in, seeds_out);
+    } else if cached {
+        crate::permute_cpu::permute_blocks_portable(&params, intensities, values, table, seeds_in, seeds_out);
     } else {
-        permute_blocks(&params, intensities, tile.values(), table, seeds_in, seeds_out);
+        permute_blocks(&params, intensities, values, table, seeds_in, seeds_out);
     }
     Ok(())
 }

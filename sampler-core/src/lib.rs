@@ -65,8 +65,8 @@ pub mod zsobol;
 pub use dither::{tile_texel, DitherTile};
 pub use error::{Buffer, Error};
 pub use frame::{
-    permute_frame, retarget_frame, retarget_pixel, retarget_pixel_at_offset, sort_block_at_offset,
-    sort_block_in_frame, sort_frame,
+    permute_frame, permute_frame_baseline_isa, retarget_frame, retarget_pixel, retarget_pixel_at_offset,
+    sort_block_at_offset, sort_block_in_frame, sort_frame,
 };
 pub use layout::{FrameLayout, FrameParams};
 pub use owen::{owen_scramble, owen_sobol, owen_sobol_u32, shuffle_index};

@@ -120,7 +120,10 @@ fn rank_4x4(strips: &[[i32; LANES * MAX_FAST_BLOCK]; MAX_FAST_BLOCK]) -> [[u32; 
         // order 0..8 with no cross-half shuffle.
         // SAFETY: offsets up to (l + 4) * 4 + 4 <= 32 lie inside the 64-entry row.
         let v: [__m256i; 4] = core::array::from_fn(|l| unsafe {
-            _mm256_loadu2_m128i(row.add((l + 4) * 4) as *const __m128i, row.add(l * 4) as *const __m128i)
+            _mm256_loadu2_m128i(
+                row.add((l + 4) * 4) as *const __m128i,
+                row.add(l * 4) as *const __m128i,
+            )
         });
         let t0 = _mm256_unpacklo_epi32(v[0], v[1]); // b0c0 b1c0 b0c1 b1c1 | b4.. b5..
         let t1 = _mm256_unpackhi_epi32(v[0], v[1]); // b0c2 b1c2 b0c3 b1c3 | ...
