@@ -46,10 +46,15 @@ pub const DEFAULT_STBN_SEED: u64 = 3;
 /// integrands).
 pub const DEFAULT_KEYS_SEED: u64 = 6;
 
+/// Weight of the line (edge) terms of the default keys (`KeyParams::line_weight`):
+/// 16 gave the lowest blurred error of 4, 16, 64, 256 and 1024 on the rendered
+/// Cornell box at 1 spp (QUALITY.md).
+pub const DEFAULT_KEYS_LINE_WEIGHT: f64 = 16.0;
+
 /// Parameters of the default screen-space sampler keys: 64x64 tiles, 4 dimension pairs,
 /// 5 spp levels (1, 2, 4, 8, 16 spp), 128 training integrands, energy sigma `sqrt 2` (a
-/// blur of 1 pixel), 256 sweeps, seed [`DEFAULT_KEYS_SEED`] (the defaults of
-/// `KeyParams` and of `bake keys`).
+/// blur of 1 pixel), 256 sweeps, line terms of weight [`DEFAULT_KEYS_LINE_WEIGHT`], seed
+/// [`DEFAULT_KEYS_SEED`] (the defaults of `bake keys`).
 pub fn default_key_params() -> KeyParams {
     KeyParams {
         side: 64,
@@ -58,6 +63,7 @@ pub fn default_key_params() -> KeyParams {
         integrands: 128,
         sigma: std::f64::consts::SQRT_2,
         sweeps: 256,
+        line_weight: DEFAULT_KEYS_LINE_WEIGHT,
         seed: DEFAULT_KEYS_SEED,
     }
 }

@@ -115,6 +115,9 @@ enum Command {
         /// Optimiser sweeps per tile.
         #[arg(long, default_value_t = 256)]
         sweeps: u32,
+        /// Weight of the line terms: edges along rows, columns and diagonals (0 leaves them out).
+        #[arg(long, default_value_t = bake::DEFAULT_KEYS_LINE_WEIGHT, allow_negative_numbers = true)]
+        line_weight: f64,
         /// Seed of the keys and training integrands.
         #[arg(long, default_value_t = bake::DEFAULT_KEYS_SEED)]
         seed: u64,
@@ -221,6 +224,7 @@ fn main() -> Result<()> {
             integrands,
             sigma,
             sweeps,
+            line_weight,
             seed,
             out,
         } => keys(
@@ -231,6 +235,7 @@ fn main() -> Result<()> {
                 integrands,
                 sigma,
                 sweeps,
+                line_weight,
                 seed,
             },
             &out,

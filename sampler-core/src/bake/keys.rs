@@ -1,6 +1,5 @@
 //! Offline optimisation of the screen-space sampler's per-pixel keys
-//! ([`screen_sobol`](crate::screen_sobol)), and the swap optimiser it shares
-//! with the vector spatiotemporal masks.
+//! ([`screen_sobol`](crate::screen_sobol)).
 //!
 //! # Energy
 //!
@@ -20,21 +19,29 @@
 //! (training) error energy after a blur of 1 pixel, minus the diagonal
 //! `sum |e_p|^2`, which swaps cannot change.
 //!
+//! **Edges along rows and columns.** That energy assumes every pixel sees
+//! the same integrand. Along a geometric edge crossing the screen (a
+//! light's or an object's silhouette, a shadow boundary) the error lives
+//! on a line one pixel wide, and there only the pairs on that line count.
+//! With [`KeyParams::line_weight`] `> 0`, one more term per line family of
+//! [`LINE_STEPS`] (rows, columns, both diagonals) is added: the error
+//! vectors on [`LINE_INTEGRANDS`] edges parallel to the line
+//! ([`line_integrands`]; for rows `f = [y > c]`), coupled only between
+//! pixels on the same line by a 1D Gaussian of the same sigma, weighted by
+//! `line_weight`. At one sample per pixel the row term asks the `y`
+//! coordinates along a row to be blue noise in 1D, the column term the `x`
+//! coordinates along a column, and so on.
+//!
 //! # Optimiser
 //!
-//! Moves swap the keys of two pixels, so the tile's multiset of keys stays
-//! the i.i.d. random set it started from (every pixel's marginal
-//! distribution over tile offsets is that of a random key: the sampler is
-//! unbiased for any tile placement). The optimiser keeps the filtered field
-//! `S_p = sum_q w(p - q) e_q`; a swap of `p` and `q` (vectors `a`, `b`)
-//! changes the energy by `<b - a, S_p - S_q> - w(p - q) |a - b|^2`, an
-//! `O(M)` test, and an accepted swap updates `S` over the kernel's support.
-//! Greedy: a swap is kept if it lowers the energy. Partners are drawn
-//! uniformly from the slice. Everything is `f64` in a fixed order, so a bake
-//! is reproducible bit for bit.
+//! The swap optimiser of [`swap`](super::swap): moves swap the keys of two
+//! pixels, so the tile's multiset of keys stays the i.i.d. random set it
+//! started from (every pixel's marginal distribution over tile offsets is
+//! that of a random key: the sampler is unbiased for any tile placement).
+//! A bake is reproducible bit for bit.
 
-use super::energy::axis_taps;
-use super::{check_sigma, check_size, BakeError, Progress, SplitMix64, Throttle};
+use super::swap::{Coupling, SwapOptimiser, SwapReport};
+use super::{check_sigma, check_size, BakeError, Progress, SplitMix64};
 use crate::screen_sobol::{key_sample_u32, ScreenSobolLayout, MAX_KEY_LEVELS, MAX_KEY_TILE};
 use alloc::vec;
 use alloc::vec::Vec;
@@ -110,223 +117,6 @@ pub fn heaviside_integrands(count: u32, seed: u64) -> Vec<HeavisideIntegrand> {
         .collect()
 }
 
-/// The generic swap optimiser over a `width x height x depth` torus of
-/// `channels`-dimensional vectors. Coupling: a 2D Gaussian within a slice
-/// and (if `depth > 1`) a 1D Gaussian between the same pixel in other
-/// slices (the STBN energy). Swaps stay within a slice.
-#[derive(Clone, Debug)]
-pub(crate) struct SwapOptimiser {
-    width: u32,
-    height: u32,
-    depth: u32,
-    channels: usize,
-    /// Current vectors, texel-major.
-    values: Vec<f64>,
-    /// Which original item sits at each texel.
-    items: Vec<u32>,
-    /// `S_i = sum_j w_ij x_j`, texel-major.
-    field: Vec<f64>,
-    /// Spatial taps `(dx, dy, w)` as residues, excluding `(0, 0)`.
-    spatial: Vec<(u32, u32, f64)>,
-    /// Spatial weight by residue offset `dy * width + dx` (for `w_ij`).
-    spatial_map: Vec<f64>,
-    /// Temporal taps `(dz, w)`, excluding 0.
-    temporal: Vec<(u32, f64)>,
-    /// Reused buffer for a swap's difference vector.
-    scratch: Vec<f64>,
-}
-
-/// What a run of the optimiser did.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SwapReport {
-    /// Energy of the initial arrangement.
-    pub energy_before: f64,
-    /// Energy after optimisation (recomputed from scratch).
-    pub energy_after: f64,
-    /// Swaps tried.
-    pub trials: u64,
-    /// Swaps accepted.
-    pub accepted: u64,
-}
-
-impl SwapOptimiser {
-    /// Sizes and sigmas must already be validated; `values.len()` must be
-    /// `width * height * depth * channels`.
-    pub(crate) fn new(
-        width: u32,
-        height: u32,
-        depth: u32,
-        channels: usize,
-        values: Vec<f64>,
-        sigma: f64,
-        temporal_sigma: f64,
-    ) -> Self {
-        let xs = axis_taps(width, sigma);
-        let ys = axis_taps(height, sigma);
-        let mut spatial = Vec::with_capacity(xs.len() * ys.len());
-        let mut spatial_map = vec![0.0; width as usize * height as usize];
-        for &(dy, wy) in &ys {
-            for &(dx, wx) in &xs {
-                if dx == 0 && dy == 0 {
-                    continue;
-                }
-                spatial.push((dx, dy, wx * wy));
-                spatial_map[(dy * width + dx) as usize] = wx * wy;
-            }
-        }
-        let temporal = if depth > 1 {
-            axis_taps(depth, temporal_sigma)
-                .into_iter()
-                .filter(|t| t.0 != 0)
-                .collect()
-        } else {
-            Vec::new()
-        };
-        let n = width as usize * height as usize * depth as usize;
-        let mut opt = SwapOptimiser {
-            width,
-            height,
-            depth,
-            channels,
-            values,
-            items: (0..n as u32).collect(),
-            field: vec![0.0; n * channels],
-            spatial,
-            spatial_map,
-            temporal,
-            scratch: Vec::with_capacity(channels),
-        };
-        opt.field = opt.compute_field();
-        opt
-    }
-
-    fn texels(&self) -> usize {
-        self.width as usize * self.height as usize * self.depth as usize
-    }
-
-    /// Calls `f(neighbour, weight)` for every texel coupled to `i`.
-    #[inline]
-    fn for_neighbours(&self, i: usize, mut f: impl FnMut(usize, f64)) {
-        let wh = self.width as usize * self.height as usize;
-        let z = i / wh;
-        let in_slice = i % wh;
-        let x = (in_slice % self.width as usize) as u32;
-        let y = (in_slice / self.width as usize) as u32;
-        let (wm, hm) = (self.width - 1, self.height - 1);
-        for &(dx, dy, w) in &self.spatial {
-            let j = z * wh + (((y + dy) & hm) * self.width + ((x + dx) & wm)) as usize;
-            f(j, w);
-        }
-        let dm = self.depth - 1;
-        for &(dz, w) in &self.temporal {
-            f((((z as u32 + dz) & dm) as usize) * wh + in_slice, w);
-        }
-    }
-
-    fn compute_field(&self) -> Vec<f64> {
-        let c = self.channels;
-        let mut field = vec![0.0; self.texels() * c];
-        for i in 0..self.texels() {
-            // Scatter x_i into its neighbours' fields (weights are symmetric).
-            let xi = &self.values[i * c..(i + 1) * c];
-            self.for_neighbours(i, |j, w| {
-                for (s, &v) in field[j * c..(j + 1) * c].iter_mut().zip(xi) {
-                    *s += w * v;
-                }
-            });
-        }
-        field
-    }
-
-    /// `sum over unordered coupled pairs of w <x_i, x_j>`, from scratch.
-    pub(crate) fn energy(&self) -> f64 {
-        let field = self.compute_field();
-        0.5 * self.values.iter().zip(&field).map(|(a, b)| a * b).sum::<f64>()
-    }
-
-    /// Tries to swap texels `i` and `j` of the same slice; keeps the swap if
-    /// it lowers the energy.
-    fn try_swap(&mut self, i: usize, j: usize) -> bool {
-        let c = self.channels;
-        let wh = self.width as usize * self.height as usize;
-        let (pi, pj) = (i % wh, j % wh);
-        let (xi, yi) = (pi as u32 % self.width, pi as u32 / self.width);
-        let (xj, yj) = (pj as u32 % self.width, pj as u32 / self.width);
-        let off = ((yj.wrapping_sub(yi) & (self.height - 1)) * self.width
-            + (xj.wrapping_sub(xi) & (self.width - 1))) as usize;
-        let w_ij = self.spatial_map[off];
-        let (mut dot, mut dist) = (0.0, 0.0);
-        for k in 0..c {
-            let d = self.values[j * c + k] - self.values[i * c + k];
-            dot += d * (self.field[i * c + k] - self.field[j * c + k]);
-            dist += d * d;
-        }
-        let delta = dot - w_ij * dist;
-        if delta >= -1e-12 * (1.0 + dist) {
-            return false;
-        }
-        let mut diff = core::mem::take(&mut self.scratch);
-        diff.clear();
-        diff.extend((0..c).map(|k| self.values[j * c + k] - self.values[i * c + k]));
-        for k in 0..c {
-            self.values.swap(i * c + k, j * c + k);
-        }
-        self.items.swap(i, j);
-        // x_i grew by diff, x_j shrank by diff.
-        let mut field = core::mem::take(&mut self.field);
-        for (t, sign) in [(i, 1.0), (j, -1.0)] {
-            self.for_neighbours(t, |u, w| {
-                for (s, d) in field[u * c..(u + 1) * c].iter_mut().zip(&diff) {
-                    *s += sign * w * d;
-                }
-            });
-        }
-        self.field = field;
-        self.scratch = diff;
-        true
-    }
-
-    /// Runs `sweeps` sweeps (one sweep = one trial per texel, each with a
-    /// uniformly drawn partner in the same slice).
-    pub(crate) fn run(&mut self, sweeps: u32, rng: &mut SplitMix64, progress: Progress<'_>) -> SwapReport {
-        let energy_before = self.energy();
-        let n = self.texels();
-        let wh = self.width as u64 * self.height as u64;
-        let total = sweeps as u64 * n as u64;
-        let mut throttle = Throttle::new(total);
-        let (mut trials, mut accepted) = (0u64, 0u64);
-        for _ in 0..sweeps {
-            for i in 0..n {
-                let slice = i / wh as usize;
-                let j = slice * wh as usize + rng.below(wh) as usize;
-                trials += 1;
-                if j != i && self.try_swap(i, j) {
-                    accepted += 1;
-                }
-                throttle.tick(trials, total, progress);
-            }
-        }
-        progress(total, total);
-        SwapReport {
-            energy_before,
-            energy_after: self.energy(),
-            trials,
-            accepted,
-        }
-    }
-
-    /// The original item index now at each texel.
-    pub(crate) fn items(&self) -> &[u32] {
-        &self.items
-    }
-
-    /// The current vectors, texel-major.
-    #[cfg(test)]
-    pub(crate) fn values(&self) -> &[f64] {
-        &self.values
-    }
-}
-
 /// Parameters of a key bake.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct KeyParams {
@@ -342,13 +132,16 @@ pub struct KeyParams {
     pub sigma: f64,
     /// Optimiser sweeps per tile (one trial per pixel each).
     pub sweeps: u32,
+    /// Weight of the line terms (edges along rows, columns and diagonals;
+    /// module docs), `>= 0`; 0 leaves them out.
+    pub line_weight: f64,
     /// Seed of the keys and integrands.
     pub seed: u64,
 }
 
 impl Default for KeyParams {
     /// 64x64 tiles, 4 pairs, 5 levels (1 to 16 spp), 128 integrands,
-    /// sigma `sqrt 2`, 256 sweeps, seed 1.
+    /// sigma `sqrt 2`, 256 sweeps, line weight 16, seed 1.
     fn default() -> Self {
         KeyParams {
             side: 64,
@@ -357,6 +150,7 @@ impl Default for KeyParams {
             integrands: 128,
             sigma: core::f64::consts::SQRT_2,
             sweeps: 256,
+            line_weight: 16.0,
             seed: 1,
         }
     }
@@ -380,6 +174,11 @@ impl KeyParams {
         }
         check_size(self.side, self.side, 1)?;
         check_sigma(self.sigma)?;
+        if !(self.line_weight >= 0.0 && self.line_weight.is_finite()) {
+            return Err(BakeError::Weight {
+                weight: self.line_weight,
+            });
+        }
         if self.integrands == 0 || self.integrands > 1024 {
             return Err(BakeError::Size {
                 width: self.side,
@@ -407,6 +206,37 @@ pub fn key_errors(key: u32, pair: u32, level: u32, integrands: &[HeavisideIntegr
     for (e, f) in out.iter_mut().zip(integrands) {
         *e = *e / n as f64 - f.integral();
     }
+}
+
+/// Edges per line family of the line terms (offsets evenly spread across
+/// the unit square).
+pub const LINE_INTEGRANDS: u32 = 32;
+
+/// The line families of the line terms: the screen direction of the line
+/// of pixels an edge covers (`y` down). Rows, columns and both diagonals.
+pub const LINE_STEPS: [(i32, i32); 4] = [(1, 0), (0, 1), (1, 1), (1, -1)];
+
+/// The [`LINE_INTEGRANDS`] steps of the family whose edges run along
+/// `step`: normal perpendicular to `step`, offsets at `(k + 1/2) / L` of the
+/// way across the square.
+pub fn line_integrands(step: (i32, i32)) -> Vec<HeavisideIntegrand> {
+    let length = libm::sqrt((step.0 * step.0 + step.1 * step.1) as f64);
+    let normal = [-step.1 as f64 / length, step.0 as f64 / length];
+    let project = |x: f64, y: f64| normal[0] * x + normal[1] * y;
+    let corners = [
+        project(0.0, 0.0),
+        project(1.0, 0.0),
+        project(0.0, 1.0),
+        project(1.0, 1.0),
+    ];
+    let lo = corners.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = corners.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    (0..LINE_INTEGRANDS)
+        .map(|k| HeavisideIntegrand {
+            normal,
+            offset: lo + (hi - lo) * (k as f64 + 0.5) / LINE_INTEGRANDS as f64,
+        })
+        .collect()
 }
 
 /// Bakes the key tile of one `(level, pair)`: `side * side` keys,
@@ -439,11 +269,40 @@ pub fn bake_key_tile(
     let n = (params.side * params.side) as usize;
     let keys: Vec<u32> = (0..n).map(|_| (rng.next_u64() >> 32) as u32).collect();
     let m = integrands.len();
-    let mut values = vec![0.0; n * m];
-    for (key, out) in keys.iter().zip(values.chunks_exact_mut(m)) {
-        key_errors(*key, pair, level, &integrands, out);
+    let families: Vec<((i32, i32), Vec<HeavisideIntegrand>)> = if params.line_weight > 0.0 {
+        LINE_STEPS
+            .iter()
+            .map(|&step| (step, line_integrands(step)))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let l = LINE_INTEGRANDS as usize;
+    let c = m + families.len() * l;
+    let scale = libm::sqrt(params.line_weight);
+    let mut values = vec![0.0; n * c];
+    for (key, out) in keys.iter().zip(values.chunks_exact_mut(c)) {
+        let (planar, edges) = out.split_at_mut(m);
+        key_errors(*key, pair, level, &integrands, planar);
+        for ((_, family), e) in families.iter().zip(edges.chunks_exact_mut(l)) {
+            key_errors(*key, pair, level, family, e);
+            e.iter_mut().for_each(|v| *v *= scale);
+        }
     }
-    let mut opt = SwapOptimiser::new(params.side, params.side, 1, m, values, params.sigma, params.sigma);
+    let side = params.side;
+    let mut couplings = vec![Coupling::gaussian(
+        side,
+        side,
+        1,
+        0..m,
+        params.sigma,
+        params.sigma,
+    )];
+    for (f, (step, _)) in families.iter().enumerate() {
+        let channels = m + f * l..m + (f + 1) * l;
+        couplings.push(Coupling::along_line(side, side, channels, *step, params.sigma));
+    }
+    let mut opt = SwapOptimiser::with_couplings(side, side, 1, c, values, couplings);
     let report = opt.run(params.sweeps, &mut rng, progress);
     Ok((opt.items().iter().map(|&i| keys[i as usize]).collect(), report))
 }
@@ -500,38 +359,6 @@ mod tests {
         assert!((half.integral() - 0.75).abs() < 1e-12);
     }
 
-    /// The incremental field and energy deltas agree with recomputation.
-    #[test]
-    fn incremental_energy_matches_recomputation() {
-        let mut rng = SplitMix64::new(9);
-        let (w, h, d, c) = (8u32, 8u32, 4u32, 3usize);
-        let values: Vec<f64> = (0..(w * h * d) as usize * c)
-            .map(|_| rng.unit_f64() - 0.5)
-            .collect();
-        let mut opt = SwapOptimiser::new(w, h, d, c, values, 1.2, 1.5);
-        let mut e = opt.energy();
-        for _ in 0..300 {
-            let i = rng.below((w * h * d) as u64) as usize;
-            let slice = i / 64;
-            let j = slice * 64 + rng.below(64) as usize;
-            if i == j {
-                continue;
-            }
-            let before = opt.values().to_vec();
-            if opt.try_swap(i, j) {
-                let now = opt.energy();
-                assert!(now < e + 1e-9, "accepted swap raised energy {e} -> {now}");
-                e = now;
-            } else {
-                assert_eq!(before, opt.values());
-            }
-            let fresh = opt.compute_field();
-            for (a, b) in fresh.iter().zip(&opt.field) {
-                assert!((a - b).abs() < 1e-9);
-            }
-        }
-    }
-
     #[test]
     fn key_bake_lowers_energy_and_keeps_the_keys() {
         let params = KeyParams {
@@ -575,5 +402,13 @@ mod tests {
         assert!(bad(KeyParams { levels: 10, ..ok }));
         assert!(bad(KeyParams { integrands: 0, ..ok }));
         assert!(bad(KeyParams { sigma: -1.0, ..ok }));
+        assert!(bad(KeyParams {
+            line_weight: -1.0,
+            ..ok
+        }));
+        assert!(bad(KeyParams {
+            line_weight: f64::NAN,
+            ..ok
+        }));
     }
 }

@@ -30,20 +30,22 @@ mod extrema;
 mod keys;
 mod retarget_bake;
 mod stbn;
+mod swap;
 mod vector_stbn;
 mod void_and_cluster;
 
 pub use anneal::{anneal_retarget_table, AnnealParams};
 pub use assignment::{solve_assignment, Assignment, SparseCosts, SparseMatrix};
 pub use keys::{
-    bake_key_tile, bake_sampler_keys, heaviside_integrands, key_errors, HeavisideIntegrand, KeyParams,
-    SwapReport,
+    bake_key_tile, bake_sampler_keys, heaviside_integrands, key_errors, line_integrands, HeavisideIntegrand,
+    KeyParams, LINE_INTEGRANDS, LINE_STEPS,
 };
 pub use retarget_bake::{
     bake_retarget_table, bake_retarget_table_with, bake_retarget_tables, mean_displacement, retarget_energy,
     RetargetBake, RetargetCosts, DISPLACEMENT_COST,
 };
 pub use stbn::{bake_stbn, StbnParams};
+pub use swap::SwapReport;
 pub use vector_stbn::{bake_vector_stbn, VectorKind, VectorStbn, VectorStbnParams};
 pub use void_and_cluster::{bake_mask, MaskParams};
 
@@ -81,6 +83,11 @@ pub enum BakeError {
         /// The rejected sigma.
         sigma: f64,
     },
+    /// A weight (e.g. [`KeyParams::line_weight`]) is negative or not finite.
+    Weight {
+        /// The rejected weight.
+        weight: f64,
+    },
     /// The dither tile or retarget table is invalid.
     Core(crate::Error),
     /// A retarget-table index is not below [`STEP_COUNT`](crate::STEP_COUNT).
@@ -112,6 +119,7 @@ impl fmt::Display for BakeError {
             BakeError::Sigma { sigma } => {
                 write!(f, "sigma {sigma} is outside {MIN_SIGMA}..={MAX_SIGMA}")
             }
+            BakeError::Weight { weight } => write!(f, "weight {weight} is negative or not finite"),
             BakeError::Core(e) => write!(f, "{e}"),
             BakeError::StepIndex { index } => {
                 write!(

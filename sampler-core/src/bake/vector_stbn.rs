@@ -27,7 +27,7 @@
 //!
 //! Swaps are greedy (see [`SwapReport`]): fast and reproducible.
 
-use super::keys::{SwapOptimiser, SwapReport};
+use super::swap::{SwapOptimiser, SwapReport};
 use super::{check_sigma, check_size, BakeError, Progress, SplitMix64};
 use crate::owen::owen_sobol_u32;
 use alloc::vec::Vec;
