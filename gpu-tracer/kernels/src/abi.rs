@@ -71,10 +71,11 @@ pub const SAMPLER_SEEDS: u32 = 0;
 /// vertex's light sample and BSDF direction; `crate::trace` module docs)
 /// come from the screen-space Sobol sampler with optimised keys
 /// (`sampler_core::screen_sobol`, key binding 7), one dimension pair each;
-/// sample `s` of frame `t` reads sample index `t * spp + s` (wrapping) of the
-/// pixel's keys, with the key tile of level `ceil(log2 spp)` (optimised for
-/// that spp; the host allows `spp <= 2^(key_levels - 1)`). Russian roulette
-/// still reads the seed stream.
+/// sample `s` of frame `t` reads sample index `s` of the keys at
+/// `pixel + o_t` (the R2 walk offset of frame `t`, `sampler_core::walk_offset`,
+/// wrapping on the key tile), with the key tile of level `ceil(log2 spp)`
+/// (optimised for that spp; the host allows `spp <= 2^(key_levels - 1)`).
+/// Russian roulette still reads the seed stream.
 pub const SAMPLER_SCREEN_SOBOL: u32 = 1;
 /// [`TraceParams::sampler`]: the path's 2D decisions come from the
 /// Morton-ordered ZSobol sampler (`sampler_core::zsobol`), one dimension pair
