@@ -28,13 +28,14 @@
 //! **One sample per pixel.** There an edge crossing the screen (a
 //! silhouette, a shadow boundary) puts its error on a line of pixels one
 //! pixel wide, and a 2D net seen through a line is barely stratified. So at
-//! `L = 0` the last two digits are placed rather than hashed
-//! ([`checkerboard_digit`], [`alternating_quad_digit`]): every row of an
-//! aligned 8x8 pixel square gets its eight `y` coordinates in eight
-//! different eighths of `[0, 1)`, every column its `x` coordinates, and the
-//! top bits alternate from pixel to pixel everywhere. Aligned squares are
-//! still nets, the map is still a bijection, and 16 hashed placements per
-//! 8x8 square keep the pattern from repeating.
+//! `L = 0` the low [`PLACED_LEVELS`] digits are placed by a fixed linear map
+//! (`placed_digits`) instead of hashed: in every aligned `2^K x 2^K`
+//! square, `K <= 6`, each row has its `2^K` `y` coordinates in `2^K`
+//! different intervals of length `2^-K`, and each column its `x`
+//! coordinates (1D stratification along rows and columns, at every scale up
+//! to 64 pixels). Aligned squares are still nets, the map is still a
+//! bijection, and a hashed constant per 64x64 square and seed varies the
+//! pattern.
 //!
 //! # Sizes
 //!
@@ -101,54 +102,46 @@ pub fn permute_digit(digit: u32, p: u32) -> u32 {
     out
 }
 
-/// The last index digit at one sample per pixel: which of the four indices
-/// `4 m .. 4 m + 4` of a 2x2 pixel quad goes to the pixel at quadrant
-/// `digit` (`x & 1 | (y & 1) << 1`), given the quad's already permuted
-/// higher index bits `m`.
-///
-/// With index bits `b0, b1` the Sobol point's top bits are `x: b0` and
-/// `y: b0 ^ b1 ^ parity(m)` (dimension 0 is the van der Corput sequence;
-/// every direction number of dimension 1 has its top bit set); Owen
-/// scrambling flips each top bit by one constant per dimension and seed.
-/// Setting `b0 = y & 1` and `b1 = (x ^ y) & 1 ^ parity(m)` makes the top
-/// bit of the `y` coordinate alternate along every row and the top bit of
-/// `x` alternate along every column, across quad borders too: at one sample
-/// per pixel an edge along a row (or column) sees samples stratified in
-/// halves pixel to pixel, which a hashed digit leaves to chance. The quad's
-/// four samples are still one per quadrant of the unit square, the map is
-/// still a bijection, and each sample is still a uniformly scrambled point.
-#[inline]
-fn checkerboard_digit(digit: u32, m: u32) -> u32 {
-    let (x, y) = (digit & 1, digit >> 1);
-    y | ((x ^ y ^ (m.count_ones() & 1)) << 1)
-}
+/// Pixel levels whose index digits are placed rather than hashed at one
+/// sample per pixel: aligned 64x64 squares (module docs).
+pub const PLACED_LEVELS: u32 = 6;
 
-/// The second-to-last index digit at one sample per pixel: which index
-/// block of a 4x4 pixel square goes to its 2x2 quad at `digit`
-/// (`qx | qy << 1`), for the square at `square` (`rx | ry << 1`) of its
-/// 8x8 square. Four random bits of `coin`, shared by the 8x8 square, pick
-/// one of 16 placements:
+/// Rows of the placement map: index bit `k` (`k < 2 PLACED_LEVELS`) is the
+/// parity of `PLACEMENT[k] & v`, where `v` is the pixel's Morton code inside
+/// its aligned 64x64 square (bit `2i` is `x_i`, bit `2i + 1` is `y_i`).
 ///
-/// `Q0 = qx ^ a`, `Q0 ^ Q1 = qy ^ b`, `a = c0 ^ ry ^ (c1 & rx)`,
-/// `b = c2 ^ rx ^ (c3 & ry)`.
-///
-/// With [`checkerboard_digit`] below it and any permutation of the digit
-/// above it, each row of an aligned 8x8 square then has its eight `y`
-/// coordinates in eight different eighths of `[0, 1)`, and each column
-/// its eight `x` coordinates (dimension 0 reads the index bits in reverse;
-/// dimension 1's bit `k` is the parity of the index bits `j` with
-/// `binomial(j, k)` odd, so the prefixes are affine in the pixel's bits;
-/// these 16 placements are exactly the ones that make them distinct, found
-/// by exhaustive search and checked by the tests below).
+/// Found by a search over GF(2): digit `j` depends only on pixel levels
+/// `>= j` and its own level enters invertibly (so aligned squares still own
+/// aligned index blocks: nets, and the map is a bijection); and for every
+/// `K <= 6` the first `K` bits of the Sobol point's `x` coordinate (index
+/// bits `0..K`, dimension 0 reverses them) are a bijective function of the
+/// `K` low bits of `y` (every aligned column segment of `2^K` pixels has its
+/// `x` coordinates in `2^K` different intervals of `2^-K`), and the first
+/// `K` bits of `y` (bit `k` of dimension 1 is the parity of the index bits
+/// `j` with `binomial(j, k)` odd) a bijective function of the `K` low bits
+/// of `x` (the same along rows). Owen scrambling is a bijection on every
+/// prefix, so the property survives it.
+const PLACEMENT: [u32; 12] = [
+    0x6, 0x9, 0x68, 0x94, 0x220, 0x810, 0x180, 0x40, 0x200, 0x100, 0x800, 0x400,
+];
+
+/// The low `2 PLACED_LEVELS` bits of the index at one sample per pixel:
+/// [`PLACEMENT`] applied to the pixel's Morton code (`index`'s low bits),
+/// XORed with a hash of the already permuted higher bits (`high`), which
+/// changes the pattern from square to square and from seed to seed without
+/// touching the stratification (a constant per square).
 #[inline]
-fn alternating_quad_digit(digit: u32, square: u32, coin: u32) -> u32 {
-    let (qx, qy) = (digit & 1, digit >> 1);
-    let (rx, ry) = (square & 1, square >> 1);
-    let a = (coin & 1) ^ ry ^ ((coin >> 1) & rx);
-    let b = ((coin >> 2) & 1) ^ rx ^ ((coin >> 3) & ry);
-    let q0 = qx ^ a;
-    let q1 = q0 ^ qy ^ b;
-    q0 | (q1 << 1)
+fn placed_digits(index: u32, high: u32, salt: u32) -> u32 {
+    let bits = 2 * PLACED_LEVELS;
+    let mask = (1u32 << bits) - 1;
+    let v = index & mask;
+    let mut out = 0u32;
+    let mut k = 0u32;
+    while k < bits {
+        out |= ((PLACEMENT[k as usize] & v).count_ones() & 1) << k;
+        k += 1;
+    }
+    out ^ (hash_u32((high >> bits) ^ hash_u32(salt ^ 0x5EED_1E55)) & mask)
 }
 
 /// The permuted global Sobol index of sample `sample_index` of `pixel` for
@@ -180,24 +173,18 @@ pub fn zsobol_index(pixel: glam::UVec2, sample_index: u32, log2_spp: u32, pair: 
         let shift = bits - 2 * (i + 1);
         let digit = (index >> shift) & 3;
         let higher = if shift + 2 >= 32 { 0 } else { index >> (shift + 2) };
-        let h = hash_u32(higher ^ hash_u32(salt.wrapping_add(shift)));
-        if l == 0 && shift == 0 {
-            // One sample per pixel: the last two levels are placed, not
-            // freely hashed, so that samples are stratified pixel to pixel
-            // along rows (y) and columns (x); see `checkerboard_digit`.
-            out |= checkerboard_digit(digit, out >> 2);
-        } else if l == 0 && shift == 2 {
-            // The coin is shared by the four 4x4 squares of an 8x8 square
-            // (hashed from the digits above it) and combined with the
-            // square's position in it.
-            let square = (index >> 4) & 3;
-            let shared = hash_u32((index >> 6) ^ hash_u32(salt.wrapping_add(shift)));
-            out |= alternating_quad_digit(digit, square, shared >> 16) << 2;
-        } else {
-            let p = ((h >> 16) * 24) >> 16;
-            out |= permute_digit(digit, p) << shift;
+        if l == 0 && shift < 2 * PLACED_LEVELS {
+            // One sample per pixel: the low digits are placed (below).
+            i += 1;
+            continue;
         }
+        let h = hash_u32(higher ^ hash_u32(salt.wrapping_add(shift)));
+        let p = ((h >> 16) * 24) >> 16;
+        out |= permute_digit(digit, p) << shift;
         i += 1;
+    }
+    if l == 0 {
+        out |= placed_digits(index, out, salt);
     }
     if odd == 1 {
         let h = hash_u32((index >> 1) ^ hash_u32(salt.wrapping_add(0xFFFF)));
@@ -305,61 +292,39 @@ mod tests {
         }
     }
 
-    /// At one sample per pixel the top bit of `y` alternates along rows and
-    /// the top bit of `x` along columns, for every pair and seed.
+    /// At one sample per pixel, in every aligned `2^K x 2^K` square
+    /// (`K <= PLACED_LEVELS`), the `y` coordinates of a row fall in `2^K`
+    /// different intervals of length `2^-K`, and so do the `x` coordinates
+    /// of a column.
     #[test]
-    fn one_spp_top_bits_alternate_along_rows_and_columns() {
-        for seed in [0u32, 9, 0xDEAD_BEEF] {
-            for pair in 0..4u32 {
-                let top = |x: u32, y: u32, dim: u32| {
-                    zsobol_sample_u32(UVec2::new(x, y), 0, 2 * pair + dim, 0, seed) >> 31
-                };
-                for y in 0..33u32 {
-                    for x in 0..33u32 {
-                        assert_ne!(
-                            top(x, y, 1),
-                            top(x + 1, y, 1),
-                            "row: ({x}, {y}) pair {pair} seed {seed}"
-                        );
-                        assert_ne!(
-                            top(x, y, 0),
-                            top(x, y + 1, 0),
-                            "column: ({x}, {y}) pair {pair} seed {seed}"
-                        );
-                    }
-                }
-            }
-        }
-    }
-
-    /// At one sample per pixel, in every aligned 8x8 square, the eight `y`
-    /// coordinates of a row lie in eight different eighths, and so do the
-    /// eight `x` coordinates of a column.
-    #[test]
-    fn one_spp_rows_and_columns_of_8x8_squares_are_stratified_in_eighths() {
-        for seed in [1u32, 77, 4242] {
-            for pair in 0..3u32 {
-                let eighth = |x: u32, y: u32, dim: u32| {
-                    zsobol_sample_u32(UVec2::new(x, y), 0, 2 * pair + dim, 0, seed) >> 29
-                };
-                for sy in 0..5u32 {
-                    for sx in 0..5u32 {
-                        for k in 0..8u32 {
+    fn one_spp_rows_and_columns_are_stratified_at_every_scale() {
+        for seed in [1u32, 77] {
+            for pair in [0u32, 3] {
+                for k in 1..=PLACED_LEVELS {
+                    let side = 1u32 << k;
+                    let prefix = |x: u32, y: u32, dim: u32| {
+                        zsobol_sample_u32(UVec2::new(x, y), 0, 2 * pair + dim, 0, seed) >> (32 - k)
+                    };
+                    for (sx, sy) in [(0u32, 0u32), (1, 2), (5, 3)] {
+                        for t in (0..side).step_by(((side / 8).max(1)) as usize) {
+                            let (x0, y0) = (sx * side, sy * side);
                             let mut row: std::vec::Vec<u32> =
-                                (0..8).map(|i| eighth(8 * sx + i, 8 * sy + k, 1)).collect();
+                                (0..side).map(|i| prefix(x0 + i, y0 + t, 1)).collect();
                             let mut col: std::vec::Vec<u32> =
-                                (0..8).map(|i| eighth(8 * sx + k, 8 * sy + i, 0)).collect();
+                                (0..side).map(|i| prefix(x0 + t, y0 + i, 0)).collect();
                             row.sort_unstable();
+                            row.dedup();
                             col.sort_unstable();
+                            col.dedup();
                             assert_eq!(
-                                row,
-                                [0, 1, 2, 3, 4, 5, 6, 7],
-                                "row {k} of square ({sx}, {sy}), pair {pair}"
+                                row.len() as u32,
+                                side,
+                                "row {t} of {side}-square ({sx}, {sy}), pair {pair}"
                             );
                             assert_eq!(
-                                col,
-                                [0, 1, 2, 3, 4, 5, 6, 7],
-                                "column {k} of square ({sx}, {sy}), pair {pair}"
+                                col.len() as u32,
+                                side,
+                                "column {t} of {side}-square ({sx}, {sy}), pair {pair}"
                             );
                         }
                     }
