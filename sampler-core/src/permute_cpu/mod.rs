@@ -20,9 +20,11 @@
 //!   the eight lanes are one register and the transposition is done with
 //!   unpacks ([`avx2`]); elsewhere the portable code vectorises for the
 //!   build's baseline (SSE2 on x86_64).
-//! - **Output rows prefetched.** Each block row is the first to write
-//!   `B` of the output rows; their cache lines are requested a few lane
-//!   groups ahead, so the scattered stores do not wait on memory.
+//! - **Rows prefetched.** Each block row is the first to write `B` of the
+//!   output rows, and reads `B` seed rows and `B` intensity rows: more
+//!   streams than the hardware prefetchers follow. Their cache lines are
+//!   requested a few lane groups ahead, so neither the scattered stores nor
+//!   the loads wait on memory.
 //! - **Linear destinations.** For blocks whose destinations cannot wrap
 //!   (at least `B + 6` pixels from the padded frame's edge) the cached
 //!   offsets are also stored as seed-index offsets, so each seed is one
@@ -223,6 +225,17 @@ fn permute_full_blocks<T: Intensity, R: LaneRanker, const B: u32, const N: usize
                         prefetch_write(seeds_out, at + LINE_SEEDS);
                     }
                 }
+                // The block row's input rows, as far ahead (eight read
+                // streams plus the output rows are more than the hardware
+                // prefetchers follow).
+                for r in 0..B as usize {
+                    let at = (y0 as usize + r) * pw as usize + x_start + PREFETCH_AHEAD;
+                    prefetch_read(seeds_in, at);
+                    prefetch_read(seeds_in, at + LINE_SEEDS);
+                    let at = (y0 as usize + r) * w + x_start + PREFETCH_AHEAD;
+                    prefetch_read(intensities, at);
+                    prefetch_read(intensities, at + LINE_SEEDS);
+                }
                 let ranks = R::rank_strips::<B, N>(&strips);
                 for l in 0..LANES {
                     let b = bx + l as u32;
@@ -316,13 +329,26 @@ const LINE_SEEDS: usize = 16;
 /// Hints that `buffer[at]` will be written soon (x86_64; a no-op elsewhere).
 /// `at` may lie past the end: a prefetch never faults.
 #[inline(always)]
-fn prefetch_write(buffer: &[u32], at: usize) {
+fn prefetch_write<E>(buffer: &[E], at: usize) {
     #[cfg(target_arch = "x86_64")]
     {
         use core::arch::x86_64::{_mm_prefetch, _MM_HINT_ET0};
         // SAFETY: prefetches never fault and do not change memory; the
         // pointer is only formed (`wrapping_add`), never dereferenced.
         unsafe { _mm_prefetch::<_MM_HINT_ET0>(buffer.as_ptr().wrapping_add(at) as *const i8) };
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (buffer, at);
+}
+
+/// Hints that `buffer[at]` will be read soon; as [`prefetch_write`].
+#[inline(always)]
+fn prefetch_read<E>(buffer: &[E], at: usize) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use core::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        // SAFETY: as in `prefetch_write`.
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(buffer.as_ptr().wrapping_add(at) as *const i8) };
     }
     #[cfg(not(target_arch = "x86_64"))]
     let _ = (buffer, at);
