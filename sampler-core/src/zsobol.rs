@@ -166,18 +166,15 @@ pub fn zsobol_index(pixel: glam::UVec2, sample_index: u32, log2_spp: u32, pair: 
     let salt = hash_u32(seed ^ hash_u32(pair.wrapping_mul(0x9E37_79B9).wrapping_add(0x632B_E5AB)));
     let odd = bits & 1;
     let digits = bits / 2;
+    // One sample per pixel: the low digits are placed below, not hashed.
+    let hashed = if l == 0 { digits - PLACED_LEVELS } else { digits };
     let mut out = 0u32;
     let mut i = 0u32;
-    while i < digits {
+    while i < hashed {
         // Digit i from the top sits at bit `shift`.
         let shift = bits - 2 * (i + 1);
         let digit = (index >> shift) & 3;
         let higher = if shift + 2 >= 32 { 0 } else { index >> (shift + 2) };
-        if l == 0 && shift < 2 * PLACED_LEVELS {
-            // One sample per pixel: the low digits are placed (below).
-            i += 1;
-            continue;
-        }
         let h = hash_u32(higher ^ hash_u32(salt.wrapping_add(shift)));
         let p = ((h >> 16) * 24) >> 16;
         out |= permute_digit(digit, p) << shift;

@@ -193,6 +193,20 @@ impl KeyParams {
 
 /// Error vector of `key` for `pair` at `2^level` samples over `integrands`.
 pub fn key_errors(key: u32, pair: u32, level: u32, integrands: &[HeavisideIntegrand], out: &mut [f64]) {
+    let integrals: Vec<f64> = integrands.iter().map(HeavisideIntegrand::integral).collect();
+    errors_with_integrals(key, pair, level, integrands, &integrals, out);
+}
+
+/// [`key_errors`] with the integrands' integrals computed once by the caller
+/// (a tile evaluates the same integrands for every key).
+fn errors_with_integrals(
+    key: u32,
+    pair: u32,
+    level: u32,
+    integrands: &[HeavisideIntegrand],
+    integrals: &[f64],
+    out: &mut [f64],
+) {
     let n = 1u32 << level;
     let scale = 1.0 / 4_294_967_296.0;
     out.iter_mut().for_each(|e| *e = 0.0);
@@ -203,8 +217,8 @@ pub fn key_errors(key: u32, pair: u32, level: u32, integrands: &[HeavisideIntegr
             *e += f.eval(x, y);
         }
     }
-    for (e, f) in out.iter_mut().zip(integrands) {
-        *e = *e / n as f64 - f.integral();
+    for (e, integral) in out.iter_mut().zip(integrals) {
+        *e = *e / n as f64 - integral;
     }
 }
 
@@ -269,23 +283,33 @@ pub fn bake_key_tile(
     let n = (params.side * params.side) as usize;
     let keys: Vec<u32> = (0..n).map(|_| (rng.next_u64() >> 32) as u32).collect();
     let m = integrands.len();
-    let families: Vec<((i32, i32), Vec<HeavisideIntegrand>)> = if params.line_weight > 0.0 {
-        LINE_STEPS
-            .iter()
-            .map(|&step| (step, line_integrands(step)))
-            .collect()
+    let integrals =
+        |set: &[HeavisideIntegrand]| set.iter().map(HeavisideIntegrand::integral).collect::<Vec<_>>();
+    let planar_integrals = integrals(&integrands);
+    // Per line family (LINE_STEPS order, none without line terms): its
+    // integrands and their integrals.
+    let families = if params.line_weight > 0.0 {
+        LINE_STEPS.len()
     } else {
-        Vec::new()
+        0
     };
+    let line_sets: Vec<(Vec<HeavisideIntegrand>, Vec<f64>)> = LINE_STEPS[..families]
+        .iter()
+        .map(|&step| {
+            let set = line_integrands(step);
+            let ints = integrals(&set);
+            (set, ints)
+        })
+        .collect();
     let l = LINE_INTEGRANDS as usize;
-    let c = m + families.len() * l;
+    let c = m + families * l;
     let scale = libm::sqrt(params.line_weight);
     let mut values = vec![0.0; n * c];
     for (key, out) in keys.iter().zip(values.chunks_exact_mut(c)) {
         let (planar, edges) = out.split_at_mut(m);
-        key_errors(*key, pair, level, &integrands, planar);
-        for ((_, family), e) in families.iter().zip(edges.chunks_exact_mut(l)) {
-            key_errors(*key, pair, level, family, e);
+        errors_with_integrals(*key, pair, level, &integrands, &planar_integrals, planar);
+        for ((family, ints), e) in line_sets.iter().zip(edges.chunks_exact_mut(l)) {
+            errors_with_integrals(*key, pair, level, family, ints, e);
             e.iter_mut().for_each(|v| *v *= scale);
         }
     }
@@ -298,7 +322,7 @@ pub fn bake_key_tile(
         params.sigma,
         params.sigma,
     )];
-    for (f, (step, _)) in families.iter().enumerate() {
+    for (f, step) in LINE_STEPS[..families].iter().enumerate() {
         let channels = m + f * l..m + (f + 1) * l;
         couplings.push(Coupling::along_line(side, side, channels, *step, params.sigma));
     }

@@ -221,8 +221,8 @@ fn permute_full_blocks<T: Intensity, R: LaneRanker, const B: u32, const N: usize
                 for r in (y0 as i32 + hi + 1 - B as i32).max(0)..=y0 as i32 + hi {
                     if (r as u32) < ph {
                         let at = r as usize * pw as usize + x_start + PREFETCH_AHEAD;
-                        prefetch_write(seeds_out, at);
-                        prefetch_write(seeds_out, at + LINE_SEEDS);
+                        prefetch(seeds_out, at, true);
+                        prefetch(seeds_out, at + LINE_SEEDS, true);
                     }
                 }
                 // The block row's input rows, as far ahead (eight read
@@ -230,11 +230,11 @@ fn permute_full_blocks<T: Intensity, R: LaneRanker, const B: u32, const N: usize
                 // prefetchers follow).
                 for r in 0..B as usize {
                     let at = (y0 as usize + r) * pw as usize + x_start + PREFETCH_AHEAD;
-                    prefetch_read(seeds_in, at);
-                    prefetch_read(seeds_in, at + LINE_SEEDS);
+                    prefetch(seeds_in, at, false);
+                    prefetch(seeds_in, at + LINE_SEEDS, false);
                     let at = (y0 as usize + r) * w + x_start + PREFETCH_AHEAD;
-                    prefetch_read(intensities, at);
-                    prefetch_read(intensities, at + LINE_SEEDS);
+                    prefetch(intensities, at, false);
+                    prefetch(intensities, at + LINE_SEEDS, false);
                 }
                 let ranks = R::rank_strips::<B, N>(&strips);
                 for l in 0..LANES {
@@ -326,32 +326,26 @@ const PREFETCH_AHEAD: usize = 128;
 /// Seeds per 64-byte cache line.
 const LINE_SEEDS: usize = 16;
 
-/// Hints that `buffer[at]` will be written soon (x86_64; a no-op elsewhere).
-/// `at` may lie past the end: a prefetch never faults.
+/// Hints that `buffer[at]` will be read, or `write`-ten, soon (x86_64; a
+/// no-op elsewhere). `at` may lie past the end: a prefetch never faults.
 #[inline(always)]
-fn prefetch_write<E>(buffer: &[E], at: usize) {
+fn prefetch<E>(buffer: &[E], at: usize, write: bool) {
     #[cfg(target_arch = "x86_64")]
     {
-        use core::arch::x86_64::{_mm_prefetch, _MM_HINT_ET0};
+        use core::arch::x86_64::{_mm_prefetch, _MM_HINT_ET0, _MM_HINT_T0};
+        let p = buffer.as_ptr().wrapping_add(at) as *const i8;
         // SAFETY: prefetches never fault and do not change memory; the
         // pointer is only formed (`wrapping_add`), never dereferenced.
-        unsafe { _mm_prefetch::<_MM_HINT_ET0>(buffer.as_ptr().wrapping_add(at) as *const i8) };
+        unsafe {
+            if write {
+                _mm_prefetch::<_MM_HINT_ET0>(p)
+            } else {
+                _mm_prefetch::<_MM_HINT_T0>(p)
+            }
+        };
     }
     #[cfg(not(target_arch = "x86_64"))]
-    let _ = (buffer, at);
-}
-
-/// Hints that `buffer[at]` will be read soon; as [`prefetch_write`].
-#[inline(always)]
-fn prefetch_read<E>(buffer: &[E], at: usize) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use core::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        // SAFETY: as in `prefetch_write`.
-        unsafe { _mm_prefetch::<_MM_HINT_T0>(buffer.as_ptr().wrapping_add(at) as *const i8) };
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = (buffer, at);
+    let _ = (buffer, at, write);
 }
 
 /// Largest block side of the fast path.
