@@ -89,6 +89,10 @@ pub enum Method {
     Sort,
     /// Sorting and retargeting with the aperiodic R2 walk: the method.
     Permute,
+    /// [`Method::Permute`] with the position inside the pixel taken from the
+    /// screen-space Sobol sampler (`--sampler screen-sobol-jitter`): the
+    /// permutation for everything but the jitter.
+    PermuteJitter,
     /// Sorting and retargeting with the fixed integer step `floor(W * (a1, a2))`.
     FixedStep,
     /// Fresh white seeds plus a spatiotemporal blue-noise mask driving the first
@@ -103,10 +107,11 @@ pub enum Method {
 
 impl Method {
     /// Every method, white first.
-    pub const ALL: [Method; 7] = [
+    pub const ALL: [Method; 8] = [
         Method::White,
         Method::Sort,
         Method::Permute,
+        Method::PermuteJitter,
         Method::FixedStep,
         Method::Dither,
         Method::ScreenSobol,
@@ -119,6 +124,7 @@ impl Method {
             Method::White => "white",
             Method::Sort => "sort",
             Method::Permute => "permute",
+            Method::PermuteJitter => "permute-jitter",
             Method::FixedStep => "fixed-step",
             Method::Dither => "bn-dither",
             Method::ScreenSobol => "screen-sobol",
@@ -132,6 +138,7 @@ impl Method {
             Method::White => "fresh white-noise seeds every frame",
             Method::Sort => "sorting pass only (R2 walk), no retargeting",
             Method::Permute => "sorting + retargeting, aperiodic R2 offset walk",
+            Method::PermuteJitter => "permute, with the pixel jitter from screen-space Sobol",
             Method::FixedStep => "sorting + retargeting, fixed integer step floor(W*(a1,a2))",
             Method::Dither => "white seeds + STBN mask on the first bounce direction",
             Method::ScreenSobol => "white seeds + screen-space Sobol (our keys) on every 2D decision",
@@ -477,6 +484,28 @@ impl StudyResult {
         self.runs.iter().find(|r| r.method == method)
     }
 
+    /// RMS over frames `from..` of a per-frame RMSE `metric` ([`Metric::Blur1`],
+    /// [`Metric::Blur2`] or [`Metric::Rmse`]) of `method`, divided by white's: the
+    /// method's RMSE over all those frames relative to white's. Unlike the mean of the
+    /// per-frame ratios it is not pulled up by frames in which white's error happens to
+    /// be small (a 1-spp frame's error is dominated by a few pixels, so single frames
+    /// vary a lot). `None` for other metrics, a missing run or no frames.
+    pub fn pooled(&self, method: Method, metric: Metric, from: usize) -> Option<f64> {
+        let series = |r: &MethodRun| -> Option<f64> {
+            let v = match metric {
+                Metric::Blur1 => &r.blur1,
+                Metric::Blur2 => &r.blur2,
+                Metric::Rmse => &r.rmse,
+                _ => return None,
+            };
+            let tail = v.get(from..).filter(|t| !t.is_empty())?;
+            Some(tail.iter().map(|x| x * x).sum())
+        };
+        let m = series(self.run(method)?)?;
+        let w = series(self.run(Method::White)?)?;
+        Some((m / w).sqrt())
+    }
+
     /// `metric` of `method` divided by white's at frame index `i` (for the accumulated
     /// metrics: after `i + 1` frames). `None` if either run is missing or `i` is out of
     /// range.
@@ -515,13 +544,14 @@ impl StudyResult {
             c.seed_mode
         );
         s += &format!(
-            "{:<11} {:>8} {:>8} {:>8} {:>8} {:>8}",
+            "{:<14} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",
             "method",
             format!("LF@{t}"),
             "LFmean",
             format!("blur1@{t}"),
             format!("blur2@{t}"),
-            "blur1avg"
+            "blur1avg",
+            "blur1rms"
         );
         let points: Vec<u32> = ACCUMULATION_POINTS
             .iter()
@@ -538,13 +568,14 @@ impl StudyResult {
             let from = t.min(frames - 1);
             let avg = |m| (from..frames).map(|i| rel(m, i)).sum::<f64>() / (frames - from) as f64;
             s += &format!(
-                "{:<11} {:>8.3} {:>8.3} {:>8.3} {:>8.3} {:>8.3}",
+                "{:<14} {:>8.3} {:>8.3} {:>8.3} {:>8.3} {:>8.3} {:>8.3}",
                 r.method.name(),
                 rel(Metric::LowFrequency, t),
                 avg(Metric::LowFrequency),
                 rel(Metric::Blur1, t),
                 rel(Metric::Blur2, t),
-                avg(Metric::Blur1)
+                avg(Metric::Blur1),
+                self.pooled(r.method, Metric::Blur1, from).unwrap_or(f64::NAN)
             );
             for &n in &points {
                 let i = n as usize - 1;
@@ -638,9 +669,13 @@ impl Study {
             progress(t);
         };
         match method {
-            Method::White | Method::Sort | Method::Permute => {
+            Method::White | Method::Sort | Method::Permute | Method::PermuteJitter => {
+                let mut settings = self.config.settings();
+                if method == Method::PermuteJitter {
+                    settings.sampler = kernels::abi::SAMPLER_SCREEN_SOBOL | kernels::abi::SAMPLER_JITTER_ONLY;
+                }
                 let job = RenderJob {
-                    settings: self.config.settings(),
+                    settings,
                     frames: self.config.frames,
                     mode: match method {
                         Method::White => PermuteMode::White,

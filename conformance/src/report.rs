@@ -39,6 +39,7 @@ fn colour(m: Method) -> RGBColor {
         Method::White => RGBColor(128, 128, 128),
         Method::Sort => RGBColor(230, 159, 0),
         Method::Permute => RGBColor(0, 114, 178),
+        Method::PermuteJitter => RGBColor(0, 60, 110),
         Method::FixedStep => RGBColor(213, 94, 0),
         Method::Dither => RGBColor(0, 158, 115),
         Method::ScreenSobol => RGBColor(204, 121, 167),
@@ -282,7 +283,7 @@ fn figure_table(r: &StudyResult) -> String {
     let mut h = String::from("<table><tr><th>method</th>");
     let _ = write!(
         h,
-        "<th>LF power, frame {t}</th><th>LF mean, frames {t}..</th><th>blur &sigma;1, frame {t}</th><th>blur &sigma;2, frame {t}</th><th>blur &sigma;1 mean</th>"
+        "<th>LF power, frame {t}</th><th>LF mean, frames {t}..</th><th>blur &sigma;1, frame {t}</th><th>blur &sigma;2, frame {t}</th><th>blur &sigma;1, mean of frame ratios {t}..</th><th>blur &sigma;1, RMSE over frames {t}..</th>"
     );
     for n in &points {
         let _ = write!(h, "<th>accumulated, {n} frames (raw)</th>");
@@ -295,14 +296,15 @@ fn figure_table(r: &StudyResult) -> String {
         let avg = |metric| (t..frames).map(|i| rel(metric, i)).sum::<f64>() / (frames - t).max(1) as f64;
         let _ = write!(
             h,
-            "<tr><td style=\"color:{}\">{}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td>",
+            "<tr><td style=\"color:{}\">{}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td>",
             css(m),
             m.name(),
             rel(Metric::LowFrequency, t),
             avg(Metric::LowFrequency),
             rel(Metric::Blur1, t),
             rel(Metric::Blur2, t),
-            avg(Metric::Blur1)
+            avg(Metric::Blur1),
+            r.pooled(m, Metric::Blur1, t.min(frames.saturating_sub(1))).unwrap_or(f64::NAN)
         );
         for &n in &points {
             let i = n as usize - 1;

@@ -253,9 +253,21 @@ fn apriori_samplers_agree_with_the_cpu_renderer() {
         return;
     };
     let scene = SceneGpu::build(&cornell_box()).unwrap();
-    for (sampler, name) in [
-        (kernels::abi::SAMPLER_SCREEN_SOBOL, "screen-sobol"),
-        (kernels::abi::SAMPLER_ZSOBOL, "zsobol"),
+    use kernels::abi::{SAMPLER_JITTER_ONLY, SAMPLER_SCREEN_SOBOL, SAMPLER_ZSOBOL};
+    for (sampler, name, mode) in [
+        (SAMPLER_SCREEN_SOBOL, "screen-sobol", PermuteMode::White),
+        (SAMPLER_ZSOBOL, "zsobol", PermuteMode::White),
+        // Jitter only: the seeds drive the rest, so permute them as the GPU would.
+        (
+            SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY,
+            "screen-sobol-jitter",
+            PermuteMode::Permute,
+        ),
+        (
+            SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY,
+            "zsobol-jitter",
+            PermuteMode::Permute,
+        ),
     ] {
         compare_trace_statistics(&gpu, sampler, name);
         // Same seeds on both sides: only float rounding differs.
@@ -266,7 +278,7 @@ fn apriori_samplers_agree_with_the_cpu_renderer() {
         let job = RenderJob {
             settings,
             frames,
-            mode: PermuteMode::White,
+            mode,
             block: 4,
             tile: TileChoice::Tile64,
             salt: 5,

@@ -9,14 +9,15 @@
 use crate::error::{Error, Result};
 use crate::scene::SceneGpu;
 use glam::{UVec2, Vec4};
-use kernels::abi::{TraceParams, MAX_DEPTH_LIMIT, SAMPLER_SCREEN_SOBOL};
+use kernels::abi::{TraceParams, MAX_DEPTH_LIMIT, SAMPLER_KIND_MASK, SAMPLER_SCREEN_SOBOL};
 use kernels::{accumulate_pixel, trace_pixel_counted};
 use rayon::prelude::*;
 
 /// Traces one frame: `color[y * width + x]` = mean radiance of the pixel's
 /// `params.spp` samples, `(r, g, b, 1)`, with pixel `(x, y)` using seed
 /// `seeds[y * padded_width + x]`. The screen-space Sobol sampler
-/// (`params.sampler == SAMPLER_SCREEN_SOBOL`) reads
+/// (`params.sampler` is `SAMPLER_SCREEN_SOBOL`, with or without
+/// `SAMPLER_JITTER_ONLY`) reads
 /// `sampler_core::defaults::screen_sobol_keys()`, the keys the GPU tracer
 /// binds; `params`' key-layout fields must describe them (as
 /// [`SceneGpu::trace_params`] sets them).
@@ -41,7 +42,7 @@ pub fn render_frame(
     check_len("seed buffer", stride * params.height as usize, seeds.len(), true)?;
     check_len("frame colour buffer", pixels, color.len(), false)?;
     let keys = sampler_core::defaults::screen_sobol_keys();
-    if params.sampler == SAMPLER_SCREEN_SOBOL {
+    if params.sampler & SAMPLER_KIND_MASK == SAMPLER_SCREEN_SOBOL {
         let l = keys.layout();
         let fields = [
             ("key_side_log2", params.key_side_log2, l.side_log2),
@@ -501,14 +502,21 @@ mod tests {
 
     #[test]
     fn apriori_samplers_use_the_default_keys() {
-        use kernels::abi::{SAMPLER_SEEDS, SAMPLER_ZSOBOL};
+        use kernels::abi::{SAMPLER_JITTER_ONLY, SAMPLER_SEEDS, SAMPLER_ZSOBOL};
         let scene = SceneGpu::build(&cornell_box()).expect("scene");
         let keys = sampler_core::defaults::screen_sobol_keys();
         let mut settings = TraceSettings::new(16, 12);
         settings.spp = 2;
         let seeds = white_seeds(16, 12, 3);
         let mut images = Vec::new();
-        for sampler in [SAMPLER_SEEDS, SAMPLER_SCREEN_SOBOL, SAMPLER_ZSOBOL] {
+        let samplers = [
+            SAMPLER_SEEDS,
+            SAMPLER_SCREEN_SOBOL,
+            SAMPLER_ZSOBOL,
+            SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY,
+            SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY,
+        ];
+        for sampler in samplers {
             settings.sampler = sampler;
             let params = scene.trace_params(&settings, 2).expect("params");
             let mut color = vec![Vec4::ZERO; 16 * 12];
@@ -528,9 +536,15 @@ mod tests {
             }
             images.push(color);
         }
-        assert_ne!(images[0], images[1]);
-        assert_ne!(images[0], images[2]);
-        assert_ne!(images[1], images[2]);
+        for i in 0..images.len() {
+            for j in 0..i {
+                assert_ne!(
+                    images[i], images[j],
+                    "samplers {} and {}",
+                    samplers[i], samplers[j]
+                );
+            }
+        }
         // Parameters whose key layout is not the default keys' are refused.
         settings.sampler = SAMPLER_SCREEN_SOBOL;
         let bad = TraceParams {

@@ -15,7 +15,8 @@ use gpu_tracer::{
 };
 use indicatif::{ProgressBar, ProgressStyle};
 use kernels::abi::{
-    MAX_DEPTH_LIMIT, SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS, SAMPLER_ZSOBOL, SEED_MODE_ADVANCE, SEED_MODE_FIXED,
+    MAX_DEPTH_LIMIT, SAMPLER_JITTER_ONLY, SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS, SAMPLER_ZSOBOL,
+    SEED_MODE_ADVANCE, SEED_MODE_FIXED,
 };
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -76,6 +77,9 @@ struct RenderArgs {
     /// `screen-sobol` (screen-space Sobol with optimised keys, up to 16 spp)
     /// or `zsobol` (Morton-ordered Sobol, up to 256 spp and 4096 pixels a
     /// side). Russian roulette still reads the seeds.
+    /// `screen-sobol-jitter` and `zsobol-jitter` take only the position inside
+    /// the pixel from that sampler and everything else from the (permuted)
+    /// seeds: with `--mode permute`, silhouettes get a stratified jitter too.
     #[arg(long, value_enum, default_value_t = SamplerArg::Seeds)]
     sampler: SamplerArg,
     /// Output directory (created if missing).
@@ -110,6 +114,10 @@ enum SamplerArg {
     ScreenSobol,
     /// Morton-ordered Sobol with hashed digit permutations.
     Zsobol,
+    /// The pixel jitter from `screen-sobol`, the rest from the seeds.
+    ScreenSobolJitter,
+    /// The pixel jitter from `zsobol`, the rest from the seeds.
+    ZsobolJitter,
 }
 
 impl SamplerArg {
@@ -155,6 +163,8 @@ fn render(args: RenderArgs) -> Result<()> {
         SamplerArg::Seeds => SAMPLER_SEEDS,
         SamplerArg::ScreenSobol => SAMPLER_SCREEN_SOBOL,
         SamplerArg::Zsobol => SAMPLER_ZSOBOL,
+        SamplerArg::ScreenSobolJitter => SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY,
+        SamplerArg::ZsobolJitter => SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY,
     };
     // Settings the chosen sampler does not support fail here, before any work.
     scene

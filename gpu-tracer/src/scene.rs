@@ -11,8 +11,8 @@ use crate::bvh::build_bvh;
 use crate::error::{Error, Result};
 use glam::Vec3;
 use kernels::abi::{
-    BvhNodeGpu, EmitterGpu, MaterialGpu, TraceParams, TriangleGpu, MAX_DEPTH_LIMIT, SAMPLER_SCREEN_SOBOL,
-    SAMPLER_ZSOBOL, SEED_MODE_ADVANCE,
+    BvhNodeGpu, EmitterGpu, MaterialGpu, TraceParams, TriangleGpu, MAX_DEPTH_LIMIT, SAMPLER_JITTER_ONLY,
+    SAMPLER_KIND_MASK, SAMPLER_SCREEN_SOBOL, SAMPLER_ZSOBOL, SEED_MODE_ADVANCE,
 };
 use kernels::trace::normal_and_area;
 
@@ -156,7 +156,10 @@ pub struct TraceSettings {
     /// (the seed stream), [`SAMPLER_SCREEN_SOBOL`] (at most
     /// [`screen_sobol_max_spp`] spp) or [`SAMPLER_ZSOBOL`] (at most
     /// [`ZSOBOL_MAX_SPP`] spp, width and height at most
-    /// `sampler_core::zsobol::ZSOBOL_TILE`). See [`TraceParams::sampler`].
+    /// `sampler_core::zsobol::ZSOBOL_TILE`); either a-priori sampler may be
+    /// ORed with [`SAMPLER_JITTER_ONLY`] (only the position inside the pixel
+    /// from the sampler, the rest from the seeds: for the seed permutation).
+    /// See [`TraceParams::sampler`].
     pub sampler: u32,
 }
 
@@ -377,29 +380,32 @@ impl SceneGpu {
             });
         }
         let zsobol_tile = sampler_core::zsobol::ZSOBOL_TILE;
+        let kind = s.sampler & SAMPLER_KIND_MASK;
+        let flags = s.sampler & !SAMPLER_KIND_MASK;
         let sampler_checks: [(&'static str, u32, bool, &'static str); 4] = [
             (
                 "sampler",
                 s.sampler,
-                s.sampler <= SAMPLER_ZSOBOL,
-                "0 (seeds), 1 (screen-sobol) or 2 (zsobol)",
+                kind <= SAMPLER_ZSOBOL
+                    && (flags == 0 || (flags == SAMPLER_JITTER_ONLY && kind != kernels::abi::SAMPLER_SEEDS)),
+                "0 (seeds), 1 (screen-sobol) or 2 (zsobol), the last two optionally ORed with 256 (jitter only)",
             ),
             (
                 "spp",
                 s.spp,
-                s.sampler != SAMPLER_SCREEN_SOBOL || s.spp <= screen_sobol_max_spp(),
+                kind != SAMPLER_SCREEN_SOBOL || s.spp <= screen_sobol_max_spp(),
                 "at most 16 with the screen-sobol sampler (its keys are optimised for 1, 2, 4, 8 and 16 spp)",
             ),
             (
                 "spp",
                 s.spp,
-                s.sampler != SAMPLER_ZSOBOL || s.spp <= ZSOBOL_MAX_SPP,
+                kind != SAMPLER_ZSOBOL || s.spp <= ZSOBOL_MAX_SPP,
                 "at most 256 with the zsobol sampler (its sample index is 32 bits)",
             ),
             (
                 "width or height",
                 s.width.max(s.height),
-                s.sampler != SAMPLER_ZSOBOL || s.width.max(s.height) <= zsobol_tile,
+                kind != SAMPLER_ZSOBOL || s.width.max(s.height) <= zsobol_tile,
                 "at most 4096 with the zsobol sampler (its pixel order repeats every 4096 pixels)",
             ),
         ];
@@ -588,13 +594,32 @@ mod tests {
             TraceSettings { seed_mode: 2, ..ok },
             TraceSettings { sampler: 3, ..ok },
             TraceSettings {
+                sampler: SAMPLER_JITTER_ONLY,
+                ..ok
+            },
+            TraceSettings {
+                sampler: SAMPLER_ZSOBOL | 1 << 9,
+                ..ok
+            },
+            TraceSettings {
                 sampler: SAMPLER_SCREEN_SOBOL,
+                spp: 17,
+                ..ok
+            },
+            TraceSettings {
+                sampler: SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY,
                 spp: 17,
                 ..ok
             },
             TraceSettings {
                 sampler: SAMPLER_ZSOBOL,
                 spp: 257,
+                ..ok
+            },
+            TraceSettings {
+                sampler: SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY,
+                width: 4097,
+                padded_width: 4097,
                 ..ok
             },
             TraceSettings {
@@ -607,7 +632,12 @@ mod tests {
         for s in bad {
             assert!(gpu.trace_params(&s, 0).is_err(), "{s:?}");
         }
-        for (sampler, spp) in [(SAMPLER_SCREEN_SOBOL, 16), (SAMPLER_ZSOBOL, 256)] {
+        for (sampler, spp) in [
+            (SAMPLER_SCREEN_SOBOL, 16),
+            (SAMPLER_ZSOBOL, 256),
+            (SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY, 16),
+            (SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY, 256),
+        ] {
             let p = gpu
                 .trace_params(&TraceSettings { sampler, spp, ..ok }, 0)
                 .expect("supported");

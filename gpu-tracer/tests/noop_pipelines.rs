@@ -31,7 +31,13 @@ fn kernels_pipelines_and_bind_groups_validate() {
     // The trace bind group holds bindings 0..=7 (7 = screen-space Sobol keys):
     // auto layouts reject a group with a binding the shader lacks or without
     // one it declares. Every sampler runs through the same group.
-    for sampler in [kernels::abi::SAMPLER_SCREEN_SOBOL, kernels::abi::SAMPLER_ZSOBOL] {
+    use kernels::abi::{SAMPLER_JITTER_ONLY, SAMPLER_SCREEN_SOBOL, SAMPLER_ZSOBOL};
+    for sampler in [
+        SAMPLER_SCREEN_SOBOL,
+        SAMPLER_ZSOBOL,
+        SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY,
+        SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY,
+    ] {
         settings.sampler = sampler;
         tracer.set_params(&gpu, &scene.trace_params(&settings, 1).unwrap());
         tracer.encode_trace(&mut e, &tp, None);

@@ -60,7 +60,12 @@ fn cpu_render_writes_every_image_for_every_mode() {
 #[test]
 fn cpu_render_with_each_apriori_sampler() {
     let exe = tracer();
-    for (sampler, mode) in [("zsobol", "white"), ("screen-sobol", "permute")] {
+    for (sampler, mode) in [
+        ("zsobol", "white"),
+        ("screen-sobol", "permute"),
+        ("screen-sobol-jitter", "permute"),
+        ("zsobol-jitter", "permute"),
+    ] {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("out");
         let o = run(

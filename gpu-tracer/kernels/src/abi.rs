@@ -22,7 +22,7 @@
 //! | | 4 | storage, read | `[EmitterGpu]` (at least one entry: pad with [`EmitterGpu::NONE`]) |
 //! | | 5 | storage, read | seeds `[u32]`, `padded_width * padded_height` |
 //! | | 6 | storage, write | frame colour `[Vec4]`, `width * height` |
-//! | | 7 | storage, read | screen-space Sobol keys `[u32]` laid out as [`TraceParams::key_side_log2`], [`TraceParams::key_pairs`], [`TraceParams::key_levels`] say (`sampler_core::screen_sobol`; the host binds `sampler_core::defaults::screen_sobol_keys()`); read only with [`SAMPLER_SCREEN_SOBOL`], at least one element |
+//! | | 7 | storage, read | screen-space Sobol keys `[u32]` laid out as [`TraceParams::key_side_log2`], [`TraceParams::key_pairs`], [`TraceParams::key_levels`] say (`sampler_core::screen_sobol`; the host binds `sampler_core::defaults::screen_sobol_keys()`); read only with [`SAMPLER_SCREEN_SOBOL`] (with or without [`SAMPLER_JITTER_ONLY`]), at least one element |
 //! | [`ACCUMULATE_ENTRY`] | 0 | uniform | [`TraceParams`] |
 //! | | 1 | storage, read | frame colour `[Vec4]`, `width * height` |
 //! | | 2 | storage, read-write | accumulation `[Vec4]`, `width * height` |
@@ -86,6 +86,21 @@ pub const SAMPLER_SCREEN_SOBOL: u32 = 1;
 /// most 4096 pixels wide and high (ZSobol's tile). Russian roulette still
 /// reads the seed stream.
 pub const SAMPLER_ZSOBOL: u32 = 2;
+/// Flag of [`TraceParams::sampler`], ORed with [`SAMPLER_SCREEN_SOBOL`] or
+/// [`SAMPLER_ZSOBOL`]: only the position inside the pixel (sampler pair 0)
+/// comes from the a-priori sampler; every other number comes from the seed
+/// stream, so the seed permutation still drives the path. Meant for the
+/// permutation: a seed's estimate survives its move to a neighbouring pixel
+/// on smooth regions (the jitter moves the first hit by less than a pixel),
+/// while along silhouettes, where the estimate depends on little but the
+/// jitter and the permutation cannot help, the sampler stratifies the
+/// jitter along rows and columns (QUALITY.md, "Permutation with a-priori
+/// jitter").
+pub const SAMPLER_JITTER_ONLY: u32 = 1 << 8;
+/// The bits of [`TraceParams::sampler`] that name the sampler
+/// ([`SAMPLER_SEEDS`], [`SAMPLER_SCREEN_SOBOL`] or [`SAMPLER_ZSOBOL`]); the
+/// rest are flags ([`SAMPLER_JITTER_ONLY`]).
+pub const SAMPLER_KIND_MASK: u32 = 0xFF;
 
 /// Per-frame parameters of the trace and accumulate passes (uniform buffer,
 /// 128 bytes).
@@ -135,9 +150,10 @@ pub struct TraceParams {
     /// Unit vector to the top of the image, orthogonal to both; `w` = 0.
     pub camera_up: Vec4,
     /// Source of the path's 2D decisions: [`SAMPLER_SEEDS`],
-    /// [`SAMPLER_SCREEN_SOBOL`] or [`SAMPLER_ZSOBOL`]; any other value
+    /// [`SAMPLER_SCREEN_SOBOL`] or [`SAMPLER_ZSOBOL`], the last two
+    /// optionally ORed with [`SAMPLER_JITTER_ONLY`]; any other value
     /// behaves like [`SAMPLER_SEEDS`]. [`Self::seed_mode`] still drives the
-    /// seed stream (Russian roulette, and everything with `SAMPLER_SEEDS`).
+    /// seed stream (Russian roulette, and everything the sampler does not).
     pub sampler: u32,
     /// `sampler_core::ScreenSobolLayout::side_log2` of the key buffer
     /// (binding 7): `log2` of the key tile side. Read only with

@@ -11,7 +11,7 @@ use spirv_std::spirv;
 /// [`TRACE_ENTRY`](crate::abi::TRACE_ENTRY): one invocation per visible
 /// pixel `(id.x, id.y)`; writes the frame colour `trace_pixel(...)` of the
 /// pixel's seed, with the screen-space Sobol keys of binding 7 (read only
-/// when `params.sampler` is `SAMPLER_SCREEN_SOBOL`). Invocations outside the
+/// when `params.sampler` names `SAMPLER_SCREEN_SOBOL`). Invocations outside the
 /// frame do nothing.
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(8, 8)))]

@@ -87,10 +87,14 @@
 //! and the seed permutation keep applying to it. The a-priori pairs are the
 //! same for every seed: they depend only on the pixel, the frame and the
 //! sample.
+//!
+//! With [`SAMPLER_JITTER_ONLY`] set, only pair 0 (the position inside the
+//! pixel) comes from the sampler and everything else from the seed stream:
+//! the seed permutation with a stratified jitter.
 
 use crate::abi::{
-    BvhNodeGpu, EmitterGpu, MaterialGpu, TraceParams, TriangleGpu, MAX_DEPTH_LIMIT, SAMPLER_SCREEN_SOBOL,
-    SAMPLER_ZSOBOL, SEED_MODE_ADVANCE, SEED_MODE_BLUE_NOISE_DITHER,
+    BvhNodeGpu, EmitterGpu, MaterialGpu, TraceParams, TriangleGpu, MAX_DEPTH_LIMIT, SAMPLER_JITTER_ONLY,
+    SAMPLER_KIND_MASK, SAMPLER_SCREEN_SOBOL, SAMPLER_ZSOBOL, SEED_MODE_ADVANCE, SEED_MODE_BLUE_NOISE_DITHER,
 };
 use crate::bvh::{any_hit, closest_hit};
 use crate::camera::primary_ray;
@@ -136,11 +140,34 @@ pub fn stream_sample(params: &TraceParams, s: u32) -> u32 {
     }
 }
 
-/// Whether `params.sampler` is an a-priori sampler ([`SAMPLER_SCREEN_SOBOL`]
-/// or [`SAMPLER_ZSOBOL`]) that drives the path's 2D decisions.
+/// [`PathNumbers`] scope: every 2D decision from the seed stream.
+pub const APRIORI_NONE: u32 = 0;
+/// [`PathNumbers`] scope: every 2D decision from the a-priori sampler.
+pub const APRIORI_ALL: u32 = 1;
+/// [`PathNumbers`] scope: the jitter pair from the a-priori sampler, the
+/// rest from the seed stream ([`SAMPLER_JITTER_ONLY`]).
+pub const APRIORI_JITTER: u32 = 2;
+
+/// The sampler named by `params.sampler` without its flags:
+/// [`SAMPLER_SCREEN_SOBOL`], [`SAMPLER_ZSOBOL`], or anything else for the
+/// seed stream.
 #[inline]
-pub fn uses_apriori_sampler(params: &TraceParams) -> bool {
-    params.sampler == SAMPLER_SCREEN_SOBOL || params.sampler == SAMPLER_ZSOBOL
+pub fn sampler_kind(params: &TraceParams) -> u32 {
+    params.sampler & SAMPLER_KIND_MASK
+}
+
+/// Which of the path's 2D decisions the a-priori sampler drives:
+/// [`APRIORI_NONE`], [`APRIORI_ALL`] or [`APRIORI_JITTER`].
+#[inline]
+pub fn apriori_scope(params: &TraceParams) -> u32 {
+    let kind = sampler_kind(params);
+    if kind != SAMPLER_SCREEN_SOBOL && kind != SAMPLER_ZSOBOL {
+        APRIORI_NONE
+    } else if params.sampler & SAMPLER_JITTER_ONLY != 0 {
+        APRIORI_JITTER
+    } else {
+        APRIORI_ALL
+    }
 }
 
 /// A-priori sampler pair of the position inside the pixel.
@@ -160,7 +187,8 @@ pub fn pair_bsdf(depth: u32) -> u32 {
 }
 
 /// Pair `pair` (dimensions `2 pair`, `2 pair + 1`) of sample `s` of `pixel`
-/// in frame `params.frame` from the a-priori sampler `params.sampler`, each
+/// in frame `params.frame` from the a-priori sampler `params.sampler`
+/// (flags ignored, see [`sampler_kind`]), each
 /// coordinate in `[0, 1)` (24 bits):
 /// - [`SAMPLER_SCREEN_SOBOL`]: sample index `s` with the keys of `keys`
 ///   laid out as `params.key_side_log2 / key_pairs / key_levels`, level
@@ -184,7 +212,8 @@ pub fn pair_bsdf(depth: u32) -> u32 {
 #[inline]
 pub fn apriori_pair(params: &TraceParams, keys: &[u32], pixel: UVec2, s: u32, pair: u32) -> Vec2 {
     let spp = params.spp.max(1);
-    if params.sampler == SAMPLER_SCREEN_SOBOL {
+    let kind = sampler_kind(params);
+    if kind == SAMPLER_SCREEN_SOBOL {
         let layout = ScreenSobolLayout {
             side_log2: params.key_side_log2,
             pairs: params.key_pairs.max(1),
@@ -196,7 +225,7 @@ pub fn apriori_pair(params: &TraceParams, keys: &[u32], pixel: UVec2, s: u32, pa
         let shifted = UVec2::new(pixel.x.wrapping_add(o.x), pixel.y.wrapping_add(o.y));
         let v = screen_sobol_pair_u32(keys, layout, spp, shifted, s, pair);
         Vec2::new(q32_to_f32(v[0]), q32_to_f32(v[1]))
-    } else if params.sampler == SAMPLER_ZSOBOL {
+    } else if kind == SAMPLER_ZSOBOL {
         let mut log2_spp = 0u32;
         while log2_spp < ZSOBOL_MAX_LOG2_SPP && (1u32 << log2_spp) < spp {
             log2_spp += 1;
@@ -365,7 +394,8 @@ pub struct PathNumbers {
     pixel: UVec2,
     /// Sample index `s` within the frame.
     sample: u32,
-    /// 1: 2D decisions from [`apriori_pair`]; 0: from the stream.
+    /// Which 2D decisions come from [`apriori_pair`]: [`APRIORI_NONE`],
+    /// [`APRIORI_ALL`] or [`APRIORI_JITTER`] (the rest from the stream).
     apriori: u32,
     /// Vertex 0's BSDF pair when [`Self::first_bsdf_set`] is 1.
     first_bsdf: Vec2,
@@ -381,7 +411,7 @@ impl PathNumbers {
         let stream = RandomStream::new(seed, stream_sample(params, s), DIMS_PER_SAMPLE);
         PathNumbers {
             sample: s,
-            apriori: uses_apriori_sampler(params) as u32,
+            apriori: apriori_scope(params),
             ..Self::from_stream(stream, pixel)
         }
     }
@@ -394,7 +424,7 @@ impl PathNumbers {
             stream,
             pixel,
             sample: 0,
-            apriori: 0,
+            apriori: APRIORI_NONE,
             first_bsdf: Vec2::ZERO,
             first_bsdf_set: 0,
         }
@@ -421,11 +451,11 @@ impl PathNumbers {
         d.next_vec2()
     }
 
-    /// Sampler pair `pair` if the sampler is a-priori, else stream
+    /// Sampler pair `pair` if the a-priori sampler drives it, else stream
     /// dimensions `dim`, `dim + 1`.
     #[inline]
     fn pair(&self, params: &TraceParams, keys: &[u32], pair: u32, dim: u32) -> Vec2 {
-        if self.apriori == 1 {
+        if self.apriori == APRIORI_ALL || (self.apriori == APRIORI_JITTER && pair == PAIR_JITTER) {
             apriori_pair(params, keys, self.pixel, self.sample, pair)
         } else {
             self.stream_pair(dim)
@@ -906,6 +936,49 @@ mod tests {
                 render(&scene, &half_lit_params(9, spp, 3), &keys, seed_of),
                 seeds_img
             );
+        }
+    }
+
+    /// With [`SAMPLER_JITTER_ONLY`] the jitter is the sampler's pair 0 (not
+    /// the stream's) and every other pair the seed stream's: the image
+    /// depends on the seeds and differs from the full sampler's.
+    #[test]
+    fn jitter_only_takes_pair_zero_from_the_sampler() {
+        let scene = half_lit();
+        let keys = test_keys();
+        let seed_of = |x: u32, y: u32| sampler_core::initial_seed(x, y, 16, 7);
+        let other_seed_of = |x: u32, y: u32| sampler_core::initial_seed(x, y, 16, 8);
+        for sampler in [SAMPLER_SCREEN_SOBOL, SAMPLER_ZSOBOL] {
+            let params = half_lit_params(sampler | SAMPLER_JITTER_ONLY, 1, 3);
+            let full = half_lit_params(sampler, 1, 3);
+            let seeds = half_lit_params(SAMPLER_SEEDS, 1, 3);
+            for (x, y) in [(0u32, 0u32), (5, 9), (15, 15)] {
+                let pixel = UVec2::new(x, y);
+                let numbers = PathNumbers::new(&params, pixel, seed_of(x, y), 0);
+                let stream = PathNumbers::new(&seeds, pixel, seed_of(x, y), 0);
+                assert_eq!(
+                    numbers.jitter(&params, &keys),
+                    apriori_pair(&full, &keys, pixel, 0, PAIR_JITTER)
+                );
+                assert_ne!(numbers.jitter(&params, &keys), stream.jitter(&seeds, &keys));
+                for depth in 0..3 {
+                    assert_eq!(
+                        numbers.light(&params, &keys, depth),
+                        stream.light(&seeds, &keys, depth)
+                    );
+                    assert_eq!(
+                        numbers.bsdf(&params, &keys, depth),
+                        stream.bsdf(&seeds, &keys, depth)
+                    );
+                }
+            }
+            let img = render(&scene, &params, &keys, seed_of);
+            assert_ne!(
+                img,
+                render(&scene, &params, &keys, other_seed_of),
+                "sampler {sampler}"
+            );
+            assert_ne!(img, render(&scene, &full, &keys, seed_of), "sampler {sampler}");
         }
         // Screen-space Sobol reads the key buffer: other keys, other image.
         let params = half_lit_params(SAMPLER_SCREEN_SOBOL, 1, 0);
