@@ -24,10 +24,11 @@
 //! is only slightly anticorrelated (blurred 0.89-0.93 of white). Both
 //! samplers therefore also stratify samples along rows and columns of
 //! pixels: the screen-space Sobol keys are trained with line terms
-//! (`sampler_core::bake` keys docs) and ZSobol places its last two index
-//! digits at 1 spp so each row of an 8x8 square has its `y` coordinates in
-//! eight different eighths, and each column its `x` coordinates
-//! (`sampler_core::zsobol`). Both goals are met at 1 and 4 spp.
+//! (`sampler_core::bake` keys docs) and ZSobol places its low six index
+//! digits at 1 spp so each row of every aligned square up to 64x64 has its
+//! `y` coordinates in as many different intervals as it has pixels, and
+//! each column its `x` coordinates (`sampler_core::zsobol`). Both goals are
+//! met at 1 and 4 spp.
 
 use conformance::{GaussianBlur, Grid};
 use glam::Vec4;

@@ -121,8 +121,17 @@ pub const PLACED_LEVELS: u32 = 6;
 /// `j` with `binomial(j, k)` odd) a bijective function of the `K` low bits
 /// of `x` (the same along rows). Owen scrambling is a bijection on every
 /// prefix, so the property survives it.
+///
+/// Among the maps with these properties (about 1 in 2000 random
+/// block-triangular ones), this one gives the smallest blurred error on
+/// straight edges: a step `1[u < c]` along a row (`y`) or column (`x`) of
+/// 64 pixels, `c` uniform, Owen-scrambled, blurred by a Gaussian of sigma 1
+/// pixel reaches 0.568 of white noise's both ways (a golden-ratio sequence
+/// along the line: 0.571); the first map found reached 0.621 along rows.
+/// Consecutive pixels of a line then fall in far-apart intervals, not only
+/// different ones.
 const PLACEMENT: [u32; 12] = [
-    0x6, 0x9, 0x68, 0x94, 0x220, 0x810, 0x180, 0x40, 0x200, 0x100, 0x800, 0x400,
+    0x553, 0x45e, 0x5f4, 0x188, 0xe60, 0x330, 0x5c0, 0x140, 0x700, 0x500, 0xc00, 0x800,
 ];
 
 /// The low `2 PLACED_LEVELS` bits of the index at one sample per pixel:
