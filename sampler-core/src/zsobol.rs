@@ -107,7 +107,7 @@ pub fn permute_digit(digit: u32, p: u32) -> u32 {
 pub const PLACED_LEVELS: u32 = 6;
 
 /// Rows of the placement map: index bit `k` (`k < 2 PLACED_LEVELS`) is the
-/// parity of `PLACEMENT[k] & v`, where `v` is the pixel's Morton code inside
+/// parity of `ZSOBOL_PLACEMENT[k] & v`, where `v` is the pixel's Morton code inside
 /// its aligned 64x64 square (bit `2i` is `x_i`, bit `2i + 1` is `y_i`).
 ///
 /// Found by a search over GF(2): digit `j` depends only on pixel levels
@@ -129,13 +129,14 @@ pub const PLACED_LEVELS: u32 = 6;
 /// pixel reaches 0.568 of white noise's both ways (a golden-ratio sequence
 /// along the line: 0.571); the first map found reached 0.621 along rows.
 /// Consecutive pixels of a line then fall in far-apart intervals, not only
-/// different ones.
-const PLACEMENT: [u32; 12] = [
+/// different ones. `bake zsobol-placement` (`bake::search_placement`,
+/// feature `bake`) repeats the search.
+pub const ZSOBOL_PLACEMENT: [u32; 12] = [
     0x553, 0x45e, 0x5f4, 0x188, 0xe60, 0x330, 0x5c0, 0x140, 0x700, 0x500, 0xc00, 0x800,
 ];
 
 /// The low `2 PLACED_LEVELS` bits of the index at one sample per pixel:
-/// [`PLACEMENT`] applied to the pixel's Morton code (`index`'s low bits),
+/// [`ZSOBOL_PLACEMENT`] applied to the pixel's Morton code (`index`'s low bits),
 /// XORed with a hash of the already permuted higher bits (`high`), which
 /// changes the pattern from square to square and from seed to seed without
 /// touching the stratification (a constant per square).
@@ -147,7 +148,7 @@ fn placed_digits(index: u32, high: u32, salt: u32) -> u32 {
     let mut out = 0u32;
     let mut k = 0u32;
     while k < bits {
-        out |= ((PLACEMENT[k as usize] & v).count_ones() & 1) << k;
+        out |= ((ZSOBOL_PLACEMENT[k as usize] & v).count_ones() & 1) << k;
         k += 1;
     }
     out ^ (hash_u32((high >> bits) ^ hash_u32(salt ^ 0x5EED_1E55)) & mask)

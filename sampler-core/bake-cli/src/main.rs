@@ -149,6 +149,16 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Searches ZSobol's one-sample-per-pixel placement map (prints it; the
+    /// defaults reproduce `sampler_core::zsobol::ZSOBOL_PLACEMENT`).
+    ZsobolPlacement {
+        /// Random maps to draw (about 1 in 2000 is valid).
+        #[arg(long, default_value_t = sampler_core::bake::DEFAULT_PLACEMENT_DRAWS)]
+        draws: u64,
+        /// Seed of the draws.
+        #[arg(long, default_value_t = sampler_core::bake::DEFAULT_PLACEMENT_SEED)]
+        seed: u32,
+    },
     /// Regenerates sampler-core's data files from the recorded seeds.
     Defaults {
         /// Output directory (sampler-core/data to refresh the committed files).
@@ -249,8 +259,27 @@ fn main() -> Result<()> {
             seed,
             out,
         } => vector_stbn(kind, &size, sigma, temporal_sigma, sweeps, seed, &out),
+        Command::ZsobolPlacement { draws, seed } => zsobol_placement(draws, seed),
         Command::Defaults { out, only } => defaults(&out, &only),
     }
+}
+
+fn zsobol_placement(draws: u64, seed: u32) -> Result<()> {
+    let start = std::time::Instant::now();
+    let found = sampler_core::bake::search_placement(draws, seed)
+        .with_context(|| format!("none of the {draws} maps drawn with seed {seed} is valid"))?;
+    let masks: Vec<String> = found.map.iter().map(|m| format!("{m:#x}")).collect();
+    println!("[{}]", masks.join(", "));
+    println!(
+        "edge scores (white = 1, {} trials): rows {:.3}, columns {:.3}; {} valid of {draws} drawn; {:.1} s; committed map: {}",
+        sampler_core::bake::FINAL_TRIALS,
+        found.scores.0,
+        found.scores.1,
+        found.valid,
+        start.elapsed().as_secs_f64(),
+        if found.map == sampler_core::zsobol::ZSOBOL_PLACEMENT { "same" } else { "different" }
+    );
+    Ok(())
 }
 
 fn check_bits(bits: u32) -> Result<()> {

@@ -17,6 +17,8 @@
 //! - [`bake_vector_stbn`]: vector spatiotemporal masks (2D/3D values, unit
 //!   and cosine-hemisphere directions) with the same swap optimiser and the
 //!   STBN coupling.
+//! - [`search_placement`]: the search behind ZSobol's one-sample-per-pixel
+//!   placement map ([`ZSOBOL_PLACEMENT`](crate::zsobol::ZSOBOL_PLACEMENT)).
 //!
 //! Everything is deterministic: the same parameters and seed give the same
 //! output bit for bit on every machine (integer energies; the only floating
@@ -33,6 +35,7 @@ mod stbn;
 mod swap;
 mod vector_stbn;
 mod void_and_cluster;
+mod zsobol_placement;
 
 pub use anneal::{anneal_retarget_table, AnnealParams};
 pub use assignment::{solve_assignment, Assignment, SparseCosts, SparseMatrix};
@@ -48,6 +51,10 @@ pub use stbn::{bake_stbn, StbnParams};
 pub use swap::SwapReport;
 pub use vector_stbn::{bake_vector_stbn, VectorKind, VectorStbn, VectorStbnParams};
 pub use void_and_cluster::{bake_mask, MaskParams};
+pub use zsobol_placement::{
+    apply_placement, edge_scores, placement_is_valid, search_placement, PlacementSearch,
+    DEFAULT_PLACEMENT_DRAWS, DEFAULT_PLACEMENT_SEED, FINAL_TRIALS, PLACEMENT_BITS,
+};
 
 use core::fmt;
 
