@@ -9,7 +9,8 @@
 use crate::error::{Error, Result};
 use crate::scene::SceneGpu;
 use glam::{UVec2, Vec4};
-use kernels::abi::{TraceParams, MAX_DEPTH_LIMIT, SAMPLER_KIND_MASK, SAMPLER_SCREEN_SOBOL};
+use kernels::abi::{TraceParams, MAX_DEPTH_LIMIT, SAMPLER_SCREEN_SOBOL};
+use kernels::trace::sampler_kind;
 use kernels::{accumulate_pixel, trace_pixel_counted};
 use rayon::prelude::*;
 
@@ -42,7 +43,7 @@ pub fn render_frame(
     check_len("seed buffer", stride * params.height as usize, seeds.len(), true)?;
     check_len("frame colour buffer", pixels, color.len(), false)?;
     let keys = sampler_core::defaults::screen_sobol_keys();
-    if params.sampler & SAMPLER_KIND_MASK == SAMPLER_SCREEN_SOBOL {
+    if sampler_kind(params) == SAMPLER_SCREEN_SOBOL {
         let l = keys.layout();
         let fields = [
             ("key_side_log2", params.key_side_log2, l.side_log2),

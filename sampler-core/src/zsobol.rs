@@ -144,14 +144,22 @@ pub const ZSOBOL_PLACEMENT: [u32; 12] = [
 fn placed_digits(index: u32, high: u32, salt: u32) -> u32 {
     let bits = 2 * PLACED_LEVELS;
     let mask = (1u32 << bits) - 1;
-    let v = index & mask;
+    apply_placement(&ZSOBOL_PLACEMENT, index & mask)
+        ^ (hash_u32((high >> bits) ^ hash_u32(salt ^ 0x5EED_1E55)) & mask)
+}
+
+/// A placement map applied to the Morton code `v` of a pixel inside its
+/// aligned 64x64 square: bit `k` of the result is the parity of
+/// `map[k] & v` (see [`ZSOBOL_PLACEMENT`]).
+#[inline]
+pub fn apply_placement(map: &[u32; 12], v: u32) -> u32 {
     let mut out = 0u32;
     let mut k = 0u32;
-    while k < bits {
-        out |= ((ZSOBOL_PLACEMENT[k as usize] & v).count_ones() & 1) << k;
+    while k < 12 {
+        out |= ((map[k as usize] & v).count_ones() & 1) << k;
         k += 1;
     }
-    out ^ (hash_u32((high >> bits) ^ hash_u32(salt ^ 0x5EED_1E55)) & mask)
+    out
 }
 
 /// The permuted global Sobol index of sample `sample_index` of `pixel` for

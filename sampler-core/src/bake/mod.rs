@@ -52,8 +52,8 @@ pub use swap::SwapReport;
 pub use vector_stbn::{bake_vector_stbn, VectorKind, VectorStbn, VectorStbnParams};
 pub use void_and_cluster::{bake_mask, MaskParams};
 pub use zsobol_placement::{
-    apply_placement, edge_scores, placement_is_valid, search_placement, PlacementSearch,
-    DEFAULT_PLACEMENT_DRAWS, DEFAULT_PLACEMENT_SEED, FINAL_TRIALS, PLACEMENT_BITS,
+    edge_scores, placement_is_valid, search_placement, PlacementSearch, DEFAULT_PLACEMENT_DRAWS,
+    DEFAULT_PLACEMENT_SEED, FINAL_TRIALS, PLACEMENT_BITS,
 };
 
 use core::fmt;

@@ -13,7 +13,7 @@
 use crate::owen::owen_scramble;
 use crate::seed::hash_u32;
 use crate::sobol::sobol_u32;
-use crate::zsobol::{morton_encode, PLACED_LEVELS};
+use crate::zsobol::{apply_placement, morton_encode, PLACED_LEVELS};
 
 /// Index bits a placement map sets: two per placed pixel level.
 pub const PLACEMENT_BITS: usize = 2 * PLACED_LEVELS as usize;
@@ -27,16 +27,6 @@ const RANK_TRIALS: u32 = 40;
 /// Trials of the reported scores.
 pub const FINAL_TRIALS: u32 = 400;
 
-/// The low index bits a map gives the pixel with Morton code `v`.
-#[inline]
-pub fn apply_placement(map: &[u32; PLACEMENT_BITS], v: u32) -> u32 {
-    let mut out = 0;
-    for (k, mask) in map.iter().enumerate() {
-        out |= ((mask & v).count_ones() & 1) << k;
-    }
-    out
-}
-
 /// Whether `map` keeps ZSobol's nets and stratifies rows and columns:
 /// - index digit `d` (bits `2d`, `2d + 1`) depends only on pixel digits
 ///   `>= d`, and its 2x2 block on pixel digit `d` is invertible (so the map
@@ -48,13 +38,8 @@ pub fn apply_placement(map: &[u32; PLACEMENT_BITS], v: u32) -> u32 {
 ///   is linear, so one segment per scale and direction decides for all of
 ///   them (two are checked).
 pub fn placement_is_valid(map: &[u32; PLACEMENT_BITS]) -> bool {
-    for d in 0..PLACED_LEVELS as usize {
-        let below = (1u32 << (2 * d)) - 1;
-        let (a, b) = (map[2 * d], map[2 * d + 1]);
-        let (da, db) = ((a >> (2 * d)) & 3, (b >> (2 * d)) & 3);
-        if (a | b) & below != 0 || (a | b) >> PLACEMENT_BITS != 0 || da == 0 || db == 0 || da == db {
-            return false;
-        }
+    if !(0..PLACED_LEVELS as usize).all(|d| digit_keeps_nets(map[2 * d], map[2 * d + 1], d)) {
+        return false;
     }
     for k in 1..=PLACED_LEVELS {
         let side = 1u32 << k;
@@ -181,8 +166,17 @@ impl HashChain {
     }
 }
 
-/// A random block-triangular map: digit `d`'s two rows see pixel digits
-/// `>= d` only, and their 2x2 block on digit `d` is invertible.
+/// Whether the rows `a`, `b` of index digit `d` see pixel digits `>= d`
+/// only (and no bit past the square) with an invertible 2x2 block on
+/// pixel digit `d`.
+fn digit_keeps_nets(a: u32, b: u32, d: usize) -> bool {
+    let below = (1u32 << (2 * d)) - 1;
+    let (da, db) = ((a >> (2 * d)) & 3, (b >> (2 * d)) & 3);
+    (a | b) & below == 0 && (a | b) >> PLACEMENT_BITS == 0 && da != 0 && db != 0 && da != db
+}
+
+/// A random block-triangular map: each digit's two rows drawn until
+/// [`digit_keeps_nets`] holds.
 fn random_map(rng: &mut HashChain) -> [u32; PLACEMENT_BITS] {
     let mut map = [0u32; PLACEMENT_BITS];
     for d in 0..PLACED_LEVELS as usize {
@@ -190,8 +184,7 @@ fn random_map(rng: &mut HashChain) -> [u32; PLACEMENT_BITS] {
         loop {
             let a = rng.next_u32() & visible;
             let b = rng.next_u32() & visible;
-            let (da, db) = ((a >> (2 * d)) & 3, (b >> (2 * d)) & 3);
-            if da != 0 && db != 0 && da != db {
+            if digit_keeps_nets(a, b, d) {
                 map[2 * d] = a;
                 map[2 * d + 1] = b;
                 break;
