@@ -1011,6 +1011,8 @@ pub fn render_dither(study: &Study, on_frame: &mut impl FnMut(u32, &[Vec4])) -> 
                     &scene.triangles,
                     &scene.materials,
                     &scene.emitters,
+                    &scene.attrs,
+                    &scene.images,
                 );
             }
         });

@@ -70,6 +70,8 @@ fn inset_lf(study: &Study, seeds_kind: Seeds, fixed: bool) -> f64 {
                     &scene.triangles,
                     &scene.materials,
                     &scene.emitters,
+                    &scene.attrs,
+                    &scene.images,
                 )
             })
             .collect();

@@ -4,12 +4,14 @@
 //! rays and Russian roulette.
 //!
 //! `cargo bench -p gpu-tracer --bench cpu_render`; the bench prints
-//! `rays/s` and `paths/s` per configuration after criterion's own report.
+//! `rays/s` and `paths/s` per configuration after criterion's own report,
+//! and the G-buffer pass (primary visibility + motion vectors) as a share of
+//! the 1-spp frame, measured in interleaved rounds (goal: <= 10%).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::Vec4;
 use gpu_tracer::cornell::cornell_box;
-use gpu_tracer::cpu::{render_frame, white_seeds};
+use gpu_tracer::cpu::{gbuffer_frame, render_frame, white_seeds};
 use gpu_tracer::scene::{SceneGpu, TraceSettings};
 use std::time::Instant;
 
@@ -53,6 +55,25 @@ fn bench_cpu_render(c: &mut Criterion) {
         ));
     }
     group.finish();
+    // G-buffer against the traced frame, interleaved, all cores.
+    let mut gbuffer = vec![Default::default(); pixels];
+    let (mut trace_ms, mut gbuffer_ms) = (Vec::new(), Vec::new());
+    for _ in 0..9 {
+        let start = Instant::now();
+        render_frame(&scene, &params, &seeds, &mut color).expect("render");
+        trace_ms.push(start.elapsed().as_secs_f64() * 1e3);
+        let start = Instant::now();
+        gbuffer_frame(&scene, &params, &mut gbuffer).expect("g-buffer");
+        gbuffer_ms.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    trace_ms.sort_by(f64::total_cmp);
+    gbuffer_ms.sort_by(f64::total_cmp);
+    let (tr, gb) = (trace_ms[4], gbuffer_ms[4]);
+    println!(
+        "cpu_render cornell 256x256 {cores} thread(s): trace 1 spp {tr:.2} ms, g-buffer + motion {gb:.2} ms \
+         = {:.1}% of the frame (median of 9 interleaved rounds)",
+        100.0 * gb / tr
+    );
     for (threads, paths_per_s, rays_per_s, frame_s) in report {
         println!(
             "cpu_render cornell 256x256 1spp depth 8: {threads} thread(s): {rays_per_s:.0} rays/s, \

@@ -1,14 +1,15 @@
 //! Per-pass GPU times at 1280x720, measured on one device in one run: the
-//! 1-spp path-traced frame (Cornell box) against the sorting and
-//! retargeting passes (4x4 blocks, 64x64 tile).
+//! 1-spp path-traced frame (Cornell box) against the G-buffer pass
+//! (primary visibility and motion vectors) and the sorting and retargeting
+//! passes (4x4 blocks, 64x64 tile).
 //!
 //! ```text
 //! cargo bench -p gpu-tracer --bench gpu_passes
 //! ```
 //!
 //! Uses timestamp queries where the device has them, else wall-clock time of
-//! each pass in its own submission. Prints each pass's median and the
-//! permutation's share of a traced frame (goal: <= 5%).
+//! each pass in its own submission. Prints each pass's median and its share
+//! of a traced frame (goals: permutation <= 5%, G-buffer <= 10%).
 
 use glam::Vec4;
 use gpu_tracer::cornell::cornell_box;
@@ -54,14 +55,15 @@ fn main() {
     permuter.encode_seed_init(&mut e, &pp);
     gpu.queue.submit([e.finish()]);
 
-    let timer = PassTimer::new(&gpu, 3);
-    let (mut trace_ms, mut sort_ms, mut retarget_ms) = (vec![], vec![], vec![]);
+    let timer = PassTimer::new(&gpu, 4);
+    let (mut trace_ms, mut sort_ms, mut retarget_ms, mut gbuffer_ms) = (vec![], vec![], vec![], vec![]);
     for t in 0..rounds + 1 {
         tracer.set_params(&gpu, &scene.trace_params(&settings, t).expect("params"));
         permuter.set_frame(&gpu, t);
         let times = match &timer {
             Some(timer) => {
                 let mut e = gpu.device.create_command_encoder(&Default::default());
+                tracer.encode_gbuffer(&mut e, &tp, Some((timer, 3)));
                 tracer.encode_trace(&mut e, &tp, Some((timer, 0)));
                 permuter.encode_intensity(&mut e, &pp);
                 permuter.encode_step(&mut e, &pp, t, PermuteMode::Permute, Some((timer, 1)));
@@ -83,20 +85,23 @@ fn main() {
                 run(&|e| permuter.encode_intensity(e, &pp));
                 // Sort and retarget together, then sort alone: retarget = difference.
                 run(&|e| permuter.encode_step(e, &pp, t, PermuteMode::Permute, None));
-                vec![ms[0], ms[2], 0.0]
+                run(&|e| tracer.encode_gbuffer(e, &tp, None));
+                vec![ms[0], ms[2], 0.0, ms[3]]
             }
         };
         if t > 0 {
             trace_ms.push(times[0]);
             sort_ms.push(times[1]);
             retarget_ms.push(times[2]);
+            gbuffer_ms.push(times[3]);
         }
     }
     let _ = Vec4::ZERO;
-    let (tr, so, re) = (
+    let (tr, so, re, gb) = (
         median(&mut trace_ms),
         median(&mut sort_ms),
         median(&mut retarget_ms),
+        median(&mut gbuffer_ms),
     );
     println!(
         "gpu_passes: {WIDTH}x{HEIGHT}, Cornell box 1 spp, 4x4 blocks, 64x64 tile, on {}",
@@ -116,6 +121,7 @@ fn main() {
         ("sort", so),
         ("retarget", re),
         ("sort + retarget", so + re),
+        ("g-buffer + motion", gb),
     ] {
         println!("{name:<28} {ms:>10.3} {:>13.2}%", 100.0 * ms / tr);
     }

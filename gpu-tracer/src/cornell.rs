@@ -130,8 +130,18 @@ pub fn cornell_box() -> Scene {
         330.0,
     );
 
+    // Object ids for the G-buffer: one per wall quad and the light (0..=5),
+    // one per block (6 short, 7 tall).
+    for (i, t) in triangles.iter_mut().enumerate() {
+        t.object = match i / 2 {
+            q @ 0..=5 => q as u32,
+            6..=10 => 6,
+            _ => 7,
+        };
+    }
     Scene {
         triangles,
+        images: Vec::new(),
         materials: vec![
             material("white", WHITE_ALBEDO, Vec3::ZERO),
             material("red", RED_ALBEDO, Vec3::ZERO),
@@ -148,11 +158,7 @@ pub fn cornell_box() -> Scene {
 }
 
 fn material(name: &str, albedo: Vec3, emission: Vec3) -> Material {
-    Material {
-        name: name.into(),
-        albedo,
-        emission,
-    }
+    Material::new(name, albedo, emission)
 }
 
 /// Adds the planar quad `q` (corners in order around it) as two triangles
@@ -165,14 +171,8 @@ fn add_quad(out: &mut Vec<Triangle>, q: [Vec3; 4], towards: Vec3, material: u32)
     } else {
         [q[3], q[2], q[1], q[0]]
     };
-    out.push(Triangle {
-        vertices: [q[0], q[1], q[2]],
-        material,
-    });
-    out.push(Triangle {
-        vertices: [q[0], q[2], q[3]],
-        material,
-    });
+    out.push(Triangle::new([q[0], q[1], q[2]], material));
+    out.push(Triangle::new([q[0], q[2], q[3]], material));
 }
 
 /// Adds a white block standing on the floor: footprint corners `(x, z)` in

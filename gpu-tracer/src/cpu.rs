@@ -9,9 +9,9 @@
 use crate::error::{Error, Result};
 use crate::scene::SceneGpu;
 use glam::{UVec2, Vec4};
-use kernels::abi::{TraceParams, MAX_DEPTH_LIMIT, SAMPLER_SCREEN_SOBOL};
+use kernels::abi::{GBufferGpu, TraceParams, MAX_DEPTH_LIMIT, SAMPLER_SCREEN_SOBOL};
 use kernels::trace::sampler_kind;
-use kernels::{accumulate_pixel, trace_pixel_counted};
+use kernels::{accumulate_pixel, gbuffer_pixel, trace_pixel_counted};
 use rayon::prelude::*;
 
 /// Traces one frame: `color[y * width + x]` = mean radiance of the pixel's
@@ -76,6 +76,8 @@ pub fn render_frame(
                     &scene.triangles,
                     &scene.materials,
                     &scene.emitters,
+                    &scene.attrs,
+                    &scene.images,
                 );
                 *out = c;
                 rays += n as u64;
@@ -84,6 +86,35 @@ pub fn render_frame(
         })
         .sum();
     Ok(rays)
+}
+
+/// Computes the G-buffer of a frame: `gbuffer[y * width + x]` =
+/// `kernels::gbuffer_pixel` of pixel `(x, y)` (what the GPU's `gbuffer_cs`
+/// writes), with the cameras of `params` and the previous positions of
+/// `scene` ([`SceneGpu::set_previous_positions`]).
+///
+/// # Errors
+/// As [`render_frame`] for `params`; [`Error::BufferSize`] when `gbuffer`
+/// is not `width * height` long.
+pub fn gbuffer_frame(scene: &SceneGpu, params: &TraceParams, gbuffer: &mut [GBufferGpu]) -> Result<()> {
+    check_params(scene, params)?;
+    let width = params.width as usize;
+    check_len("G-buffer", width * params.height as usize, gbuffer.len(), false)?;
+    gbuffer.par_chunks_mut(width).enumerate().for_each(|(y, row)| {
+        for (x, out) in row.iter_mut().enumerate() {
+            *out = gbuffer_pixel(
+                params,
+                UVec2::new(x as u32, y as u32),
+                &scene.nodes,
+                &scene.triangles,
+                &scene.materials,
+                &scene.attrs,
+                &scene.images,
+                &scene.previous,
+            );
+        }
+    });
+    Ok(())
 }
 
 /// Folds frame `params.frame`'s colours into the accumulation buffer
@@ -351,22 +382,13 @@ mod tests {
         for (q, inward) in faces {
             let flip = (q[1] - q[0]).cross(q[2] - q[0]).dot(inward) < 0.0;
             let q = if flip { [q[3], q[2], q[1], q[0]] } else { q };
-            triangles.push(Triangle {
-                vertices: [q[0], q[1], q[2]],
-                material: 0,
-            });
-            triangles.push(Triangle {
-                vertices: [q[0], q[2], q[3]],
-                material: 0,
-            });
+            triangles.push(Triangle::new([q[0], q[1], q[2]], 0));
+            triangles.push(Triangle::new([q[0], q[2], q[3]], 0));
         }
         let scene = Scene {
             triangles,
-            materials: vec![Material {
-                name: "furnace".into(),
-                albedo: Vec3::splat(a),
-                emission: Vec3::splat(e),
-            }],
+            materials: vec![Material::new("furnace", Vec3::splat(a), Vec3::splat(e))],
+            images: Vec::new(),
             camera: Camera {
                 origin: Vec3::splat(0.5),
                 target: Vec3::new(0.9, 0.6, 0.7),
@@ -532,6 +554,8 @@ mod tests {
                     &scene.triangles,
                     &scene.materials,
                     &scene.emitters,
+                    &scene.attrs,
+                    &scene.images,
                 );
                 assert_eq!(color[(y * 16 + x) as usize], want, "sampler {sampler} ({x}, {y})");
             }
@@ -584,6 +608,8 @@ mod tests {
             &scene.triangles,
             &scene.materials,
             &scene.emitters,
+            &scene.attrs,
+            &scene.images,
         );
         let mut sum = Vec3::ZERO;
         for s in 0..3 {
@@ -598,6 +624,8 @@ mod tests {
                 &scene.triangles,
                 &scene.materials,
                 &scene.emitters,
+                &scene.attrs,
+                &scene.images,
             );
         }
         assert_eq!(got, (sum / 3.0).extend(1.0));

@@ -29,6 +29,31 @@ pub enum Error {
         /// tobj's reason.
         source: tobj::LoadError,
     },
+    /// A glTF file, or a buffer or image it refers to, could not be read,
+    /// parsed or validated by the `gltf` crate (missing or truncated file,
+    /// malformed JSON or GLB container, missing `.bin`, undecodable image,
+    /// index out of range, unsupported required extension).
+    GltfLoad {
+        /// The glTF file (`.gltf` or `.glb`).
+        path: PathBuf,
+        /// What was being read: `"file"`, `"buffer 0 ('scene.bin')"`,
+        /// `"image 2 ('wood.png')"`, ...
+        element: String,
+        /// gltf's reason.
+        source: gltf::Error,
+    },
+    /// A glTF file parsed but its content cannot be used: bad accessor data
+    /// (wrong type, out of range, NaN), an unsupported primitive mode or
+    /// camera, invalid animation data, no triangle in the scene, ...
+    GltfContent {
+        /// The glTF file.
+        path: PathBuf,
+        /// The element at fault, e.g. `"mesh 'floor' primitive 0"`,
+        /// `"animation 'walk' channel 3"`, `"material 'lamp'"`.
+        element: String,
+        /// What is wrong with it.
+        reason: String,
+    },
     /// The OBJ file parsed but contains no triangle.
     NoTriangles {
         /// The OBJ file.
@@ -47,6 +72,24 @@ pub enum Error {
     InvalidMaterial {
         /// Name of the material.
         name: String,
+    },
+    /// A material names a texture image that does not exist.
+    InvalidTexture {
+        /// Name of the material.
+        material: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// An image's size does not match its texels, or is zero.
+    InvalidImage {
+        /// Name of the image.
+        name: String,
+        /// Declared width.
+        width: u32,
+        /// Declared height.
+        height: u32,
+        /// Texels present.
+        texels: usize,
     },
     /// A triangle refers to a material that does not exist.
     MaterialIndex {
@@ -152,6 +195,12 @@ impl fmt::Display for Error {
             Error::MtlLoad { path, source } => {
                 write!(f, "cannot load the material library of {}: {source}", path.display())
             }
+            Error::GltfLoad { path, element, source } => {
+                write!(f, "cannot load glTF file {} ({element}): {source}", path.display())
+            }
+            Error::GltfContent { path, element, reason } => {
+                write!(f, "glTF file {}: {element}: {reason}", path.display())
+            }
             Error::NoTriangles { path } => write!(f, "OBJ file {} contains no triangles", path.display()),
             Error::NonFiniteVertex { path, model, vertex } => write!(
                 f,
@@ -161,6 +210,18 @@ impl fmt::Display for Error {
             Error::InvalidMaterial { name } => write!(
                 f,
                 "material '{name}' has a NaN, infinite or negative colour"
+            ),
+            Error::InvalidTexture { material, reason } => {
+                write!(f, "material '{material}' has an invalid texture: {reason}")
+            }
+            Error::InvalidImage {
+                name,
+                width,
+                height,
+                texels,
+            } => write!(
+                f,
+                "image '{name}' is {width}x{height} but has {texels} texels (sizes must be >= 1 and match)"
             ),
             Error::MaterialIndex {
                 triangle,
@@ -209,6 +270,7 @@ impl std::error::Error for Error {
         match self {
             Error::ObjLoad { source, .. } | Error::MtlLoad { source, .. } => Some(source),
             Error::ImageWrite { source, .. } => Some(source),
+            Error::GltfLoad { source, .. } => Some(source),
             _ => None,
         }
     }

@@ -7,9 +7,18 @@
 //! - [`scene`]: [`Scene`] (triangles, materials, camera) and [`SceneGpu`]
 //!   (the buffers the kernels read), built by [`cornell::cornell_box`] or
 //!   [`obj::load_obj`]; [`bvh`] builds the BVH with obvhs.
+//! - [`gltf_scene`]: [`gltf_scene::load_gltf`] loads a glTF 2.0 file
+//!   (`.gltf` or `.glb`): meshes, materials, textures, camera and animation.
+//! - [`animation`]: the node hierarchy and keyframe channels of a glTF
+//!   scene ([`animation::Rig`]), posed at any time by [`animation::Rig::pose`].
 //! - [`cpu`]: [`cpu::render_frame`] traces a frame with rayon over rows by
 //!   calling `kernels::trace_pixel`, exactly what the GPU's `trace_cs` runs
 //!   per pixel; [`cpu::accumulate_frame`] is the running mean.
+//! - [`timeline`]: what moves between frames ([`timeline::Timeline`]: a
+//!   glTF rig and/or a [`camera_path::CameraPath`]) and the scene of each
+//!   frame with its motion ([`timeline::SceneSequence`]); [`render`] renders
+//!   a sequence on the CPU or the GPU, with the G-buffer and motion vectors
+//!   of `kernels::gbuffer` when asked.
 //! - [`image_out`]: tone-mapped PNG and linear EXR, written atomically.
 //! - [`error`]: the crate's [`Error`].
 //!
@@ -25,17 +34,25 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod animation;
+pub mod aov;
 pub mod bvh;
+pub mod camera_path;
 pub mod cornell;
 pub mod cpu;
 pub mod error;
+pub mod gltf_scene;
 pub mod gpu;
 pub mod image_out;
 pub mod obj;
 pub mod render;
 pub mod scene;
+pub mod timeline;
 
 pub use error::{Error, Result};
 pub use gpu::PermuteMode;
-pub use render::{render_cpu, render_gpu, RenderJob, RenderOutput, TileChoice};
+pub use render::{
+    render_cpu, render_gpu, render_sequence_cpu, render_sequence_gpu, FrameView, RenderJob, RenderOutput,
+    TileChoice,
+};
 pub use scene::{Scene, SceneGpu, TraceSettings};

@@ -8,10 +8,16 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
+use gpu_tracer::animation::Rig;
+use gpu_tracer::aov::write_aovs;
+use gpu_tracer::camera_path::{CameraPath, CameraPathKind};
 use gpu_tracer::gpu::{Gpu, GpuError};
 use gpu_tracer::image_out::{write_exr, write_png, ToneMap};
+use gpu_tracer::scene::{Camera, Scene};
+use gpu_tracer::timeline::{SceneSequence, Timeline};
 use gpu_tracer::{
-    cornell, obj, render_cpu, render_gpu, PermuteMode, RenderJob, SceneGpu, TileChoice, TraceSettings,
+    cornell, gltf_scene, obj, render_sequence_cpu, render_sequence_gpu, FrameView, PermuteMode, RenderJob,
+    TileChoice, TraceSettings,
 };
 use indicatif::{ProgressBar, ProgressStyle};
 use kernels::abi::{
@@ -40,10 +46,48 @@ enum Command {
 
 #[derive(clap::Args, Debug)]
 struct RenderArgs {
-    /// `cornell` for the built-in Cornell box, or the path of an OBJ file
-    /// (materials from its MTL: Kd diffuse, Ke emission).
+    /// `cornell` for the built-in Cornell box, the path of a glTF 2.0 file
+    /// (`.gltf` or `.glb`: meshes, textures, cameras, node animation), or
+    /// of an OBJ file (materials from its MTL: Kd diffuse, Ke emission).
     #[arg(long, default_value = "cornell")]
     scene: String,
+    /// glTF: which camera (0-based, in scene order); default the first.
+    #[arg(long)]
+    camera_index: Option<usize>,
+    /// Camera position `x,y,z` (world units); replaces the scene's camera
+    /// (needs `--camera-at`).
+    #[arg(long, value_parser = parse_vec3, requires = "camera_at")]
+    camera_from: Option<glam::Vec3>,
+    /// Point the camera looks at, `x,y,z` (needs `--camera-from`).
+    #[arg(long, value_parser = parse_vec3, requires = "camera_from")]
+    camera_at: Option<glam::Vec3>,
+    /// Vertical field of view in degrees for `--camera-from/--camera-at`.
+    #[arg(long, default_value_t = 40.0)]
+    fov: f32,
+    /// Camera motion on top of the scene's: `orbit` (about the looked-at
+    /// point, `--camera-speed` in degrees per frame), `dolly` (forward,
+    /// scene units per frame) or `pan` (right, pixels per frame at the
+    /// looked-at point's depth).
+    #[arg(long, value_enum)]
+    camera_path: Option<CameraPathArg>,
+    /// Speed of `--camera-path`, in its unit per frame (any sign).
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
+    camera_speed: f32,
+    /// Frames per second: frame `t` shows the glTF animation at
+    /// `start-time + t / fps` seconds.
+    #[arg(long, default_value_t = 30.0)]
+    fps: f32,
+    /// Animation time of the first frame, seconds.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    start_time: f32,
+    /// Write every frame to `<out>/frames/frame_NNNNN.exr` (linear) and
+    /// `.png` (tone-mapped).
+    #[arg(long)]
+    save_frames: bool,
+    /// Write every frame's G-buffer to `<out>/aovs/frame_NNNNN.<aov>.exr`:
+    /// motion (backward, pixels), depth, normal, albedo, id.
+    #[arg(long)]
+    save_aovs: bool,
     /// Image width in pixels.
     #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(1..=16384))]
     width: u32,
@@ -85,7 +129,10 @@ struct RenderArgs {
     /// Output directory (created if missing).
     #[arg(long, default_value = "out")]
     out: PathBuf,
-    /// Where to render: `auto` uses a GPU adapter if one exists, else the CPU.
+    /// Where to render: `auto` uses a hardware GPU adapter if one exists,
+    /// else the CPU renderer (also when the only adapter is a software
+    /// rasteriser such as lavapipe, which is far slower than the native CPU
+    /// renderer); `gpu` uses any adapter, software ones included.
     #[arg(long, value_enum, default_value_t = DeviceArg::Auto)]
     device: DeviceArg,
 }
@@ -130,6 +177,13 @@ impl SamplerArg {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum CameraPathArg {
+    Orbit,
+    Dolly,
+    Pan,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 enum DeviceArg {
     Auto,
     Gpu,
@@ -144,13 +198,54 @@ fn main() -> Result<()> {
 }
 
 fn render(args: RenderArgs) -> Result<()> {
-    // Fail on bad input before any work: scene, output directory.
-    let scene = if args.scene == "cornell" {
-        cornell::cornell_box()
-    } else {
-        obj::load_obj(&args.scene).with_context(|| format!("cannot load scene {}", args.scene))?
+    // Fail on bad input before any work: scene, motion, output directory.
+    let (mut scene, mut rig) = load_scene(&args)?;
+    if let (Some(from), Some(at)) = (args.camera_from, args.camera_at) {
+        scene.camera = Camera {
+            origin: from,
+            target: at,
+            up: glam::Vec3::Y,
+            fov_y_degrees: args.fov,
+        };
+        scene
+            .camera
+            .basis()
+            .context("--camera-from/--camera-at/--fov give a degenerate camera")?;
+        if let Some(rig) = rig.as_mut() {
+            rig.camera = None; // the command line's camera replaces the file's
+        }
+    }
+    if !(args.fps.is_finite() && args.fps > 0.0 && args.start_time.is_finite()) {
+        bail!("--fps must be a finite number > 0 and --start-time finite");
+    }
+    let timeline = Timeline {
+        rig,
+        camera_path: args.camera_path.map(|kind| CameraPath {
+            kind: match kind {
+                CameraPathArg::Orbit => CameraPathKind::Orbit,
+                CameraPathArg::Dolly => CameraPathKind::Dolly,
+                CameraPathArg::Pan => CameraPathKind::Pan,
+            },
+            speed: args.camera_speed,
+        }),
+        fps: args.fps,
+        start_time: args.start_time,
     };
-    let scene = SceneGpu::build(&scene).context("cannot prepare the scene")?;
+    // Every frame's pose is checked before rendering (a path can make the
+    // camera degenerate later in the sequence).
+    for t in 0..args.frames {
+        timeline
+            .pose(&scene.camera, t, args.height)
+            .with_context(|| format!("frame {t} of the camera path or animation"))?;
+    }
+    let mut sequence =
+        SceneSequence::new(&scene, timeline, args.height).context("cannot prepare the scene")?;
+    if sequence.scene().emitter_count == 0 {
+        eprintln!(
+            "warning: scene {} has no emitter (no emissive material): the image will be black",
+            args.scene
+        );
+    }
 
     let mut settings = TraceSettings::new(args.width, args.height);
     settings.spp = args.spp;
@@ -167,10 +262,18 @@ fn render(args: RenderArgs) -> Result<()> {
         SamplerArg::ZsobolJitter => SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY,
     };
     // Settings the chosen sampler does not support fail here, before any work.
-    scene
+    sequence
+        .scene()
         .trace_params(&settings, 0)
         .with_context(|| format!("--sampler {} cannot render these settings", args.sampler.name()))?;
     prepare_out_dir(&args.out)?;
+    let frames_dir = args.out.join("frames");
+    let aovs_dir = args.out.join("aovs");
+    for (wanted, dir) in [(args.save_frames, &frames_dir), (args.save_aovs, &aovs_dir)] {
+        if wanted {
+            prepare_out_dir(dir)?;
+        }
+    }
     let tile = TileChoice::from_side(args.tile).context("tile must be 64 or 128")?;
     let job = RenderJob {
         settings,
@@ -189,8 +292,22 @@ fn render(args: RenderArgs) -> Result<()> {
     let gpu = match args.device {
         DeviceArg::Cpu => None,
         DeviceArg::Gpu => Some(Gpu::new().context("--device gpu was requested")?),
-        DeviceArg::Auto => match Gpu::new() {
-            Ok(gpu) => Some(gpu),
+        DeviceArg::Auto => match Gpu::probe().and_then(|info| {
+            if info.device_type == wgpu::DeviceType::Cpu {
+                Ok(Err(info))
+            } else {
+                Gpu::new().map(Ok)
+            }
+        }) {
+            Ok(Err(info)) => {
+                eprintln!(
+                    "notice: the only GPU adapter is a software rasteriser ({} ({:?}, {:?})); the \
+                     native CPU renderer is much faster, so it renders (--device gpu forces the adapter)",
+                    info.name, info.backend, info.device_type
+                );
+                None
+            }
+            Ok(Ok(gpu)) => Some(gpu),
             Err(GpuError::NoAdapter(reason)) => {
                 eprintln!("notice: no GPU adapter ({reason}); rendering on the CPU");
                 None
@@ -209,21 +326,42 @@ fn render(args: RenderArgs) -> Result<()> {
             .progress_chars("=> "),
     );
     let start = Instant::now();
+    let (w, h) = (args.width, args.height);
+    let want_gbuffer = args.save_aovs;
+    let mut save_error: Option<anyhow::Error> = None;
+    let mut on_frame = |f: &FrameView<'_>| {
+        if save_error.is_none() {
+            if let Err(e) = save_frame(&args, &frames_dir, &aovs_dir, w, h, f) {
+                save_error = Some(e);
+            }
+        }
+    };
+    let saving = args.save_frames || args.save_aovs;
     let output = match &gpu {
         Some(gpu) => {
             bar.set_prefix(format!("GPU {}", gpu.info.name));
-            // Progress counts submitted frames (no read-back between frames).
-            render_gpu(gpu, &scene, &job, |_| bar.inc(1), None)?
+            // Progress counts submitted frames (no read-back between frames
+            // unless frames or AOVs are saved).
+            let callback: Option<&mut gpu_tracer::render::SequenceCallback<'_>> =
+                if saving { Some(&mut on_frame) } else { None };
+            render_sequence_gpu(gpu, &mut sequence, &job, want_gbuffer, |_| bar.inc(1), callback)?
         }
         None => {
             bar.set_prefix("CPU");
-            render_cpu(&scene, &job, |_, _| bar.inc(1))?
+            render_sequence_cpu(&mut sequence, &job, want_gbuffer, |f| {
+                if saving {
+                    on_frame(f);
+                }
+                bar.inc(1)
+            })?
         }
     };
+    if let Some(e) = save_error {
+        return Err(e);
+    }
     bar.finish();
     let secs = start.elapsed().as_secs_f64();
 
-    let (w, h) = (args.width, args.height);
     let files = [
         (args.out.join("last.png"), false, false),
         (args.out.join("mean.png"), true, false),
@@ -239,8 +377,15 @@ fn render(args: RenderArgs) -> Result<()> {
         }
         .with_context(|| format!("cannot write {}", path.display()))?;
     }
+    let mut saved = String::new();
+    if args.save_frames {
+        saved += &format!(", {}/frame_*.exr|png", frames_dir.display());
+    }
+    if args.save_aovs {
+        saved += &format!(", {}/frame_*.<aov>.exr", aovs_dir.display());
+    }
     println!(
-        "rendered {} frame(s) of {}x{} at {} spp on {} in {:.2} s ({:?} mode, {} sampler); wrote {}",
+        "rendered {} frame(s) of {}x{} at {} spp on {} in {:.2} s ({:?} mode, {} sampler); wrote {}{saved}",
         args.frames,
         w,
         h,
@@ -256,6 +401,75 @@ fn render(args: RenderArgs) -> Result<()> {
             .join(", ")
     );
     Ok(())
+}
+
+/// Loads `--scene`: the built-in Cornell box, a glTF file (with its rig) or
+/// an OBJ file. glTF notices (approximated features) go to stderr.
+fn load_scene(args: &RenderArgs) -> Result<(Scene, Option<Rig>)> {
+    let path = Path::new(&args.scene);
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if args.camera_index.is_some() && !matches!(ext.as_deref(), Some("gltf" | "glb")) {
+        bail!("--camera-index applies to glTF scenes only");
+    }
+    if args.scene == "cornell" {
+        return Ok((cornell::cornell_box(), None));
+    }
+    match ext.as_deref() {
+        Some("gltf" | "glb") => {
+            let loaded = gltf_scene::load_gltf(path, args.camera_index)
+                .with_context(|| format!("cannot load scene {}", args.scene))?;
+            for notice in &loaded.notices {
+                eprintln!("notice: {}: {notice}", args.scene);
+            }
+            Ok((loaded.scene, Some(loaded.rig)))
+        }
+        _ => Ok((
+            obj::load_obj(path).with_context(|| format!("cannot load scene {}", args.scene))?,
+            None,
+        )),
+    }
+}
+
+/// Writes frame `f`'s colour and/or AOVs as `--save-frames` / `--save-aovs` ask.
+fn save_frame(
+    args: &RenderArgs,
+    frames_dir: &Path,
+    aovs_dir: &Path,
+    w: u32,
+    h: u32,
+    f: &FrameView<'_>,
+) -> Result<()> {
+    let stem = format!("frame_{:05}", f.index);
+    if args.save_frames {
+        let exr = frames_dir.join(format!("{stem}.exr"));
+        write_exr(&exr, w, h, f.color).with_context(|| format!("cannot write {}", exr.display()))?;
+        let png = frames_dir.join(format!("{stem}.png"));
+        write_png(&png, w, h, f.color, ToneMap::Reinhard)
+            .with_context(|| format!("cannot write {}", png.display()))?;
+    }
+    if args.save_aovs {
+        let gbuffer = f.gbuffer.context("the renderer returned no G-buffer")?;
+        write_aovs(aovs_dir, &stem, w, h, gbuffer)
+            .with_context(|| format!("cannot write the AOVs of frame {}", f.index))?;
+    }
+    Ok(())
+}
+
+/// Parses `x,y,z`.
+fn parse_vec3(s: &str) -> Result<glam::Vec3, String> {
+    let parts: Vec<&str> = s.split(',').collect();
+    let nums: Vec<f32> = parts
+        .iter()
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("'{s}' is not x,y,z: {e}"))?;
+    match nums[..] {
+        [x, y, z] if nums.iter().all(|v| v.is_finite()) => Ok(glam::Vec3::new(x, y, z)),
+        _ => Err(format!("'{s}' is not three finite numbers x,y,z")),
+    }
 }
 
 fn parse_tile(s: &str) -> Result<u32, String> {

@@ -44,10 +44,12 @@ pub fn load_obj(path: impl AsRef<Path>) -> Result<Scene> {
 
     let mut materials: Vec<Material> = mtl
         .iter()
-        .map(|m| Material {
-            name: m.name.clone(),
-            albedo: m.diffuse.map_or(DEFAULT_ALBEDO, Vec3::from_array),
-            emission: m.emissive.map_or(Vec3::ZERO, Vec3::from_array),
+        .map(|m| {
+            Material::new(
+                m.name.clone(),
+                m.diffuse.map_or(DEFAULT_ALBEDO, Vec3::from_array),
+                m.emissive.map_or(Vec3::ZERO, Vec3::from_array),
+            )
         })
         .collect();
     for m in &materials {
@@ -63,7 +65,7 @@ pub fn load_obj(path: impl AsRef<Path>) -> Result<Scene> {
     let mut uses_default = false;
 
     let mut triangles = Vec::new();
-    for model in &models {
+    for (object, model) in (0u32..).zip(&models) {
         let mesh = &model.mesh;
         if let Some(vertex) = mesh
             .positions
@@ -89,8 +91,8 @@ pub fn load_obj(path: impl AsRef<Path>) -> Result<Scene> {
         };
         for face in mesh.indices.chunks_exact(3) {
             triangles.push(Triangle {
-                vertices: [vertex(face[0]), vertex(face[1]), vertex(face[2])],
-                material,
+                object,
+                ..Triangle::new([vertex(face[0]), vertex(face[1]), vertex(face[2])], material)
             });
         }
     }
@@ -100,14 +102,11 @@ pub fn load_obj(path: impl AsRef<Path>) -> Result<Scene> {
         });
     }
     if uses_default {
-        materials.push(Material {
-            name: "default".into(),
-            albedo: DEFAULT_ALBEDO,
-            emission: Vec3::ZERO,
-        });
+        materials.push(Material::new("default", DEFAULT_ALBEDO, Vec3::ZERO));
     }
     let mut scene = Scene {
         triangles,
+        images: Vec::new(),
         materials,
         camera: Camera::framing(Vec3::ZERO, Vec3::ONE),
     };

@@ -5,7 +5,9 @@
 use crate::cpu;
 use crate::gpu::{Gpu, GpuError, PermuteMode, PermutePipelines, SeedPermuter, TracePipelines, Tracer};
 use crate::scene::{SceneGpu, TraceSettings};
+use crate::timeline::SceneSequence;
 use glam::Vec4;
+use kernels::abi::GBufferGpu;
 use sampler_core::{DitherTile, FrameLayout, RetargetTables};
 use std::fmt;
 
@@ -51,6 +53,20 @@ impl TileChoice {
 
 /// Receives frame `t`'s colour (`width * height`, row-major).
 pub type FrameCallback<'a> = dyn FnMut(u32, &[Vec4]) + 'a;
+
+/// One rendered frame, as the sequence renderers hand it to their callback.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameView<'a> {
+    /// Frame index `t`, from 0.
+    pub index: u32,
+    /// Colour, `width * height` linear RGB (`w` = 1), row-major.
+    pub color: &'a [Vec4],
+    /// The frame's G-buffer (`width * height`), when requested.
+    pub gbuffer: Option<&'a [GBufferGpu]>,
+}
+
+/// Receives every frame of a sequence render.
+pub type SequenceCallback<'a> = dyn FnMut(&FrameView<'_>) + 'a;
 
 /// Everything a render needs besides the scene.
 #[derive(Clone, Copy, Debug)]
@@ -186,17 +202,49 @@ pub fn render_cpu(
     job: &RenderJob,
     mut on_frame: impl FnMut(u32, &[Vec4]),
 ) -> Result<RenderOutput, RenderError> {
+    let mut sequence = SceneSequence::still(scene, job.settings.height);
+    render_sequence_cpu(&mut sequence, job, false, |f: &FrameView<'_>| {
+        on_frame(f.index, f.color)
+    })
+}
+
+/// Renders `job` on the CPU over a [`SceneSequence`] (moving cameras and
+/// objects), from its current frame on (normally frame 0). With `gbuffer`,
+/// each frame's G-buffer is computed (before the trace, as the GPU does)
+/// and handed to `on_frame` with the colour.
+///
+/// # Errors
+/// [`RenderError`] for bad settings or a scene that cannot be posed;
+/// nothing is rendered after the error.
+pub fn render_sequence_cpu(
+    sequence: &mut SceneSequence<'_>,
+    job: &RenderJob,
+    gbuffer: bool,
+    mut on_frame: impl FnMut(&FrameView<'_>),
+) -> Result<RenderOutput, RenderError> {
     let (layout, settings, tile, tables) = job.prepare()?;
     let n = layout.pixel_count();
     let mut seeds = cpu::white_seeds(layout.padded_width(), layout.padded_height(), job.salt);
     let mut next = vec![0u32; seeds.len()];
     let mut color = vec![Vec4::ZERO; n];
     let mut mean = vec![Vec4::ZERO; n];
+    let mut gbuf = vec![GBufferGpu::default(); if gbuffer { n } else { 0 }];
     for t in 0..job.frames {
+        if t > 0 {
+            sequence.advance()?;
+        }
+        let scene = sequence.scene();
         let params = scene.trace_params(&settings, t)?;
+        if gbuffer {
+            cpu::gbuffer_frame(scene, &params, &mut gbuf)?;
+        }
         cpu::render_frame(scene, &params, &seeds, &mut color)?;
         cpu::accumulate_frame(&params, &color, &mut mean)?;
-        on_frame(t, &color);
+        on_frame(&FrameView {
+            index: t,
+            color: &color,
+            gbuffer: gbuffer.then_some(&gbuf[..]),
+        });
         match job.mode {
             PermuteMode::White => {
                 seeds = cpu::white_seeds(
@@ -232,17 +280,53 @@ pub fn render_gpu(
     gpu: &Gpu,
     scene: &SceneGpu,
     job: &RenderJob,
-    mut on_submit: impl FnMut(u32),
+    on_submit: impl FnMut(u32),
     mut on_frame: Option<&mut FrameCallback<'_>>,
 ) -> Result<RenderOutput, RenderError> {
+    let mut sequence = SceneSequence::still(scene, job.settings.height);
+    match on_frame.as_mut() {
+        Some(cb) => {
+            let mut adapter = |f: &FrameView<'_>| cb(f.index, f.color);
+            render_sequence_gpu(gpu, &mut sequence, job, false, on_submit, Some(&mut adapter))
+        }
+        None => render_sequence_gpu(gpu, &mut sequence, job, false, on_submit, None),
+    }
+}
+
+/// Renders `job` on `gpu` over a [`SceneSequence`]: per frame, the cameras
+/// (and, when objects move, the scene's buffers) are updated, then the
+/// G-buffer pass (with `gbuffer`), the trace, the accumulation and the seed
+/// passes are submitted, with no read-back unless `on_frame` is given (then
+/// every frame's colour, and G-buffer with `gbuffer`, is read back for it).
+/// The G-buffer stays on the device in [`Tracer::gbuffer`] for passes that
+/// read it.
+///
+/// # Errors
+/// [`RenderError`] for bad settings, a scene that cannot be posed, or a GPU
+/// failure.
+pub fn render_sequence_gpu(
+    gpu: &Gpu,
+    sequence: &mut SceneSequence<'_>,
+    job: &RenderJob,
+    gbuffer: bool,
+    mut on_submit: impl FnMut(u32),
+    mut on_frame: Option<&mut SequenceCallback<'_>>,
+) -> Result<RenderOutput, RenderError> {
     let (layout, settings, tile, tables) = job.prepare()?;
-    let params0 = scene.trace_params(&settings, 0)?;
+    let params0 = sequence.scene().trace_params(&settings, 0)?;
     let trace_pipelines = TracePipelines::new(gpu)?;
     let permute_pipelines = PermutePipelines::new(gpu)?;
     // The permuter owns the seed buffer and reads the tracer's colour.
     let color = Tracer::color_buffer(gpu, layout.width(), layout.height());
     let permuter = SeedPermuter::new(gpu, &permute_pipelines, layout, &tile, &tables, &color)?;
-    let tracer = Tracer::new(gpu, &trace_pipelines, scene, &params0, &permuter.seeds, color);
+    let mut tracer = Tracer::new(
+        gpu,
+        &trace_pipelines,
+        sequence.scene(),
+        &params0,
+        &permuter.seeds,
+        color,
+    );
 
     permuter.set_frame(gpu, job.salt);
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
@@ -250,7 +334,10 @@ pub fn render_gpu(
     gpu.queue.submit([encoder.finish()]);
 
     for t in 0..job.frames {
-        let params = scene.trace_params(&settings, t)?;
+        if t > 0 && sequence.advance()? {
+            tracer.update_scene(gpu, &trace_pipelines, sequence.scene());
+        }
+        let params = sequence.scene().trace_params(&settings, t)?;
         tracer.set_params(gpu, &params);
         let salt_or_frame = if job.mode == PermuteMode::White {
             job.salt.wrapping_add(t + 1)
@@ -259,6 +346,9 @@ pub fn render_gpu(
         };
         permuter.set_frame(gpu, salt_or_frame);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        if gbuffer {
+            tracer.encode_gbuffer(&mut encoder, &trace_pipelines, None);
+        }
         tracer.encode_trace(&mut encoder, &trace_pipelines, None);
         tracer.encode_accumulate(&mut encoder, &trace_pipelines);
         if job.mode != PermuteMode::White {
@@ -269,7 +359,16 @@ pub fn render_gpu(
         on_submit(t);
         if let Some(f) = on_frame.as_mut() {
             let color = tracer.read_color(gpu)?;
-            f(t, &color);
+            let gbuf = if gbuffer {
+                tracer.read_gbuffer(gpu)?
+            } else {
+                Vec::new()
+            };
+            f(&FrameView {
+                index: t,
+                color: &color,
+                gbuffer: gbuffer.then_some(&gbuf[..]),
+            });
         }
     }
     let last = tracer.read_color(gpu)?;

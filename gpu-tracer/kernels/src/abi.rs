@@ -23,12 +23,25 @@
 //! | | 5 | storage, read | seeds `[u32]`, `padded_width * padded_height` |
 //! | | 6 | storage, write | frame colour `[Vec4]`, `width * height` |
 //! | | 7 | storage, read | screen-space Sobol keys `[u32]` laid out as [`TraceParams::key_side_log2`], [`TraceParams::key_pairs`], [`TraceParams::key_levels`] say (`sampler_core::screen_sobol`; the host binds `sampler_core::defaults::screen_sobol_keys()`); read only with [`SAMPLER_SCREEN_SOBOL`] (with or without [`SAMPLER_JITTER_ONLY`]), at least one element |
+//! | | 8 | storage, read | `[TriangleAttrGpu]`, parallel to binding 2 |
+//! | | 9 | storage, read | images `[u32]` (layout in [`IMAGE_HEADER_WORDS`]), at least one element |
+//! | [`GBUFFER_ENTRY`] | 0 | uniform | [`TraceParams`] (current and previous camera) |
+//! | | 1 | storage, read | `[BvhNodeGpu]` |
+//! | | 2 | storage, read | `[TriangleGpu]` |
+//! | | 3 | storage, read | `[MaterialGpu]` |
+//! | | 4 | storage, read | `[TriangleAttrGpu]` |
+//! | | 5 | storage, read | images `[u32]` |
+//! | | 6 | storage, read | previous-frame positions `[TriangleGpu]`, parallel to binding 2 (`w` unused) |
+//! | | 7 | storage, write | G-buffer `[GBufferGpu]`, `width * height` |
 //! | [`ACCUMULATE_ENTRY`] | 0 | uniform | [`TraceParams`] |
 //! | | 1 | storage, read | frame colour `[Vec4]`, `width * height` |
 //! | | 2 | storage, read-write | accumulation `[Vec4]`, `width * height` |
 //!
-//! Both entry points run on 8 x 8 workgroups ([`TRACE_WORKGROUP`]) over the
-//! visible frame: dispatch `ceil(width / 8) x ceil(height / 8) x 1`.
+//! The three entry points run on 8 x 8 workgroups ([`TRACE_WORKGROUP`]) over the
+//! visible frame: dispatch `ceil(width / 8) x ceil(height / 8) x 1`. The
+//! trace pass binds 9 storage buffers: the host requests a
+//! `max_storage_buffers_per_shader_stage` of at least that
+//! ([`MAX_STORAGE_BUFFERS_PER_STAGE`]).
 //! wgpu refuses empty buffers, so every storage buffer holds at least one
 //! element; the counts in [`TraceParams`] say how many are meaningful.
 
@@ -38,6 +51,39 @@ use glam::{UVec4, Vec4};
 pub const TRACE_ENTRY: &str = "entry::trace_cs";
 /// Name of the accumulation entry point (one invocation per visible pixel).
 pub const ACCUMULATE_ENTRY: &str = "entry::accumulate_cs";
+/// Name of the G-buffer entry point (one invocation per visible pixel):
+/// primary visibility through the pixel centre, motion vectors.
+pub const GBUFFER_ENTRY: &str = "entry::gbuffer_cs";
+/// Storage buffers the widest entry point ([`TRACE_ENTRY`]) binds.
+pub const MAX_STORAGE_BUFFERS_PER_STAGE: u32 = 9;
+
+/// [`MaterialGpu::textures`]: no texture.
+pub const TEXTURE_NONE: u32 = u32::MAX;
+/// Sampler flags of [`MaterialGpu::textures`]: wrap mode along `u` in bits
+/// 0-1, along `v` in bits 2-3 ([`WRAP_REPEAT`], [`WRAP_CLAMP`],
+/// [`WRAP_MIRROR`]), filter in bit 4 ([`FILTER_BILINEAR`] or nearest).
+pub const WRAP_REPEAT: u32 = 0;
+/// Clamp to the edge texel.
+pub const WRAP_CLAMP: u32 = 1;
+/// Mirrored repeat.
+pub const WRAP_MIRROR: u32 = 2;
+/// Bit 4 of the sampler flags: bilinear filtering (clear: nearest texel).
+pub const FILTER_BILINEAR: u32 = 1 << 4;
+/// Images buffer layout: image `i`'s header is words `4 i .. 4 i + 4` =
+/// `(first texel word, width, height, 0)`; texels follow all headers, one
+/// `u32` each, row-major from the top row, `r | g << 8 | b << 16 | a << 24`
+/// with sRGB-encoded colour (alpha unused).
+pub const IMAGE_HEADER_WORDS: u32 = 4;
+
+/// [`GBufferGpu::ids`]`.x` of a pixel whose centre ray hits nothing.
+pub const GBUFFER_NO_HIT: u32 = u32::MAX;
+/// [`GBufferGpu::ids`]`.w` flag: the centre ray hit a triangle.
+pub const GBUFFER_HIT: u32 = 1;
+/// [`GBufferGpu::ids`]`.w` flag: the hit point was in front of the previous
+/// frame's camera (its previous raster position and depth are meaningful).
+pub const GBUFFER_PREV_IN_FRONT: u32 = 2;
+/// [`GBufferGpu::ids`]`.w` flag: the hit surface emits towards the camera.
+pub const GBUFFER_EMITTER: u32 = 4;
 /// Workgroup size `(x, y)` of [`TRACE_ENTRY`] and [`ACCUMULATE_ENTRY`],
 /// in pixels; must match the `#[spirv(compute(threads(8, 8)))]` attributes.
 pub const TRACE_WORKGROUP: (u32, u32) = (8, 8);
@@ -102,8 +148,8 @@ pub const SAMPLER_JITTER_ONLY: u32 = 1 << 8;
 /// rest are flags ([`SAMPLER_JITTER_ONLY`]).
 pub const SAMPLER_KIND_MASK: u32 = 0xFF;
 
-/// Per-frame parameters of the trace and accumulate passes (uniform buffer,
-/// 128 bytes).
+/// Per-frame parameters of the trace, G-buffer and accumulate passes
+/// (uniform buffer, 208 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct TraceParams {
@@ -164,6 +210,23 @@ pub struct TraceParams {
     /// `ScreenSobolLayout::levels` of the key buffer (`>= 1`; level `j` is
     /// optimised for `2^j` spp).
     pub key_levels: u32,
+    /// The previous frame's camera position (for motion vectors; equal to
+    /// [`Self::camera_origin`] for frame 0 or a still camera); `w` = 0.
+    pub prev_camera_origin: Vec4,
+    /// The previous frame's unit viewing direction; `w` = 0.
+    pub prev_camera_forward: Vec4,
+    /// The previous frame's unit right vector; `w` = 0.
+    pub prev_camera_right: Vec4,
+    /// The previous frame's unit up vector; `w` = 0.
+    pub prev_camera_up: Vec4,
+    /// The previous frame's `tan(fov_y / 2)`, `> 0`.
+    pub prev_tan_half_fov_y: f32,
+    /// Number of images in the images buffer (headers), `>= 0`.
+    pub image_count: u32,
+    /// Padding, 0.
+    pub pad0: u32,
+    /// Padding, 0.
+    pub pad1: u32,
 }
 
 /// One node of the BVH2 built by obvhs 0.4 (`Bvh2Node`), 48 bytes.
@@ -202,15 +265,75 @@ pub struct TriangleGpu {
     pub v2: Vec4,
 }
 
-/// A diffuse, possibly emissive material, 32 bytes.
+/// A diffuse, possibly emissive, possibly textured material, 48 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct MaterialGpu {
     /// Lambertian albedo in linear RGB, each channel in `[0, 1]`; `w` = 0.
+    /// Multiplied by the base colour texture when there is one.
     pub albedo: Vec4,
     /// Emitted radiance in linear RGB (arbitrary radiometric units,
-    /// `>= 0`), from the front side; `w` = 0.
+    /// `>= 0`), from the front side; `w` = 0. Multiplied by the emission
+    /// texture when there is one.
     pub emission: Vec4,
+    /// `x`: image index of the base colour texture or [`TEXTURE_NONE`];
+    /// `y`: its sampler flags ([`WRAP_REPEAT`] ...); `z`, `w`: the same for
+    /// the emission texture.
+    pub textures: UVec4,
+}
+
+impl MaterialGpu {
+    /// An untextured material.
+    pub const fn untextured(albedo: Vec4, emission: Vec4) -> Self {
+        MaterialGpu {
+            albedo,
+            emission,
+            textures: UVec4::new(TEXTURE_NONE, 0, TEXTURE_NONE, 0),
+        }
+    }
+}
+
+/// Per-triangle attributes the BVH traversal does not need, 48 bytes,
+/// parallel to the triangle buffer (BVH leaf order).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct TriangleAttrGpu {
+    /// Texture coordinates of vertices 0 (`xy`) and 1 (`zw`).
+    pub uv01: Vec4,
+    /// Texture coordinates of vertex 2 (`xy`); `zw` = 0.
+    pub uv2: Vec4,
+    /// `x`: object id (below [`GBUFFER_NO_HIT`]); `y`: index of the triangle
+    /// in the host's scene order (before BVH reordering); `z`, `w` = 0.
+    pub ids: UVec4,
+}
+
+/// One pixel of the G-buffer, 64 bytes: what the ray through the pixel
+/// centre sees first. Without a hit every field is 0 except
+/// `ids = (GBUFFER_NO_HIT, GBUFFER_NO_HIT, GBUFFER_NO_HIT, 0)` and
+/// `motion.xy` (the motion of the direction, as for a point at infinity).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GBufferGpu {
+    /// `xyz`: unit shading normal in world space, facing the camera (the
+    /// tracer shades with the geometric normal, so this is it); `w`: linear
+    /// depth, the hit point's distance along the camera's forward axis in
+    /// world units, `> 0`.
+    pub normal_depth: Vec4,
+    /// `rgb`: albedo at the hit in linear RGB (material albedo x base colour
+    /// texture), each in `[0, 1]`; `w`: 0.
+    pub albedo: Vec4,
+    /// `xy`: backward motion in pixels: where the hit point was in the
+    /// previous frame's raster, minus this pixel's centre `(x + 0.5, y +
+    /// 0.5)` (raster `x` right, `y` down); includes camera and object
+    /// motion; 0 for a still scene; only meaningful with
+    /// [`GBUFFER_PREV_IN_FRONT`]. `z`: the hit point's linear depth in the
+    /// previous camera (compare with the previous G-buffer's depth to detect
+    /// disocclusion). `w`: 0.
+    pub motion: Vec4,
+    /// `x`: object id, `y`: material index, `z`: triangle index in the host's
+    /// scene order, `w`: flags ([`GBUFFER_HIT`], [`GBUFFER_PREV_IN_FRONT`],
+    /// [`GBUFFER_EMITTER`]).
+    pub ids: UVec4,
 }
 
 /// One entry of the emitter list for next-event estimation, 16 bytes.
@@ -244,8 +367,10 @@ impl EmitterGpu {
     };
 }
 
-const _: () = assert!(core::mem::size_of::<TraceParams>() == 128);
+const _: () = assert!(core::mem::size_of::<TraceParams>() == 208);
+const _: () = assert!(core::mem::size_of::<TriangleAttrGpu>() == 48);
+const _: () = assert!(core::mem::size_of::<GBufferGpu>() == 64);
 const _: () = assert!(core::mem::size_of::<BvhNodeGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<TriangleGpu>() == 48);
-const _: () = assert!(core::mem::size_of::<MaterialGpu>() == 32);
+const _: () = assert!(core::mem::size_of::<MaterialGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<EmitterGpu>() == 16);

@@ -30,24 +30,85 @@ pub fn primary_ray(params: &TraceParams, x: u32, y: u32, jitter: Vec2) -> Ray {
     Ray::new(params.camera_origin.truncate(), dir.normalize())
 }
 
+/// A pinhole camera's basis, as the current or the previous frame's fields
+/// of [`TraceParams`] hold it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraView {
+    /// Eye position, world units.
+    pub origin: Vec3,
+    /// Unit viewing direction.
+    pub forward: Vec3,
+    /// Unit vector to the image's right.
+    pub right: Vec3,
+    /// Unit vector to the image's top.
+    pub up: Vec3,
+    /// `tan(fov_y / 2)`, `> 0`.
+    pub tan_half_fov_y: f32,
+}
+
+impl CameraView {
+    /// This frame's camera of `params`.
+    #[inline]
+    pub fn current(params: &TraceParams) -> Self {
+        CameraView {
+            origin: params.camera_origin.truncate(),
+            forward: params.camera_forward.truncate(),
+            right: params.camera_right.truncate(),
+            up: params.camera_up.truncate(),
+            tan_half_fov_y: params.tan_half_fov_y,
+        }
+    }
+
+    /// The previous frame's camera of `params`.
+    #[inline]
+    pub fn previous(params: &TraceParams) -> Self {
+        CameraView {
+            origin: params.prev_camera_origin.truncate(),
+            forward: params.prev_camera_forward.truncate(),
+            right: params.prev_camera_right.truncate(),
+            up: params.prev_camera_up.truncate(),
+            tan_half_fov_y: params.prev_tan_half_fov_y,
+        }
+    }
+
+    /// Raster position (in a `width x height` frame) and linear depth `z`
+    /// (distance along `forward`) of the direction `d` from the eye, or
+    /// `None` when `z <= 0` (behind the camera).
+    #[inline]
+    pub fn project_offset(&self, width: u32, height: u32, d: Vec3) -> Option<(Vec2, f32)> {
+        let z = d.dot(self.forward);
+        if z <= 0.0 {
+            return None;
+        }
+        let t = self.tan_half_fov_y;
+        let aspect = width.max(1) as f32 / height.max(1) as f32;
+        let ndc_x = d.dot(self.right) / (z * t * aspect);
+        let ndc_y = d.dot(self.up) / (z * t);
+        Some((
+            Vec2::new(
+                (ndc_x + 1.0) * 0.5 * width as f32,
+                (1.0 - ndc_y) * 0.5 * height as f32,
+            ),
+            z,
+        ))
+    }
+
+    /// Raster position and linear depth of world point `p` (see
+    /// [`Self::project_offset`]).
+    #[inline]
+    pub fn project(&self, width: u32, height: u32, p: Vec3) -> Option<(Vec2, f32)> {
+        self.project_offset(width, height, p - self.origin)
+    }
+}
+
 /// Raster position of world point `p` seen by the camera (inverse of
 /// [`primary_ray`]'s mapping), or `None` when `p` is not in front of it.
 /// Used by tests and the host to locate scene features in images.
 #[inline]
 pub fn project_point(params: &TraceParams, p: Vec3) -> Option<Vec2> {
-    let d = p - params.camera_origin.truncate();
-    let z = d.dot(params.camera_forward.truncate());
-    if z <= 0.0 {
-        return None;
-    }
-    let t = params.tan_half_fov_y;
-    let aspect = params.width.max(1) as f32 / params.height.max(1) as f32;
-    let ndc_x = d.dot(params.camera_right.truncate()) / (z * t * aspect);
-    let ndc_y = d.dot(params.camera_up.truncate()) / (z * t);
-    Some(Vec2::new(
-        (ndc_x + 1.0) * 0.5 * params.width as f32,
-        (1.0 - ndc_y) * 0.5 * params.height as f32,
-    ))
+    CameraView::current(params)
+        .project(params.width, params.height, p)
+        .map(|(raster, _)| raster)
 }
 
 #[cfg(test)]

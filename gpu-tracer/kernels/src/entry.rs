@@ -2,8 +2,11 @@
 //! call the plain functions the CPU renderer also uses. Bindings are listed
 //! in [`crate::abi`].
 
-use crate::abi::{BvhNodeGpu, EmitterGpu, MaterialGpu, TraceParams, TriangleGpu};
+use crate::abi::{
+    BvhNodeGpu, EmitterGpu, GBufferGpu, MaterialGpu, TraceParams, TriangleAttrGpu, TriangleGpu,
+};
 use crate::accumulate::accumulate_pixel;
+use crate::gbuffer::gbuffer_pixel;
 use crate::trace::trace_pixel;
 use glam::{UVec2, UVec3, Vec4};
 use spirv_std::spirv;
@@ -25,6 +28,8 @@ pub fn trace_cs(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] seeds: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] color: &mut [Vec4],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] keys: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 8)] attrs: &[TriangleAttrGpu],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] images: &[u32],
 ) {
     if id.x >= params.width || id.y >= params.height {
         return;
@@ -39,6 +44,8 @@ pub fn trace_cs(
         triangles,
         materials,
         emitters,
+        attrs,
+        images,
     );
     color[id.y.wrapping_mul(params.width).wrapping_add(id.x) as usize] = value;
 }
@@ -58,4 +65,35 @@ pub fn accumulate_cs(
     }
     let i = id.y.wrapping_mul(params.width).wrapping_add(id.x) as usize;
     accum[i] = accumulate_pixel(accum[i], color[i], params.frame);
+}
+
+/// [`GBUFFER_ENTRY`](crate::abi::GBUFFER_ENTRY): one invocation per visible
+/// pixel; writes `gbuffer_pixel(...)`. Invocations outside the frame do
+/// nothing.
+#[allow(clippy::too_many_arguments)]
+#[spirv(compute(threads(8, 8)))]
+pub fn gbuffer_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &TraceParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] nodes: &[BvhNodeGpu],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] triangles: &[TriangleGpu],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] materials: &[MaterialGpu],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] attrs: &[TriangleAttrGpu],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] images: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] previous: &[TriangleGpu],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] gbuffer: &mut [GBufferGpu],
+) {
+    if id.x >= params.width || id.y >= params.height {
+        return;
+    }
+    gbuffer[id.y.wrapping_mul(params.width).wrapping_add(id.x) as usize] = gbuffer_pixel(
+        params,
+        UVec2::new(id.x, id.y),
+        nodes,
+        triangles,
+        materials,
+        attrs,
+        images,
+        previous,
+    );
 }

@@ -9,7 +9,9 @@
 //! - [`camera`] primary rays, [`intersect`] ray-triangle and ray-box tests,
 //!   [`bvh`] BVH2 traversal, [`sampling`] warps, [`trace`] the path tracer
 //!   ([`trace_pixel`] is what the trace entry point runs per pixel),
-//!   [`accumulate`] the running mean.
+//!   [`accumulate`] the running mean, [`texture`] image lookup and
+//!   [`surface`] textured albedo and emission, [`gbuffer`] the G-buffer and
+//!   motion vectors ([`gbuffer::gbuffer_pixel`]).
 //!
 //! Everything reachable from an entry point follows rust-gpu's rules:
 //! `u32`/`f32` arithmetic (`wrapping_*` on integers), fixed-size local
@@ -26,14 +28,15 @@
 //!     v2: Vec4::new(0.0, 10.0, -1.0, 0.0),
 //! };
 //! let node = BvhNodeGpu { min: Vec4::new(-10.0, -10.0, -1.0, 0.0), max: Vec4::new(10.0, 10.0, -1.0, 0.0), info: UVec4::new(1, 0, 0, 0) };
-//! let material = MaterialGpu { albedo: Vec4::ZERO, emission: Vec4::new(2.0, 1.0, 0.5, 0.0) };
+//! let material = MaterialGpu::untextured(Vec4::ZERO, Vec4::new(2.0, 1.0, 0.5, 0.0));
 //! let params = TraceParams {
 //!     width: 4, height: 4, padded_width: 4, spp: 1, max_depth: 4, node_count: 1, triangle_count: 1,
 //!     rr_depth: 3, tan_half_fov_y: 0.5,
 //!     camera_forward: Vec4::new(0.0, 0.0, -1.0, 0.0), camera_right: Vec4::X, camera_up: Vec4::Y,
 //!     ..Default::default()
 //! };
-//! let c = trace_pixel(&params, UVec2::new(1, 2), 12345, &[], &[node], &[tri], &[material], &[EmitterGpu::NONE]);
+//! let attrs = [TriangleAttrGpu::default()];
+//! let c = trace_pixel(&params, UVec2::new(1, 2), 12345, &[], &[node], &[tri], &[material], &[EmitterGpu::NONE], &attrs, &[0]);
 //! assert_eq!(c, Vec4::new(2.0, 1.0, 0.5, 1.0));
 //! ```
 #![cfg_attr(target_arch = "spirv", no_std)]
@@ -44,10 +47,14 @@ pub mod accumulate;
 pub mod bvh;
 pub mod camera;
 pub mod entry;
+pub mod gbuffer;
 pub mod intersect;
 pub mod permute_entry;
 pub mod sampling;
+pub mod surface;
+pub mod texture;
 pub mod trace;
 
 pub use accumulate::accumulate_pixel;
+pub use gbuffer::gbuffer_pixel;
 pub use trace::{trace_pixel, trace_pixel_counted, trace_sample, DIMS_PER_SAMPLE};

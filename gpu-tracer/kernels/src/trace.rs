@@ -93,13 +93,15 @@
 //! the seed permutation with a stratified jitter.
 
 use crate::abi::{
-    BvhNodeGpu, EmitterGpu, MaterialGpu, TraceParams, TriangleGpu, MAX_DEPTH_LIMIT, SAMPLER_JITTER_ONLY,
-    SAMPLER_KIND_MASK, SAMPLER_SCREEN_SOBOL, SAMPLER_ZSOBOL, SEED_MODE_ADVANCE, SEED_MODE_BLUE_NOISE_DITHER,
+    BvhNodeGpu, EmitterGpu, MaterialGpu, TraceParams, TriangleAttrGpu, TriangleGpu, MAX_DEPTH_LIMIT,
+    SAMPLER_JITTER_ONLY, SAMPLER_KIND_MASK, SAMPLER_SCREEN_SOBOL, SAMPLER_ZSOBOL, SEED_MODE_ADVANCE,
+    SEED_MODE_BLUE_NOISE_DITHER,
 };
 use crate::bvh::{any_hit, closest_hit};
 use crate::camera::primary_ray;
 use crate::intersect::Ray;
 use crate::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_triangle_barycentrics, Frame};
+use crate::surface::{surface_albedo, surface_emission, triangle_uv};
 use core::f32::consts::FRAC_1_PI;
 use glam::{UVec2, Vec2, Vec3, Vec4};
 use sampler_core::r2::q32_to_f32;
@@ -257,8 +259,13 @@ pub fn trace_pixel(
     triangles: &[TriangleGpu],
     materials: &[MaterialGpu],
     emitters: &[EmitterGpu],
+    attrs: &[TriangleAttrGpu],
+    images: &[u32],
 ) -> Vec4 {
-    trace_pixel_counted(params, pixel, seed, keys, nodes, triangles, materials, emitters).0
+    trace_pixel_counted(
+        params, pixel, seed, keys, nodes, triangles, materials, emitters, attrs, images,
+    )
+    .0
 }
 
 /// [`trace_pixel`] and the number of rays it traced (camera, continuation
@@ -274,6 +281,8 @@ pub fn trace_pixel_counted(
     triangles: &[TriangleGpu],
     materials: &[MaterialGpu],
     emitters: &[EmitterGpu],
+    attrs: &[TriangleAttrGpu],
+    images: &[u32],
 ) -> (Vec4, u32) {
     let spp = params.spp.max(1);
     let mut sum = Vec3::ZERO;
@@ -282,7 +291,7 @@ pub fn trace_pixel_counted(
     while s < spp {
         let numbers = PathNumbers::new(params, pixel, seed, s);
         sum += trace_sample_with(
-            params, keys, numbers, nodes, triangles, materials, emitters, &mut rays,
+            params, keys, numbers, nodes, triangles, materials, emitters, attrs, images, &mut rays,
         );
         s += 1;
     }
@@ -293,6 +302,7 @@ pub fn trace_pixel_counted(
 /// the numbers of `stream` from its current index on (see the module docs
 /// for the layout). Non-finite results (which only degenerate input can
 /// cause) are returned as 0.
+#[allow(clippy::too_many_arguments)]
 #[inline]
 pub fn trace_sample(
     params: &TraceParams,
@@ -302,6 +312,8 @@ pub fn trace_sample(
     triangles: &[TriangleGpu],
     materials: &[MaterialGpu],
     emitters: &[EmitterGpu],
+    attrs: &[TriangleAttrGpu],
+    images: &[u32],
 ) -> Vec3 {
     let mut rays = 0u32;
     let numbers = PathNumbers::from_stream(stream, pixel);
@@ -313,6 +325,8 @@ pub fn trace_sample(
         triangles,
         materials,
         emitters,
+        attrs,
+        images,
         &mut rays,
     )
 }
@@ -338,10 +352,23 @@ pub fn trace_pixel_dithered(
     triangles: &[TriangleGpu],
     materials: &[MaterialGpu],
     emitters: &[EmitterGpu],
+    attrs: &[TriangleAttrGpu],
+    images: &[u32],
 ) -> Vec4 {
     let dithered = params.seed_mode == SEED_MODE_BLUE_NOISE_DITHER;
     if !dithered {
-        return trace_pixel(params, pixel, seed, &[], nodes, triangles, materials, emitters);
+        return trace_pixel(
+            params,
+            pixel,
+            seed,
+            &[],
+            nodes,
+            triangles,
+            materials,
+            emitters,
+            attrs,
+            images,
+        );
     }
     let spp = params.spp.max(1);
     let mut sum = Vec3::ZERO;
@@ -363,6 +390,8 @@ pub fn trace_pixel_dithered(
             triangles,
             materials,
             emitters,
+            attrs,
+            images,
             &mut rays,
         );
         s += 1;
@@ -510,6 +539,8 @@ fn trace_sample_with(
     triangles: &[TriangleGpu],
     materials: &[MaterialGpu],
     emitters: &[EmitterGpu],
+    attrs: &[TriangleAttrGpu],
+    images: &[u32],
     rays: &mut u32,
 ) -> Vec3 {
     let max_depth = params.max_depth.min(MAX_DEPTH_LIMIT);
@@ -534,10 +565,11 @@ fn trace_sample_with(
         let (geo_normal, area) = normal_and_area(v0, v1, v2);
         let point = v0 + (v1 - v0) * hit.u + (v2 - v0) * hit.v;
         let material = materials[tri.v0.w as u32 as usize];
+        let uv = triangle_uv(&attrs[hit.triangle as usize], hit.u, hit.v);
         let cos_out = -ray.dir.dot(geo_normal);
 
         // Emission found by the BSDF sample (or seen from the camera).
-        let emission = material.emission.truncate();
+        let emission = surface_emission(&material, images, params.image_count, uv);
         if cos_out > 0.0 && emission.max_element() > 0.0 {
             let select_pdf = tri.v1.w;
             let weight = if bsdf_pdf > 0.0 && select_pdf > 0.0 && params.emitter_count > 0 {
@@ -551,7 +583,7 @@ fn trace_sample_with(
 
         // Shading frame faces the incoming ray (two-sided diffuse).
         let normal = if cos_out > 0.0 { geo_normal } else { -geo_normal };
-        let albedo = material.albedo.truncate();
+        let albedo = surface_albedo(&material, images, params.image_count, uv);
         let u_light = numbers.light(params, keys, depth);
         let origin = offset_point(point, normal);
 
@@ -579,7 +611,13 @@ fn trace_sample_with(
                         *rays += 1;
                         !any_hit(nodes, triangles, &Ray::new(origin, wi), 0.0, t_max)
                     } {
-                        let light_emission = materials[lt.v0.w as u32 as usize].emission.truncate();
+                        let light_uv = triangle_uv(&attrs[e.triangle as usize], b.x, b.y);
+                        let light_emission = surface_emission(
+                            &materials[lt.v0.w as u32 as usize],
+                            images,
+                            params.image_count,
+                            light_uv,
+                        );
                         let brdf_cos = albedo * (FRAC_1_PI * cos_surface);
                         radiance += throughput * brdf_cos * light_emission * (weight / light_pdf);
                     }
@@ -781,6 +819,7 @@ mod tests {
         triangles: [TriangleGpu; 2],
         materials: [MaterialGpu; 2],
         emitters: [EmitterGpu; 1],
+        attrs: [TriangleAttrGpu; 2],
     }
 
     fn half_lit() -> HalfLit {
@@ -802,16 +841,11 @@ mod tests {
             }],
             triangles: [floor, light],
             materials: [
-                MaterialGpu {
-                    albedo: Vec4::new(0.5, 0.5, 0.5, 0.0),
-                    emission: Vec4::ZERO,
-                },
-                MaterialGpu {
-                    albedo: Vec4::ZERO,
-                    emission: Vec4::new(1.0, 1.0, 1.0, 0.0),
-                },
+                MaterialGpu::untextured(Vec4::new(0.5, 0.5, 0.5, 0.0), Vec4::ZERO),
+                MaterialGpu::untextured(Vec4::ZERO, Vec4::new(1.0, 1.0, 1.0, 0.0)),
             ],
             emitters: [EmitterGpu::NONE],
+            attrs: [TriangleAttrGpu::default(); 2],
         }
     }
 
@@ -860,6 +894,8 @@ mod tests {
                 &scene.triangles,
                 &scene.materials,
                 &scene.emitters,
+                &scene.attrs,
+                &[0],
             )
             .x
         })
@@ -921,6 +957,8 @@ mod tests {
                             &scene.triangles,
                             &scene.materials,
                             &scene.emitters,
+                            &scene.attrs,
+                            &[0],
                             &mut 0,
                         );
                     }

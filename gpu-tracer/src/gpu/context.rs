@@ -53,6 +53,21 @@ impl Gpu {
         Self::from_instance(wgpu::Instance::new(desc))
     }
 
+    /// Which adapter [`Gpu::new`] would open, without creating a device or
+    /// loading the kernels (cheap: lets a caller skip a software adapter).
+    ///
+    /// # Errors
+    /// [`GpuError::NoAdapter`] where no adapter exists.
+    pub fn probe() -> Result<wgpu::AdapterInfo, GpuError> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle().with_env());
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+        Ok(adapter.get_info())
+    }
+
     fn from_instance(instance: wgpu::Instance) -> Result<Self, GpuError> {
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,
@@ -66,10 +81,17 @@ impl Gpu {
             required_features |= wgpu::Features::TIMESTAMP_QUERY;
         }
         let adapter_limits = adapter.limits();
+        let need = kernels::abi::MAX_STORAGE_BUFFERS_PER_STAGE;
+        if adapter_limits.max_storage_buffers_per_shader_stage < need {
+            return Err(GpuError::Device(format!(
+                "adapter {} offers {} storage buffers per shader stage; the trace pass binds {need}",
+                info.name, adapter_limits.max_storage_buffers_per_shader_stage
+            )));
+        }
         let required_limits = wgpu::Limits {
             max_storage_buffer_binding_size: adapter_limits.max_storage_buffer_binding_size,
             max_buffer_size: adapter_limits.max_buffer_size,
-            max_storage_buffers_per_shader_stage: adapter_limits.max_storage_buffers_per_shader_stage.min(8),
+            max_storage_buffers_per_shader_stage: adapter_limits.max_storage_buffers_per_shader_stage.min(16),
             ..wgpu::Limits::downlevel_defaults()
         };
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {

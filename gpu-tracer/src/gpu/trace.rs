@@ -1,44 +1,107 @@
-//! The path-tracing and accumulation passes on the GPU.
+//! The path-tracing, G-buffer and accumulation passes on the GPU.
 
 use super::context::{groups, Gpu};
 use super::timer::PassTimer;
 use super::GpuError;
 use crate::scene::SceneGpu;
 use glam::Vec4;
-use kernels::abi::{TraceParams, ACCUMULATE_ENTRY, TRACE_ENTRY, TRACE_WORKGROUP};
+use kernels::abi::{GBufferGpu, TraceParams, ACCUMULATE_ENTRY, GBUFFER_ENTRY, TRACE_ENTRY, TRACE_WORKGROUP};
 
-/// The trace and accumulate pipelines, created once per device.
+/// The trace, G-buffer and accumulate pipelines, created once per device.
 #[derive(Debug)]
 pub struct TracePipelines {
     trace: wgpu::ComputePipeline,
+    gbuffer: wgpu::ComputePipeline,
     accumulate: wgpu::ComputePipeline,
 }
 
 impl TracePipelines {
-    /// Creates both pipelines from the kernels module.
+    /// Creates the pipelines from the kernels module.
     ///
     /// # Errors
     /// [`GpuError::Validation`] if wgpu rejects one.
     pub fn new(gpu: &Gpu) -> Result<Self, GpuError> {
         Ok(TracePipelines {
             trace: gpu.pipeline(TRACE_ENTRY)?,
+            gbuffer: gpu.pipeline(GBUFFER_ENTRY)?,
             accumulate: gpu.pipeline(ACCUMULATE_ENTRY)?,
         })
     }
 }
 
+/// The scene's buffers on the device.
+#[derive(Debug)]
+struct SceneBuffers {
+    nodes: wgpu::Buffer,
+    triangles: wgpu::Buffer,
+    materials: wgpu::Buffer,
+    emitters: wgpu::Buffer,
+    attrs: wgpu::Buffer,
+    images: wgpu::Buffer,
+    previous: wgpu::Buffer,
+    /// Element counts, to tell whether an update fits the buffers.
+    counts: [usize; 7],
+}
+
+impl SceneBuffers {
+    fn counts(scene: &SceneGpu) -> [usize; 7] {
+        [
+            scene.nodes.len(),
+            scene.triangles.len(),
+            scene.materials.len(),
+            scene.emitters.len(),
+            scene.attrs.len(),
+            scene.images.len(),
+            scene.previous.len(),
+        ]
+    }
+
+    fn upload(gpu: &Gpu, scene: &SceneGpu) -> Self {
+        SceneBuffers {
+            nodes: gpu.storage("bvh nodes", &scene.nodes),
+            triangles: gpu.storage("triangles", &scene.triangles),
+            materials: gpu.storage("materials", &scene.materials),
+            emitters: gpu.storage("emitters", &scene.emitters),
+            attrs: gpu.storage("triangle attributes", &scene.attrs),
+            images: gpu.storage("images", &scene.images),
+            previous: gpu.storage("previous positions", &scene.previous),
+            counts: Self::counts(scene),
+        }
+    }
+
+    /// Rewrites the buffers in place (same counts).
+    fn write(&self, gpu: &Gpu, scene: &SceneGpu) {
+        let q = &gpu.queue;
+        q.write_buffer(&self.nodes, 0, bytemuck::cast_slice(&scene.nodes));
+        q.write_buffer(&self.triangles, 0, bytemuck::cast_slice(&scene.triangles));
+        q.write_buffer(&self.materials, 0, bytemuck::cast_slice(&scene.materials));
+        q.write_buffer(&self.emitters, 0, bytemuck::cast_slice(&scene.emitters));
+        q.write_buffer(&self.attrs, 0, bytemuck::cast_slice(&scene.attrs));
+        q.write_buffer(&self.images, 0, bytemuck::cast_slice(&scene.images));
+        q.write_buffer(&self.previous, 0, bytemuck::cast_slice(&scene.previous));
+    }
+}
+
 /// A scene uploaded to the device with its frame buffers: the colour of the
-/// current frame and the running mean, `width * height` `Vec4` each.
+/// current frame, the running mean (`width * height` `Vec4` each) and the
+/// G-buffer (`width * height` [`GBufferGpu`]).
 #[derive(Debug)]
 pub struct Tracer {
     width: u32,
     height: u32,
     params: wgpu::Buffer,
+    scene: SceneBuffers,
+    seeds: wgpu::Buffer,
+    keys: wgpu::Buffer,
     /// Colour of the last traced frame (`w` = 1), `width * height`.
     pub color: wgpu::Buffer,
     /// Running mean of all accumulated frames, `width * height`.
     pub accum: wgpu::Buffer,
+    /// G-buffer of the last [`Tracer::encode_gbuffer`], `width * height`
+    /// [`GBufferGpu`]; stays on the device for the passes that read it.
+    pub gbuffer: wgpu::Buffer,
     trace_bg: wgpu::BindGroup,
+    gbuffer_bg: wgpu::BindGroup,
     accumulate_bg: wgpu::BindGroup,
 }
 
@@ -47,9 +110,9 @@ impl Tracer {
     /// (`sampler_core::defaults::screen_sobol_keys()`, binding 7, read by
     /// the screen-sobol sampler; [`crate::SceneGpu::trace_params`] writes
     /// their layout into the parameters) and allocates the accumulation
-    /// buffer for `params`' size. `seeds` is the seed buffer the trace pass reads
-    /// (`params.padded_width` wide); `color` (from [`Tracer::color_buffer`])
-    /// receives each frame.
+    /// buffer and the G-buffer for `params`' size. `seeds` is the seed
+    /// buffer the trace pass reads (`params.padded_width` wide); `color`
+    /// (from [`Tracer::color_buffer`]) receives each frame.
     pub fn new(
         gpu: &Gpu,
         pipelines: &TracePipelines,
@@ -60,38 +123,103 @@ impl Tracer {
     ) -> Self {
         let n = (params.width * params.height) as usize;
         let params_buf = gpu.uniform("trace params", params);
-        let nodes = gpu.storage("bvh nodes", &scene.nodes);
-        let triangles = gpu.storage("triangles", &scene.triangles);
-        let materials = gpu.storage("materials", &scene.materials);
-        let emitters = gpu.storage("emitters", &scene.emitters);
         let keys = gpu.storage(
             "screen-space sobol keys",
             sampler_core::defaults::screen_sobol_keys().keys(),
         );
         let accum = gpu.storage_zeroed::<Vec4>("accumulation", n);
-        let trace_bg = gpu.bind(
-            &pipelines.trace,
-            &[
-                &params_buf,
-                &nodes,
-                &triangles,
-                &materials,
-                &emitters,
-                seeds,
-                &color,
-                &keys,
-            ],
+        let gbuffer = gpu.storage_zeroed::<GBufferGpu>("g-buffer", n);
+        let scene = SceneBuffers::upload(gpu, scene);
+        let (trace_bg, gbuffer_bg) = Self::scene_bind_groups(
+            gpu,
+            pipelines,
+            &params_buf,
+            &scene,
+            seeds,
+            &color,
+            &keys,
+            &gbuffer,
         );
         let accumulate_bg = gpu.bind(&pipelines.accumulate, &[&params_buf, &color, &accum]);
         Tracer {
             width: params.width,
             height: params.height,
             params: params_buf,
+            scene,
+            seeds: seeds.clone(),
+            keys,
             color,
             accum,
+            gbuffer,
             trace_bg,
+            gbuffer_bg,
             accumulate_bg,
         }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn scene_bind_groups(
+        gpu: &Gpu,
+        pipelines: &TracePipelines,
+        params: &wgpu::Buffer,
+        s: &SceneBuffers,
+        seeds: &wgpu::Buffer,
+        color: &wgpu::Buffer,
+        keys: &wgpu::Buffer,
+        gbuffer: &wgpu::Buffer,
+    ) -> (wgpu::BindGroup, wgpu::BindGroup) {
+        let trace = gpu.bind(
+            &pipelines.trace,
+            &[
+                params,
+                &s.nodes,
+                &s.triangles,
+                &s.materials,
+                &s.emitters,
+                seeds,
+                color,
+                keys,
+                &s.attrs,
+                &s.images,
+            ],
+        );
+        let gbuf = gpu.bind(
+            &pipelines.gbuffer,
+            &[
+                params,
+                &s.nodes,
+                &s.triangles,
+                &s.materials,
+                &s.attrs,
+                &s.images,
+                &s.previous,
+                gbuffer,
+            ],
+        );
+        (trace, gbuf)
+    }
+
+    /// Replaces the scene on the device (a moving scene's next frame, with
+    /// its previous positions): rewrites the buffers where the sizes match,
+    /// else uploads new ones and rebuilds the bind groups.
+    pub fn update_scene(&mut self, gpu: &Gpu, pipelines: &TracePipelines, scene: &SceneGpu) {
+        if SceneBuffers::counts(scene) == self.scene.counts {
+            self.scene.write(gpu, scene);
+            return;
+        }
+        self.scene = SceneBuffers::upload(gpu, scene);
+        let (trace_bg, gbuffer_bg) = Self::scene_bind_groups(
+            gpu,
+            pipelines,
+            &self.params,
+            &self.scene,
+            &self.seeds,
+            &self.color,
+            &self.keys,
+            &self.gbuffer,
+        );
+        self.trace_bg = trace_bg;
+        self.gbuffer_bg = gbuffer_bg;
     }
 
     /// A frame colour buffer for a `width x height` frame, to pass to
@@ -100,7 +228,7 @@ impl Tracer {
         gpu.storage_zeroed::<Vec4>("frame colour", (width * height) as usize)
     }
 
-    /// Writes the parameters of the next submission (frame index etc.).
+    /// Writes the parameters of the next submission (frame index, cameras).
     pub fn set_params(&self, gpu: &Gpu, params: &TraceParams) {
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(params));
@@ -114,6 +242,17 @@ impl Tracer {
         timer: Option<(&PassTimer, u32)>,
     ) {
         self.encode(encoder, &pipelines.trace, &self.trace_bg, timer);
+    }
+
+    /// Encodes the G-buffer pass (optionally timed as `timer` span `span`):
+    /// fills [`Tracer::gbuffer`] for the current parameters.
+    pub fn encode_gbuffer(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipelines: &TracePipelines,
+        timer: Option<(&PassTimer, u32)>,
+    ) {
+        self.encode(encoder, &pipelines.gbuffer, &self.gbuffer_bg, timer);
     }
 
     /// Encodes the accumulation of the current colour into the running mean.
@@ -155,5 +294,13 @@ impl Tracer {
     /// [`GpuError::Readback`].
     pub fn read_accum(&self, gpu: &Gpu) -> Result<Vec<Vec4>, GpuError> {
         gpu.read(&self.accum, (self.width * self.height) as usize)
+    }
+
+    /// Reads the G-buffer back (blocking).
+    ///
+    /// # Errors
+    /// [`GpuError::Readback`].
+    pub fn read_gbuffer(&self, gpu: &Gpu) -> Result<Vec<GBufferGpu>, GpuError> {
+        gpu.read(&self.gbuffer, (self.width * self.height) as usize)
     }
 }

@@ -1,0 +1,42 @@
+//! What a path sees at a hit point: texture coordinates, albedo and
+//! emission after the material's textures.
+
+use crate::abi::{MaterialGpu, TriangleAttrGpu, TEXTURE_NONE};
+use crate::texture::sample_image;
+use glam::{Vec2, Vec3};
+
+/// Texture coordinates at barycentrics `(u, v)` of a triangle (the point
+/// `v0 + (v1 - v0) u + (v2 - v0) v`, as `crate::intersect` reports hits).
+#[inline]
+pub fn triangle_uv(attr: &TriangleAttrGpu, u: f32, v: f32) -> Vec2 {
+    let uv0 = Vec2::new(attr.uv01.x, attr.uv01.y);
+    let uv1 = Vec2::new(attr.uv01.z, attr.uv01.w);
+    let uv2 = Vec2::new(attr.uv2.x, attr.uv2.y);
+    uv0 + (uv1 - uv0) * u + (uv2 - uv0) * v
+}
+
+/// Albedo (linear RGB, each in `[0, 1]`) of `material` at texture
+/// coordinates `uv`: the material's albedo times its base colour texture,
+/// or the albedo alone (bit for bit) without a texture.
+#[inline]
+pub fn surface_albedo(material: &MaterialGpu, images: &[u32], image_count: u32, uv: Vec2) -> Vec3 {
+    let albedo = material.albedo.truncate();
+    if material.textures.x == TEXTURE_NONE {
+        albedo
+    } else {
+        albedo * sample_image(images, image_count, material.textures.x, material.textures.y, uv)
+    }
+}
+
+/// Emitted radiance (linear RGB, `>= 0`) of `material` at `uv`: the
+/// emission times its emission texture, or the emission alone (bit for bit)
+/// without a texture.
+#[inline]
+pub fn surface_emission(material: &MaterialGpu, images: &[u32], image_count: u32, uv: Vec2) -> Vec3 {
+    let emission = material.emission.truncate();
+    if material.textures.z == TEXTURE_NONE {
+        emission
+    } else {
+        emission * sample_image(images, image_count, material.textures.z, material.textures.w, uv)
+    }
+}
