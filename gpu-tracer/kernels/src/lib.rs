@@ -7,7 +7,8 @@
 //! - [`abi`]: every buffer structure shared with the host, the binding
 //!   table, and the entry-point names.
 //! - [`camera`] primary rays, [`intersect`] ray-triangle and ray-box tests,
-//!   [`bvh`] BVH2 traversal, [`sampling`] warps, [`trace`] the path tracer
+//!   [`bvh`] BVH2 traversal, [`sampling`] warps, [`numbers`] where a path's numbers come
+//!   from (seed stream or a-priori sampler), [`trace`] the path tracer
 //!   ([`trace_pixel`] is what the trace entry point runs per pixel),
 //!   [`accumulate`] the running mean, [`texture`] image lookup and
 //!   [`surface`] textured albedo and emission, [`gbuffer`] the G-buffer and
@@ -46,9 +47,11 @@ pub mod abi;
 pub mod accumulate;
 pub mod bvh;
 pub mod camera;
+pub mod dither;
 pub mod entry;
 pub mod gbuffer;
 pub mod intersect;
+pub mod numbers;
 pub mod permute_entry;
 pub mod sampling;
 pub mod surface;

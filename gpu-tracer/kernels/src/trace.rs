@@ -26,76 +26,15 @@
 //! vertices `d >= rr_depth`: the path continues with probability
 //! `min(max channel of throughput, 0.95)` and its throughput is divided by it.
 //!
-//! # Random-number layout
-//!
-//! Sample `s` of a pixel reads the seed's stream at indices
-//! `[s * DIMS_PER_SAMPLE, (s + 1) * DIMS_PER_SAMPLE)`
-//! (`sampler_core::RandomStream::new(seed, s, DIMS_PER_SAMPLE)`):
-//!
-//! | dimension | use |
-//! |---|---|
-//! | 0, 1 | position inside the pixel |
-//! | `2 + 6 d + 0` | vertex `d`: reserved (unused) |
-//! | `2 + 6 d + 1, 2` | vertex `d`: which emitter and the point on it |
-//! | `2 + 6 d + 3, 4` | vertex `d`: BSDF direction |
-//! | `2 + 6 d + 5` | vertex `d`: Russian roulette |
-//!
-//! Every vertex draws its six numbers whether or not it uses them, so a
-//! dimension always drives the same decision: that is what lets the seed
-//! permutation correlate pixels' estimates. The light pair picks the emitter
-//! with its first number and reuses that number, rescaled to `[0, 1)` within
-//! the emitter's probability interval, for the point
-//! ([`select_emitter_reusing`]): one 2D pair covers all the emitters, so a
-//! stratified or blue-noise pair stays so over the whole light. The stream
-//! sample `s` is the sample index within the frame in
-//! [`SEED_MODE_FIXED`](crate::abi::SEED_MODE_FIXED) and `frame * spp + s` in
-//! [`SEED_MODE_ADVANCE`] (see [`stream_sample`]).
-//!
-//! # Blue-noise dither baseline
-//!
-//! [`trace_pixel_dithered`] with `seed_mode ==`
-//! [`SEED_MODE_BLUE_NOISE_DITHER`] replaces the two numbers of vertex 0's
-//! BSDF direction (dimensions `2 + 3`, `2 + 4`) by a per-pixel dither value
-//! supplied by the caller (a spatiotemporal blue-noise mask), Cranley-Patterson
-//! rotated by the R2 sequence for sample `s`: `frac(dither + s * (a1, a2))`.
-//! Every other dimension still comes from the seed's stream. The first
-//! bounce's direction is the dimension pair that matters most on flat,
-//! unshadowed regions: next-event estimation of a large area light there is a
-//! smooth integrand with little variance, while the indirect light gathered
-//! through the first bounce (which hemisphere direction, hence which wall,
-//! the path sees) carries most of the per-pixel variance.
-//!
-//! # A-priori samplers
-//!
-//! [`TraceParams::sampler`] chooses where a path sample's 2D decisions come
-//! from in [`trace_pixel`]:
-//! - [`SAMPLER_SEEDS`](crate::abi::SAMPLER_SEEDS): the seed stream (table
-//!   above);
-//! - [`SAMPLER_SCREEN_SOBOL`] or [`SAMPLER_ZSOBOL`]: the a-priori sampler's
-//!   dimension pairs ([`apriori_pair`]), in path order:
-//!
-//! | sampler pair | use |
-//! |---|---|
-//! | 0 ([`PAIR_JITTER`]) | position inside the pixel |
-//! | `1 + 2 d` ([`pair_light`]) | vertex `d`: emitter and point on it |
-//! | `2 + 2 d` ([`pair_bsdf`]) | vertex `d`: BSDF direction |
-//!
-//! The first pairs are the ones the screen-space Sobol keys are optimised
-//! for (jitter, vertex 0's light, vertex 0's BSDF, vertex 1's light with the
-//! default 4 pairs); later pairs are valid, unoptimised Owen-scrambled
-//! sequences. Russian roulette still reads the seed stream, so `seed_mode`
-//! and the seed permutation keep applying to it. The a-priori pairs are the
-//! same for every seed: they depend only on the pixel, the frame and the
-//! sample.
-//!
-//! With [`SAMPLER_JITTER_ONLY`] set, only pair 0 (the position inside the
-//! pixel) comes from the sampler and everything else from the seed stream:
-//! the seed permutation with a stratified jitter.
+//! Where each number of a path comes from (the seed stream's layout, the
+//! a-priori samplers) is [`crate::numbers`]; the blue-noise-dither baseline
+//! is [`crate::dither`]. Their items are re-exported here.
+
+pub use crate::dither::trace_pixel_dithered;
+pub use crate::numbers::*;
 
 use crate::abi::{
     BvhNodeGpu, EmitterGpu, MaterialGpu, TraceParams, TriangleAttrGpu, TriangleGpu, MAX_DEPTH_LIMIT,
-    SAMPLER_JITTER_ONLY, SAMPLER_KIND_MASK, SAMPLER_SCREEN_SOBOL, SAMPLER_ZSOBOL, SEED_MODE_ADVANCE,
-    SEED_MODE_BLUE_NOISE_DITHER,
 };
 use crate::bvh::{any_hit, closest_hit};
 use crate::camera::primary_ray;
@@ -104,19 +43,7 @@ use crate::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_tr
 use crate::surface::{surface_albedo, surface_emission, triangle_uv};
 use core::f32::consts::FRAC_1_PI;
 use glam::{UVec2, Vec2, Vec3, Vec4};
-use sampler_core::r2::q32_to_f32;
-use sampler_core::screen_sobol::{screen_sobol_pair_u32, ScreenSobolLayout};
-use sampler_core::zsobol::{zsobol_sample_u32, ZSOBOL_MAX_LOG2_SPP};
-use sampler_core::{walk_offset, RandomStream};
-
-/// Stream dimensions used before the first vertex (pixel jitter).
-pub const DIMS_CAMERA: u32 = 2;
-/// Stream dimensions used at every path vertex (see the module docs).
-pub const DIMS_PER_VERTEX: u32 = 6;
-/// Stream dimensions reserved per sample: `DIMS_CAMERA + DIMS_PER_VERTEX *
-/// MAX_DEPTH_LIMIT` = 386, whatever `max_depth` is, so a dimension's meaning
-/// does not depend on the depth setting.
-pub const DIMS_PER_SAMPLE: u32 = DIMS_CAMERA + DIMS_PER_VERTEX * MAX_DEPTH_LIMIT;
+use sampler_core::RandomStream;
 
 /// Largest Russian-roulette survival probability: paths with a bright
 /// throughput still end with probability >= 5%, which bounds path length in
@@ -130,122 +57,11 @@ pub const RR_MAX_SURVIVAL: f32 = 0.95;
 /// below 0.03 units in a 555-unit Cornell box.
 pub const RAY_OFFSET: f32 = 5e-5;
 
-/// Stream sample used by sample `s` of frame `params.frame`: `s` in
-/// [`crate::abi::SEED_MODE_FIXED`] (and for unknown modes),
-/// `frame * spp + s` (wrapping) in [`SEED_MODE_ADVANCE`].
-#[inline]
-pub fn stream_sample(params: &TraceParams, s: u32) -> u32 {
-    if params.seed_mode == SEED_MODE_ADVANCE {
-        params.frame.wrapping_mul(params.spp).wrapping_add(s)
-    } else {
-        s
-    }
-}
-
-/// [`PathNumbers`] scope: every 2D decision from the seed stream.
-pub const APRIORI_NONE: u32 = 0;
-/// [`PathNumbers`] scope: every 2D decision from the a-priori sampler.
-pub const APRIORI_ALL: u32 = 1;
-/// [`PathNumbers`] scope: the jitter pair from the a-priori sampler, the
-/// rest from the seed stream ([`SAMPLER_JITTER_ONLY`]).
-pub const APRIORI_JITTER: u32 = 2;
-
-/// The sampler named by `params.sampler` without its flags:
-/// [`SAMPLER_SCREEN_SOBOL`], [`SAMPLER_ZSOBOL`], or anything else for the
-/// seed stream.
-#[inline]
-pub fn sampler_kind(params: &TraceParams) -> u32 {
-    params.sampler & SAMPLER_KIND_MASK
-}
-
-/// Which of the path's 2D decisions the a-priori sampler drives:
-/// [`APRIORI_NONE`], [`APRIORI_ALL`] or [`APRIORI_JITTER`].
-#[inline]
-pub fn apriori_scope(params: &TraceParams) -> u32 {
-    let kind = sampler_kind(params);
-    if kind != SAMPLER_SCREEN_SOBOL && kind != SAMPLER_ZSOBOL {
-        APRIORI_NONE
-    } else if params.sampler & SAMPLER_JITTER_ONLY != 0 {
-        APRIORI_JITTER
-    } else {
-        APRIORI_ALL
-    }
-}
-
-/// A-priori sampler pair of the position inside the pixel.
-pub const PAIR_JITTER: u32 = 0;
-
-/// A-priori sampler pair of vertex `depth`'s next-event estimation (emitter
-/// and point on it): `1 + 2 depth`.
-#[inline]
-pub fn pair_light(depth: u32) -> u32 {
-    1 + 2 * depth
-}
-
-/// A-priori sampler pair of vertex `depth`'s BSDF direction: `2 + 2 depth`.
-#[inline]
-pub fn pair_bsdf(depth: u32) -> u32 {
-    2 + 2 * depth
-}
-
-/// Pair `pair` (dimensions `2 pair`, `2 pair + 1`) of sample `s` of `pixel`
-/// in frame `params.frame` from the a-priori sampler `params.sampler`
-/// (flags ignored, see [`sampler_kind`]), each
-/// coordinate in `[0, 1)` (24 bits):
-/// - [`SAMPLER_SCREEN_SOBOL`]: sample index `s` with the keys of `keys`
-///   laid out as `params.key_side_log2 / key_pairs / key_levels`, level
-///   `ceil(log2 spp)` (`sampler_core::screen_sobol::screen_sobol_pair_u32`),
-///   read at `pixel + o_t` where `o_t = sampler_core::walk_offset(frame,
-///   key_side_log2)` is the R2 walk that also moves the dither tile. The
-///   keys are optimised for the first `2^level` indices only, so every frame
-///   uses exactly those (a sequence continued across frames loses the
-///   blue-noise error after frame 0); the toroidal shift gives each pixel
-///   other keys every frame, so the accumulated mean converges as Monte
-///   Carlo over per-frame stratified estimates.
-/// - [`SAMPLER_ZSOBOL`]: sample `s` with `2^ceil(log2 spp)` samples per pixel
-///   (at most 256) and seed `params.frame`. ZSobol's index is
-///   `morton(pixel) * 2^log2_spp + s`: the blue-noise property needs
-///   `log2_spp` to be exactly the frame's spp (a larger one would spread a
-///   frame's samples over unrelated strata), so frames cannot continue one
-///   sequence; each frame is an independent randomisation instead, and the
-///   mean converges across frames as Monte Carlo over per-frame stratified
-///   estimates.
-/// - any other value: `Vec2::ZERO` (unused).
-#[inline]
-pub fn apriori_pair(params: &TraceParams, keys: &[u32], pixel: UVec2, s: u32, pair: u32) -> Vec2 {
-    let spp = params.spp.max(1);
-    let kind = sampler_kind(params);
-    if kind == SAMPLER_SCREEN_SOBOL {
-        let layout = ScreenSobolLayout {
-            side_log2: params.key_side_log2,
-            pairs: params.key_pairs.max(1),
-            levels: params.key_levels.max(1),
-            pad: 0,
-        };
-        // Wrapping: `key_index` keeps only the low `key_side_log2` bits.
-        let o = walk_offset(params.frame, params.key_side_log2);
-        let shifted = UVec2::new(pixel.x.wrapping_add(o.x), pixel.y.wrapping_add(o.y));
-        let v = screen_sobol_pair_u32(keys, layout, spp, shifted, s, pair);
-        Vec2::new(q32_to_f32(v[0]), q32_to_f32(v[1]))
-    } else if kind == SAMPLER_ZSOBOL {
-        let mut log2_spp = 0u32;
-        while log2_spp < ZSOBOL_MAX_LOG2_SPP && (1u32 << log2_spp) < spp {
-            log2_spp += 1;
-        }
-        Vec2::new(
-            q32_to_f32(zsobol_sample_u32(pixel, s, 2 * pair, log2_spp, params.frame)),
-            q32_to_f32(zsobol_sample_u32(pixel, s, 2 * pair + 1, log2_spp, params.frame)),
-        )
-    } else {
-        Vec2::ZERO
-    }
-}
-
 /// Mean radiance of the pixel's `params.spp` samples for this frame, as
 /// `(r, g, b, 1)`: the value the trace pass writes to the frame colour
 /// buffer. Identical to what [`TRACE_ENTRY`](crate::abi::TRACE_ENTRY) computes
 /// on the GPU. `seed` is the pixel's seed; `keys` the screen-space Sobol key
-/// buffer (binding 7; read only with [`SAMPLER_SCREEN_SOBOL`], may be
+/// buffer (binding 7; read only with [`SAMPLER_SCREEN_SOBOL`](crate::abi::SAMPLER_SCREEN_SOBOL), may be
 /// empty otherwise). With an a-priori `params.sampler`, the path's 2D
 /// decisions come from [`apriori_pair`] (module docs).
 #[allow(clippy::too_many_arguments)]
@@ -331,207 +147,12 @@ pub fn trace_sample(
     )
 }
 
-/// Mean radiance of the pixel's `params.spp` samples, as [`trace_pixel`],
-/// except that with `params.seed_mode ==` [`SEED_MODE_BLUE_NOISE_DITHER`]
-/// sample `s` takes vertex 0's BSDF direction numbers from
-/// `frac(dither + s * (a1, a2))` (R2 constants) instead of the stream (see
-/// the module docs). `dither` is the pixel's value of a blue-noise mask for
-/// this frame, each component in `[0, 1)`. With any other seed mode this is
-/// exactly [`trace_pixel`] with an empty key buffer (so with
-/// [`SAMPLER_SCREEN_SOBOL`] every pixel reads key 0: pass the keys to
-/// [`trace_pixel`] instead). The dither takes precedence over
-/// `params.sampler`.
-#[allow(clippy::too_many_arguments)]
-#[inline]
-pub fn trace_pixel_dithered(
-    params: &TraceParams,
-    pixel: UVec2,
-    seed: u32,
-    dither: Vec2,
-    nodes: &[BvhNodeGpu],
-    triangles: &[TriangleGpu],
-    materials: &[MaterialGpu],
-    emitters: &[EmitterGpu],
-    attrs: &[TriangleAttrGpu],
-    images: &[u32],
-) -> Vec4 {
-    let dithered = params.seed_mode == SEED_MODE_BLUE_NOISE_DITHER;
-    if !dithered {
-        return trace_pixel(
-            params,
-            pixel,
-            seed,
-            &[],
-            nodes,
-            triangles,
-            materials,
-            emitters,
-            attrs,
-            images,
-        );
-    }
-    let spp = params.spp.max(1);
-    let mut sum = Vec3::ZERO;
-    let mut s = 0u32;
-    while s < spp {
-        // R2 rotation in 0.32 fixed point (sampler_core's walk constants), so
-        // the value stays exact for any sample index.
-        let rx = s.wrapping_mul(0xC13F_A9A9) as f32 * (1.0 / 4_294_967_296.0);
-        let ry = s.wrapping_mul(0x91E1_0DA6) as f32 * (1.0 / 4_294_967_296.0);
-        let stream = RandomStream::new(seed, stream_sample(params, s), DIMS_PER_SAMPLE);
-        let numbers = PathNumbers::from_stream(stream, pixel)
-            .with_first_bsdf(Vec2::new(frac01(dither.x + rx), frac01(dither.y + ry)));
-        let mut rays = 0u32;
-        sum += trace_sample_with(
-            params,
-            &[],
-            numbers,
-            nodes,
-            triangles,
-            materials,
-            emitters,
-            attrs,
-            images,
-            &mut rays,
-        );
-        s += 1;
-    }
-    (sum / spp as f32).extend(1.0)
-}
-
-/// `x - floor(x)` for `x >= 0`, clamped below 1 (f32 rounding of values just
-/// under an integer).
-#[inline]
-fn frac01(x: f32) -> f32 {
-    let f = x - (x as u32) as f32;
-    if f < 1.0 {
-        f
-    } else {
-        0.999_999_94
-    }
-}
-
-/// Where one path sample's numbers come from (module docs): the seed
-/// stream, the a-priori sampler of `params.sampler`, or the dither override
-/// of vertex 0's BSDF pair. Plain data; the parameters and the key buffer
-/// are passed to the methods, and must be the ones it was made with.
-#[derive(Clone, Copy, Debug)]
-pub struct PathNumbers {
-    /// The seed's stream at the sample's first dimension.
-    stream: RandomStream,
-    /// The pixel being rendered.
-    pixel: UVec2,
-    /// Sample index `s` within the frame.
-    sample: u32,
-    /// Which 2D decisions come from [`apriori_pair`]: [`APRIORI_NONE`],
-    /// [`APRIORI_ALL`] or [`APRIORI_JITTER`] (the rest from the stream).
-    apriori: u32,
-    /// Vertex 0's BSDF pair when [`Self::first_bsdf_set`] is 1.
-    first_bsdf: Vec2,
-    /// 1: use [`Self::first_bsdf`]; 0: the sampler's or stream's pair.
-    first_bsdf_set: u32,
-}
-
-impl PathNumbers {
-    /// Sample `s` of `pixel` with seed `seed` under `params` (its
-    /// `seed_mode` and `sampler`).
-    #[inline]
-    pub fn new(params: &TraceParams, pixel: UVec2, seed: u32, s: u32) -> Self {
-        let stream = RandomStream::new(seed, stream_sample(params, s), DIMS_PER_SAMPLE);
-        PathNumbers {
-            sample: s,
-            apriori: apriori_scope(params),
-            ..Self::from_stream(stream, pixel)
-        }
-    }
-
-    /// Every number from `stream` (positioned at the sample's first
-    /// dimension).
-    #[inline]
-    pub fn from_stream(stream: RandomStream, pixel: UVec2) -> Self {
-        PathNumbers {
-            stream,
-            pixel,
-            sample: 0,
-            apriori: APRIORI_NONE,
-            first_bsdf: Vec2::ZERO,
-            first_bsdf_set: 0,
-        }
-    }
-
-    /// The same numbers with vertex 0's BSDF pair replaced by `u` (each
-    /// coordinate in `[0, 1)`).
-    #[inline]
-    pub fn with_first_bsdf(self, u: Vec2) -> Self {
-        PathNumbers {
-            first_bsdf: u,
-            first_bsdf_set: 1,
-            ..self
-        }
-    }
-
-    /// Stream dimensions `dim`, `dim + 1` after the sample's first.
-    #[inline]
-    fn stream_pair(&self, dim: u32) -> Vec2 {
-        let mut d = RandomStream {
-            seed: self.stream.seed,
-            index: self.stream.index.wrapping_add(dim),
-        };
-        d.next_vec2()
-    }
-
-    /// Sampler pair `pair` if the a-priori sampler drives it, else stream
-    /// dimensions `dim`, `dim + 1`.
-    #[inline]
-    fn pair(&self, params: &TraceParams, keys: &[u32], pair: u32, dim: u32) -> Vec2 {
-        if self.apriori == APRIORI_ALL || (self.apriori == APRIORI_JITTER && pair == PAIR_JITTER) {
-            apriori_pair(params, keys, self.pixel, self.sample, pair)
-        } else {
-            self.stream_pair(dim)
-        }
-    }
-
-    /// Position inside the pixel, each coordinate in `[0, 1)`.
-    #[inline]
-    pub fn jitter(&self, params: &TraceParams, keys: &[u32]) -> Vec2 {
-        self.pair(params, keys, PAIR_JITTER, 0)
-    }
-
-    /// Vertex `depth`'s next-event pair (emitter and point).
-    #[inline]
-    pub fn light(&self, params: &TraceParams, keys: &[u32], depth: u32) -> Vec2 {
-        self.pair(params, keys, pair_light(depth), vertex_dim(depth) + 1)
-    }
-
-    /// Vertex `depth`'s BSDF pair.
-    #[inline]
-    pub fn bsdf(&self, params: &TraceParams, keys: &[u32], depth: u32) -> Vec2 {
-        if depth == 0 && self.first_bsdf_set == 1 {
-            self.first_bsdf
-        } else {
-            self.pair(params, keys, pair_bsdf(depth), vertex_dim(depth) + 3)
-        }
-    }
-
-    /// Vertex `depth`'s Russian-roulette number (always the seed stream).
-    #[inline]
-    pub fn roulette(&self, depth: u32) -> f32 {
-        self.stream_pair(vertex_dim(depth) + 5).x
-    }
-}
-
-/// First stream dimension of vertex `depth`: `DIMS_CAMERA + DIMS_PER_VERTEX * depth`.
-#[inline]
-fn vertex_dim(depth: u32) -> u32 {
-    DIMS_CAMERA.wrapping_add(DIMS_PER_VERTEX.wrapping_mul(depth))
-}
-
 /// One path sample (as [`trace_sample`]) drawing its numbers from
 /// `numbers`; `keys` is the screen-space Sobol key buffer. Adds the rays it
 /// traces to `rays`.
 #[allow(clippy::too_many_arguments)]
 #[inline]
-fn trace_sample_with(
+pub(crate) fn trace_sample_with(
     params: &TraceParams,
     keys: &[u32],
     numbers: PathNumbers,
@@ -739,7 +360,10 @@ fn offset_point(p: Vec3, normal: Vec3) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::abi::SAMPLER_SEEDS;
+    use crate::abi::{
+        SAMPLER_JITTER_ONLY, SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS, SAMPLER_ZSOBOL, SEED_MODE_ADVANCE,
+    };
+    use sampler_core::screen_sobol::ScreenSobolLayout;
 
     #[test]
     fn power_heuristic_weights_sum_to_one() {
