@@ -1601,18 +1601,24 @@ mod tests {
         );
     }
 
-    /// Loads `textured_quad.gltf` after `edit` changed its JSON and bin (in
-    /// a temp dir holding all fixtures).
-    fn load_patched(edit: impl FnOnce(&mut Value, &mut Vec<u8>)) -> Result<GltfScene> {
+    /// Loads fixture `<stem>.gltf` after `edit` changed its JSON and its
+    /// `<stem>.bin` (in a temp dir holding all fixtures).
+    fn load_fixture_patched(stem: &str, edit: impl FnOnce(&mut Value, &mut Vec<u8>)) -> Result<GltfScene> {
         let dir = fixture_copy();
-        let path = dir.path().join("textured_quad.gltf");
+        let path = dir.path().join(format!("{stem}.gltf"));
+        let bin_path = dir.path().join(format!("{stem}.bin"));
         let mut doc = read_json(&path);
-        let mut bin = fs::read(dir.path().join("textured_quad.bin")).expect("bin");
+        let mut bin = fs::read(&bin_path).expect("bin");
         edit(&mut doc, &mut bin);
         doc["buffers"][0]["byteLength"] = json!(bin.len());
         write_json(&path, &doc);
-        fs::write(dir.path().join("textured_quad.bin"), &bin).expect("write");
+        fs::write(&bin_path, &bin).expect("write");
         load_gltf(&path, None)
+    }
+
+    /// `textured_quad.gltf` after `edit`.
+    fn load_patched(edit: impl FnOnce(&mut Value, &mut Vec<u8>)) -> Result<GltfScene> {
+        load_fixture_patched("textured_quad", edit)
     }
 
     /// Accessor indices of the checker quad's primitive.
@@ -1756,17 +1762,9 @@ mod tests {
         assert_eq!(element, "node 'quad'");
     }
 
-    /// Loads `animated_room.gltf` after `edit` changed its JSON and bin.
+    /// `animated_room.gltf` after `edit`.
     fn load_room_patched(edit: impl FnOnce(&mut Value, &mut Vec<u8>)) -> Result<GltfScene> {
-        let dir = fixture_copy();
-        let path = dir.path().join("animated_room.gltf");
-        let mut doc = read_json(&path);
-        let mut bin = fs::read(dir.path().join("animated_room.bin")).expect("bin");
-        edit(&mut doc, &mut bin);
-        doc["buffers"][0]["byteLength"] = json!(bin.len());
-        write_json(&path, &doc);
-        fs::write(dir.path().join("animated_room.bin"), &bin).expect("write");
-        load_gltf(&path, None)
+        load_fixture_patched("animated_room", edit)
     }
 
     fn sampler_accessor(doc: &Value, sampler: usize, which: &str) -> usize {
