@@ -69,6 +69,45 @@ fn sorted(v: &[u32]) -> Vec<u32> {
 proptest! {
     #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
 
+    /// Reprojection (issue 13) never duplicates or loses a seed, whatever
+    /// the motion field (random, NaN, infinities, huge, convergent), and
+    /// keeps the padding's seeds in place.
+    #[test]
+    fn reprojection_is_a_permutation_for_any_motion_field(
+        (width, height, block, tile_log2, salt) in (1u32..=70, 1u32..=45, MIN_BLOCK..=MAX_BLOCK, 1u32..=7, any::<u32>()),
+        kind in 0u32..5,
+        scale in prop_oneof![Just(0.3f32), Just(2.0), Just(40.0), Just(1e30)],
+    ) {
+        let layout = FrameLayout::new(width, height, block, 1 << tile_log2).unwrap();
+        let seeds = seeds_for(&layout, salt);
+        let motion: Vec<[f32; 2]> = (0..width * height)
+            .map(|i| {
+                let (x, y) = ((i % width) as f32, (i / width) as f32);
+                let h = seed::hash_u32(i ^ salt);
+                let r = |k: u32| random_f32(h, k) * 2.0 - 1.0;
+                match kind {
+                    0 => [r(0) * scale, r(1) * scale],
+                    1 => [width as f32 * 0.5 - x, height as f32 * 0.5 - y], // all to the centre
+                    2 => if h.is_multiple_of(3) { [f32::NAN, 0.0] } else { [r(0) * scale, f32::INFINITY * r(1).signum()] },
+                    3 => [(y - height as f32 * 0.5) * 0.2, -(x - width as f32 * 0.5) * 0.2], // rotation
+                    _ => [-scale, 0.0], // uniform shift
+                }
+            })
+            .collect();
+        let mut claims = vec![0u32; layout.seed_count()];
+        let mut out = vec![0u32; layout.seed_count()];
+        let stats = reproject_frame(&layout, &motion, &seeds, &mut claims, &mut out).unwrap();
+        prop_assert_eq!(sorted(&out), sorted(&seeds));
+        prop_assert_eq!(stats.followed + stats.recycled, width * height);
+        let pw = layout.padded_width() as usize;
+        for (i, (a, b)) in out.iter().zip(&seeds).enumerate() {
+            if i % pw >= width as usize || i / pw >= height as usize {
+                prop_assert_eq!(a, b, "padding seed {} moved", i);
+            }
+        }
+    }
+
+
     #[test]
     fn sorting_is_a_blockwise_permutation_that_follows_dither_ranks(c in case()) {
         let layout = FrameLayout::new(c.width, c.height, c.block, c.tile).unwrap();

@@ -44,6 +44,7 @@ pub mod error;
 pub mod gltf_scene;
 pub mod gpu;
 pub mod image_out;
+pub mod motion;
 pub mod obj;
 pub mod render;
 pub mod scene;
@@ -53,6 +54,6 @@ pub use error::{Error, Result};
 pub use gpu::PermuteMode;
 pub use render::{
     render_cpu, render_gpu, render_sequence_cpu, render_sequence_gpu, FrameView, RenderJob, RenderOutput,
-    TileChoice,
+    SequenceOptions, TileChoice,
 };
 pub use scene::{Scene, SceneGpu, TraceSettings};

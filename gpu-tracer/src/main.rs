@@ -17,7 +17,7 @@ use gpu_tracer::scene::{Camera, Scene};
 use gpu_tracer::timeline::{SceneSequence, Timeline};
 use gpu_tracer::{
     cornell, gltf_scene, obj, render_sequence_cpu, render_sequence_gpu, FrameView, PermuteMode, RenderJob,
-    TileChoice, TraceSettings,
+    SequenceOptions, TileChoice, TraceSettings,
 };
 use indicatif::{ProgressBar, ProgressStyle};
 use kernels::abi::{
@@ -80,6 +80,11 @@ struct RenderArgs {
     /// Animation time of the first frame, seconds.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     start_time: f32,
+    /// Move the seeds along the motion vectors between frames (seeds follow
+    /// the surfaces they sampled; no seed duplicated): `on` by default when
+    /// the camera or objects move. Runs on the CPU renderer only for now.
+    #[arg(long, value_enum)]
+    reproject: Option<OnOff>,
     /// Write every frame to `<out>/frames/frame_NNNNN.exr` (linear) and
     /// `.png` (tone-mapped).
     #[arg(long)]
@@ -177,6 +182,12 @@ impl SamplerArg {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum OnOff {
+    On,
+    Off,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 enum CameraPathArg {
     Orbit,
     Dolly,
@@ -199,6 +210,9 @@ fn main() -> Result<()> {
 
 fn render(args: RenderArgs) -> Result<()> {
     // Fail on bad input before any work: scene, motion, output directory.
+    if args.reproject == Some(OnOff::On) && args.device == DeviceArg::Gpu {
+        bail!("--reproject on runs on the CPU renderer only for now: use --device cpu");
+    }
     let (mut scene, mut rig) = load_scene(&args)?;
     if let (Some(from), Some(at)) = (args.camera_from, args.camera_at) {
         scene.camera = Camera {
@@ -328,6 +342,18 @@ fn render(args: RenderArgs) -> Result<()> {
     let start = Instant::now();
     let (w, h) = (args.width, args.height);
     let want_gbuffer = args.save_aovs;
+    let moves = sequence.timeline().moves();
+    let reproject = match args.reproject {
+        Some(OnOff::On) => true,
+        Some(OnOff::Off) => false,
+        None => moves && gpu.is_none(),
+    };
+    if reproject && gpu.is_some() {
+        bail!("--reproject on runs on the CPU renderer only for now: add --device cpu");
+    }
+    if moves && gpu.is_some() && args.reproject.is_none() {
+        eprintln!("notice: seeds are not reprojected on the GPU yet (the CPU renderer does it)");
+    }
     let mut save_error: Option<anyhow::Error> = None;
     let mut on_frame = |f: &FrameView<'_>| {
         if save_error.is_none() {
@@ -348,12 +374,20 @@ fn render(args: RenderArgs) -> Result<()> {
         }
         None => {
             bar.set_prefix("CPU");
-            render_sequence_cpu(&mut sequence, &job, want_gbuffer, |f| {
-                if saving {
-                    on_frame(f);
-                }
-                bar.inc(1)
-            })?
+            render_sequence_cpu(
+                &mut sequence,
+                &job,
+                SequenceOptions {
+                    gbuffer: want_gbuffer,
+                    reproject,
+                },
+                |f| {
+                    if saving {
+                        on_frame(f);
+                    }
+                    bar.inc(1)
+                },
+            )?
         }
     };
     if let Some(e) = save_error {
@@ -385,7 +419,7 @@ fn render(args: RenderArgs) -> Result<()> {
         saved += &format!(", {}/frame_*.<aov>.exr", aovs_dir.display());
     }
     println!(
-        "rendered {} frame(s) of {}x{} at {} spp on {} in {:.2} s ({:?} mode, {} sampler); wrote {}{saved}",
+        "rendered {} frame(s) of {}x{} at {} spp on {} in {:.2} s ({:?} mode, {} sampler, reprojection {}); wrote {}{saved}",
         args.frames,
         w,
         h,
@@ -394,6 +428,7 @@ fn render(args: RenderArgs) -> Result<()> {
         secs,
         job.mode,
         args.sampler.name(),
+        if reproject { "on" } else { "off" },
         files
             .iter()
             .map(|f| f.0.display().to_string())

@@ -4,6 +4,7 @@
 
 use crate::cpu;
 use crate::gpu::{Gpu, GpuError, PermuteMode, PermutePipelines, SeedPermuter, TracePipelines, Tracer};
+use crate::motion::reprojection_motion;
 use crate::scene::{SceneGpu, TraceSettings};
 use crate::timeline::SceneSequence;
 use glam::Vec4;
@@ -63,6 +64,18 @@ pub struct FrameView<'a> {
     pub color: &'a [Vec4],
     /// The frame's G-buffer (`width * height`), when requested.
     pub gbuffer: Option<&'a [GBufferGpu]>,
+}
+
+/// What a sequence render does besides tracing and permuting.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SequenceOptions {
+    /// Compute each frame's G-buffer and hand it to the frame callback.
+    pub gbuffer: bool,
+    /// Move the seeds along each frame's backward motion vectors before it
+    /// is traced (`sampler_core::reproject_frame`, with disoccluded pixels
+    /// from [`crate::motion::reprojection_motion`]); CPU only for now.
+    /// Ignored in [`PermuteMode::White`] (fresh seeds every frame).
+    pub reproject: bool,
 }
 
 /// Receives every frame of a sequence render.
@@ -203,15 +216,20 @@ pub fn render_cpu(
     mut on_frame: impl FnMut(u32, &[Vec4]),
 ) -> Result<RenderOutput, RenderError> {
     let mut sequence = SceneSequence::still(scene, job.settings.height);
-    render_sequence_cpu(&mut sequence, job, false, |f: &FrameView<'_>| {
-        on_frame(f.index, f.color)
-    })
+    render_sequence_cpu(
+        &mut sequence,
+        job,
+        SequenceOptions::default(),
+        |f: &FrameView<'_>| on_frame(f.index, f.color),
+    )
 }
 
 /// Renders `job` on the CPU over a [`SceneSequence`] (moving cameras and
-/// objects), from its current frame on (normally frame 0). With `gbuffer`,
-/// each frame's G-buffer is computed (before the trace, as the GPU does)
-/// and handed to `on_frame` with the colour.
+/// objects), from its current frame on (normally frame 0). With
+/// `options.gbuffer`, each frame's G-buffer is computed (before the trace,
+/// as the GPU does) and handed to `on_frame` with the colour. With
+/// `options.reproject`, frame `t + 1`'s order is: G-buffer (motion), seeds
+/// reprojected from frame `t`'s screen, trace, sort + retarget.
 ///
 /// # Errors
 /// [`RenderError`] for bad settings or a scene that cannot be posed;
@@ -219,11 +237,15 @@ pub fn render_cpu(
 pub fn render_sequence_cpu(
     sequence: &mut SceneSequence<'_>,
     job: &RenderJob,
-    gbuffer: bool,
+    options: SequenceOptions,
     mut on_frame: impl FnMut(&FrameView<'_>),
 ) -> Result<RenderOutput, RenderError> {
     let (layout, settings, tile, tables) = job.prepare()?;
     let n = layout.pixel_count();
+    let reproject = options.reproject && job.mode != PermuteMode::White;
+    let gbuffer = options.gbuffer || reproject;
+    let mut previous_gbuf = Vec::new();
+    let mut claims = vec![0u32; if reproject { layout.seed_count() } else { 0 }];
     let mut seeds = cpu::white_seeds(layout.padded_width(), layout.padded_height(), job.salt);
     let mut next = vec![0u32; seeds.len()];
     let mut color = vec![Vec4::ZERO; n];
@@ -238,13 +260,21 @@ pub fn render_sequence_cpu(
         if gbuffer {
             cpu::gbuffer_frame(scene, &params, &mut gbuf)?;
         }
+        if reproject && t > 0 {
+            let motion = reprojection_motion(&gbuf, &previous_gbuf, layout.width(), layout.height());
+            sampler_core::reproject_frame(&layout, &motion, &seeds, &mut claims, &mut next)?;
+            std::mem::swap(&mut seeds, &mut next);
+        }
         cpu::render_frame(scene, &params, &seeds, &mut color)?;
         cpu::accumulate_frame(&params, &color, &mut mean)?;
         on_frame(&FrameView {
             index: t,
             color: &color,
-            gbuffer: gbuffer.then_some(&gbuf[..]),
+            gbuffer: options.gbuffer.then_some(&gbuf[..]),
         });
+        if reproject {
+            previous_gbuf.clone_from(&gbuf);
+        }
         match job.mode {
             PermuteMode::White => {
                 seeds = cpu::white_seeds(

@@ -20,6 +20,10 @@ pub enum Buffer {
     SpatiotemporalMask,
     /// Screen-space sampler keys: `levels * pairs * side * side` keys.
     SampleKeys,
+    /// Backward motion vectors: `width * height` pairs.
+    Motion,
+    /// Reprojection claims (scratch): `padded_width * padded_height` entries.
+    Claims,
 }
 
 impl fmt::Display for Buffer {
@@ -32,6 +36,8 @@ impl fmt::Display for Buffer {
             Buffer::RetargetTable => "retarget table",
             Buffer::SpatiotemporalMask => "spatiotemporal mask",
             Buffer::SampleKeys => "screen-space sampler keys",
+            Buffer::Motion => "motion-vector buffer",
+            Buffer::Claims => "reprojection claims buffer",
         })
     }
 }

@@ -53,6 +53,7 @@ pub mod layout;
 pub mod owen;
 mod permute_cpu;
 pub mod r2;
+pub mod reproject;
 pub mod retarget;
 pub mod screen_sobol;
 pub mod seed;
@@ -71,6 +72,7 @@ pub use frame::{
 pub use layout::{FrameLayout, FrameParams};
 pub use owen::{owen_scramble, owen_sobol, owen_sobol_u32, shuffle_index};
 pub use r2::{r1, r2, Rd};
+pub use reproject::{reproject_frame, ReprojectStats, CLAIM_NONE};
 pub use retarget::{
     pack_offset, retarget_destination, unpack_offset, RetargetTable, RetargetTables, IDENTITY_PACKED,
     RETARGET_RADIUS,

@@ -490,11 +490,56 @@ fn camera_path_motion_and_emitterless_warning() {
         ],
     );
     assert!(o.status.success(), "{}", text(&o));
+    // A moving camera on the CPU reprojects seeds by default.
+    assert!(text(&o).contains("reprojection on"), "{}", text(&o));
     let m = image::open(dir.path().join("aovs/frame_00001.motion.exr"))
         .unwrap()
         .into_rgb32f();
     // The back wall is the plane through the looked-at point: 1.5 px exactly.
     let centre = m.get_pixel(16, 9);
+    let o = run(
+        &exe,
+        &[
+            "render",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--frames",
+            "3",
+            "--device",
+            "cpu",
+            "--camera-path",
+            "orbit",
+            "--reproject",
+            "off",
+            "--out",
+            dir.path().join("off").to_str().unwrap(),
+        ],
+    );
+    assert!(
+        o.status.success() && text(&o).contains("reprojection off"),
+        "{}",
+        text(&o)
+    );
+    let o = run(
+        &exe,
+        &[
+            "render",
+            "--device",
+            "gpu",
+            "--reproject",
+            "on",
+            "--out",
+            dir.path().join("gpu").to_str().unwrap(),
+        ],
+    );
+    assert!(
+        !o.status.success() && text(&o).contains("CPU renderer only"),
+        "{}",
+        text(&o)
+    );
+    assert!(!dir.path().join("gpu").exists());
     assert!(
         (centre[0] - 1.5).abs() < 1e-2 && centre[1].abs() < 1e-2,
         "{centre:?}"
