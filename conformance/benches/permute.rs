@@ -7,7 +7,9 @@
 //! ```
 //!
 //! Each workload runs in interleaved rounds; the median of each is reported
-//! with its ratio to the copy.
+//! with its ratio to the copy. The seed reprojection (`reproject_frame`,
+//! issue 13) is measured beside its own copy: the motion vectors and seeds
+//! it reads and the seeds it writes (its claims buffer is scratch on top).
 
 use conformance::fixtures::{random_table, random_tile};
 use sampler_core::*;
@@ -105,6 +107,13 @@ fn main() {
 
     let (mut t_copy, mut t_fast, mut t_naive, mut t_shader) = (vec![], vec![], vec![], vec![]);
     let mut t_baseline = vec![];
+    // A camera pan of 0.7 px/frame with a disoccluded band: typical motion.
+    let motion: Vec<[f32; 2]> = (0..layout.pixel_count() as u32)
+        .map(|i| if i % WIDTH < 8 { [f32::NAN; 2] } else { [-0.7, 0.1] })
+        .collect();
+    let mut claims = vec![0u32; seeds.len()];
+    let mut motion_scratch = vec![[0f32; 2]; motion.len()];
+    let (mut t_reproject, mut t_reproject_copy) = (vec![], vec![]);
     for r in 0..rounds {
         let frame = r as u32;
         t_copy.push(time(&mut || {
@@ -133,6 +142,13 @@ fn main() {
                 &mut out,
             )
             .unwrap()
+        }));
+        t_reproject_copy.push(time(&mut || {
+            motion_scratch.copy_from_slice(black_box(&motion));
+            out.copy_from_slice(&seeds);
+        }));
+        t_reproject.push(time(&mut || {
+            reproject_frame(&layout, black_box(&motion), &seeds, &mut claims, &mut out).unwrap();
         }));
         let table = tables.table(step_index(frame, 6)).packed();
         t_naive.push(time(&mut || {
@@ -176,5 +192,13 @@ fn main() {
     println!(
         "copy bandwidth: {:.2} GB/s",
         bytes as f64 / copy.as_secs_f64() / 1e9
+    );
+    let reproject_copy = median(&mut t_reproject_copy);
+    let reproject = median(&mut t_reproject);
+    println!(
+        "reproject_frame (pan 0.7 px): {:.3} ms, copy of motion + seeds {:.3} ms: {:.2} x copy",
+        reproject.as_secs_f64() * 1e3,
+        reproject_copy.as_secs_f64() * 1e3,
+        reproject.as_secs_f64() / reproject_copy.as_secs_f64()
     );
 }

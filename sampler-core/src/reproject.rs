@@ -73,16 +73,23 @@ pub fn index_bits(seed_count: u32) -> u32 {
 #[inline]
 pub fn claim(params: &FrameParams, index: u32, motion: [f32; 2]) -> (u32, u32) {
     let pw = params.padded_width;
-    let x = index % pw;
-    let y = index / pw;
     let bits = index_bits(pw.wrapping_mul(params.padded_height));
+    claim_at(params, bits, index % pw, index / pw, motion)
+}
+
+/// [`claim`] for pixel `(x, y)` with the index width `bits` =
+/// [`index_bits`]`(padded_width * padded_height)` precomputed.
+#[inline]
+pub fn claim_at(params: &FrameParams, bits: u32, x: u32, y: u32, motion: [f32; 2]) -> (u32, u32) {
+    let pw = params.padded_width;
+    let index = y.wrapping_mul(pw).wrapping_add(x);
     if x >= params.width || y >= params.height {
         // Padding: stays, distance 0.
         return (index, index);
     }
     let px = x as f32 + 0.5 + motion[0];
     let py = y as f32 + 0.5 + motion[1];
-    // `!(a < b)` style tests are false for NaN, so NaN and infinities fail.
+    // Comparisons are false for NaN, so NaN and infinities fail.
     let inside = px >= 0.0 && py >= 0.0 && px < params.width as f32 && py < params.height as f32;
     if !inside {
         return (CLAIM_NONE, CLAIM_NONE);
@@ -165,49 +172,56 @@ pub fn reproject_frame(
         });
     }
     let params = layout.params(0);
-    let (w, pw) = (params.width as usize, params.padded_width as usize);
-    let motion_of = |i: usize| {
-        let (x, y) = (i % pw, i / pw);
-        if x < w && y < params.height as usize {
-            motion[y * w + x]
-        } else {
-            [0.0, 0.0]
-        }
-    };
-    // Claim.
+    let bits = index_bits(params.padded_width * params.padded_height);
+    let (w, h) = (params.width as usize, params.height as usize);
+    let pw = params.padded_width as usize;
+    // Claim: visible pixels take the minimum key per source; padding claims itself.
     claims.fill(CLAIM_NONE);
-    for i in 0..n {
-        let (source, key) = claim(&params, i as u32, motion_of(i));
-        if source != CLAIM_NONE && key < claims[source as usize] {
-            claims[source as usize] = key;
-        }
-    }
-    // Winners take their source's seed.
-    let mut stats = ReprojectStats::default();
-    for (i, out) in seeds_out.iter_mut().enumerate() {
-        let (source, key) = claim(&params, i as u32, motion_of(i));
-        if let Some(seed) = take_if_won(claims, seeds_in, source, key) {
-            *out = seed;
-            if (i % pw) < w && i / pw < params.height as usize {
-                stats.followed += 1;
+    for (y, row) in claims.chunks_exact_mut(pw).enumerate() {
+        if y >= h {
+            for (x, c) in row.iter_mut().enumerate() {
+                *c = (y * pw + x) as u32;
+            }
+        } else {
+            for (x, c) in row.iter_mut().enumerate().skip(w) {
+                *c = (y * pw + x) as u32;
             }
         }
     }
-    // Recycling: the k-th pixel without a seed takes the k-th unclaimed source's seed.
+    for y in 0..h {
+        for x in 0..w {
+            let (source, key) = claim_at(&params, bits, x as u32, y as u32, motion[y * w + x]);
+            if source != CLAIM_NONE && key < claims[source as usize] {
+                claims[source as usize] = key;
+            }
+        }
+    }
+    // Winners take their source's seed; the k-th pixel without a seed (in
+    // buffer order) takes the k-th unclaimed source's seed. There are exactly
+    // as many of each (module docs).
+    let mut stats = ReprojectStats::default();
     let mut free = claims
         .iter()
         .enumerate()
         .filter(|(_, &c)| c == CLAIM_NONE)
         .map(|(q, _)| q);
-    for (i, out) in seeds_out.iter_mut().enumerate() {
-        let (source, key) = claim(&params, i as u32, motion_of(i));
-        if take_if_won(claims, seeds_in, source, key).is_none() {
-            // Exactly as many free sources as needy pixels (module docs).
-            let q = free
-                .next()
-                .expect("as many unclaimed sources as pixels without a seed");
-            *out = seeds_in[q];
-            stats.recycled += 1;
+    for (y, row) in seeds_out.chunks_exact_mut(pw).enumerate() {
+        for (x, out) in row.iter_mut().enumerate() {
+            if x >= w || y >= h {
+                *out = seeds_in[y * pw + x]; // padding always wins its own seed
+                continue;
+            }
+            let (source, key) = claim_at(&params, bits, x as u32, y as u32, motion[y * w + x]);
+            if let Some(seed) = take_if_won(claims, seeds_in, source, key) {
+                *out = seed;
+                stats.followed += 1;
+            } else {
+                let q = free
+                    .next()
+                    .expect("as many unclaimed sources as pixels without a seed");
+                *out = seeds_in[q];
+                stats.recycled += 1;
+            }
         }
     }
     Ok(stats)
