@@ -566,3 +566,44 @@ fn camera_path_motion_and_emitterless_warning() {
     assert!(o.status.success(), "{}", text(&o));
     assert!(text(&o).contains("has no emitter"), "{}", text(&o));
 }
+
+/// The committed glTF fixtures are what their generator writes today (the
+/// `--check` pattern of generated files): a change to the generator without
+/// regenerating the files fails here.
+#[test]
+fn gltf_fixtures_are_fresh() {
+    let dir = tempfile::tempdir().unwrap();
+    let status = std::process::Command::new(env!("CARGO"))
+        .args([
+            "run",
+            "--quiet",
+            "--profile",
+            "test",
+            "-p",
+            "gpu-tracer",
+            "--example",
+            "make_gltf_fixtures",
+            "--",
+            dir.path().to_str().unwrap(),
+        ])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .status()
+        .expect("cargo runs");
+    assert!(status.success(), "the fixture generator failed");
+    let committed = gltf_fixture("");
+    let mut names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    names.sort();
+    assert!(names.len() >= 7, "{names:?}");
+    for name in names {
+        let fresh = std::fs::read(dir.path().join(&name)).unwrap();
+        let old = std::fs::read(committed.join(&name))
+            .unwrap_or_else(|e| panic!("{name:?} is generated but not committed: {e}"));
+        assert!(
+            fresh == old,
+            "{name:?} is stale: run `cargo run -p gpu-tracer --example make_gltf_fixtures` and commit"
+        );
+    }
+}
