@@ -455,10 +455,20 @@ impl Rig {
                 *t = if flip { [a, c, b] } else { [a, b, c] };
             }
         }
-        let camera = self
-            .camera
-            .and_then(|c| world.get(c.node).map(|m| camera_from_matrix(m, c.fov_y_degrees)));
+        let camera = self.camera_in(&world);
         RigPose { triangles, camera }
+    }
+
+    /// The camera at `time` seconds alone (as [`Rig::pose`] places it),
+    /// without transforming any triangle; `None` without a camera node.
+    pub fn camera_at(&self, time: f32) -> Option<Camera> {
+        self.camera_in(&self.world_transforms(time))
+    }
+
+    /// The camera node's camera under the world matrices `world`.
+    fn camera_in(&self, world: &[Mat4]) -> Option<Camera> {
+        self.camera
+            .and_then(|c| world.get(c.node).map(|m| camera_from_matrix(m, c.fov_y_degrees)))
     }
 }
 

@@ -1621,6 +1621,29 @@ mod tests {
         load_fixture_patched("textured_quad", edit)
     }
 
+    /// Makes the quad's POSITION accessor sparse with one replaced vertex:
+    /// u16 index `index` (padded to 4 bytes) and `value`, appended to `bin`
+    /// with two new buffer views. Returns the accessor's index.
+    fn sparse_position(doc: &mut Value, bin: &mut Vec<u8>, index: u16, value: [f32; 3]) -> usize {
+        let offset = bin.len();
+        bin.extend_from_slice(&index.to_le_bytes());
+        bin.extend_from_slice(&[0, 0]);
+        for v in value {
+            bin.extend_from_slice(&v.to_le_bytes());
+        }
+        let views = doc["bufferViews"].as_array_mut().expect("views");
+        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": 2}));
+        views.push(json!({"buffer": 0, "byteOffset": offset + 4, "byteLength": 12}));
+        let n = views.len();
+        let a = quad_accessor(doc, "POSITION");
+        doc["accessors"][a]["sparse"] = json!({
+            "count": 1,
+            "indices": {"bufferView": n - 2, "componentType": 5123},
+            "values": {"bufferView": n - 1}
+        });
+        a
+    }
+
     /// Accessor indices of the checker quad's primitive.
     fn quad_accessor(doc: &Value, attribute: &str) -> usize {
         let prim = &doc["meshes"][0]["primitives"][0];
@@ -1824,21 +1847,7 @@ mod tests {
     fn sparse_accessors_strips_fans_and_normalized_uvs_are_read() {
         // Sparse: vertex 0 of the quad replaced by (-1, -1, 5).
         let g = load_patched(|doc, bin| {
-            let offset = bin.len();
-            bin.extend_from_slice(&[0, 0, 0, 0]); // u16 index 0, padding
-            for v in [-1.0f32, -1.0, 5.0] {
-                bin.extend_from_slice(&v.to_le_bytes());
-            }
-            let views = doc["bufferViews"].as_array_mut().expect("views");
-            views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": 2}));
-            views.push(json!({"buffer": 0, "byteOffset": offset + 4, "byteLength": 12}));
-            let n = views.len();
-            let a = quad_accessor(doc, "POSITION");
-            doc["accessors"][a]["sparse"] = json!({
-                "count": 1,
-                "indices": {"bufferView": n - 2, "componentType": 5123},
-                "values": {"bufferView": n - 1}
-            });
+            let a = sparse_position(doc, bin, 0, [-1.0, -1.0, 5.0]);
             doc["accessors"][a]["max"][2] = json!(5.0);
         })
         .expect("sparse loads");
@@ -1846,19 +1855,7 @@ mod tests {
         assert_eq!(g.scene.triangles[0].vertices[1], Vec3::new(1.0, -1.0, 0.0));
         // A sparse index out of range.
         let (_, reason) = content_error(load_patched(|doc, bin| {
-            let offset = bin.len();
-            bin.extend_from_slice(&[9, 0, 0, 0]);
-            bin.extend_from_slice(&[0; 12]);
-            let views = doc["bufferViews"].as_array_mut().expect("views");
-            views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": 2}));
-            views.push(json!({"buffer": 0, "byteOffset": offset + 4, "byteLength": 12}));
-            let n = views.len();
-            let a = quad_accessor(doc, "POSITION");
-            doc["accessors"][a]["sparse"] = json!({
-                "count": 1,
-                "indices": {"bufferView": n - 2, "componentType": 5123},
-                "values": {"bufferView": n - 1}
-            });
+            sparse_position(doc, bin, 9, [0.0; 3]);
         }));
         assert!(reason.contains("sparse index 0 is 9"), "{reason}");
         // Sparse without a base view: a huge count is refused, not allocated.

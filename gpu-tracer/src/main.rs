@@ -245,11 +245,11 @@ fn render(args: RenderArgs) -> Result<()> {
         fps: args.fps,
         start_time: args.start_time,
     };
-    // Every frame's pose is checked before rendering (a path can make the
+    // Every frame's camera is checked before rendering (a path can make the
     // camera degenerate later in the sequence).
     for t in 0..args.frames {
         timeline
-            .pose(&scene.camera, t, args.height)
+            .camera(&scene.camera, t, args.height)
             .with_context(|| format!("frame {t} of the camera path or animation"))?;
     }
     let mut sequence =

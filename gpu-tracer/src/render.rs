@@ -244,7 +244,7 @@ pub fn render_sequence_cpu(
     let n = layout.pixel_count();
     let reproject = options.reproject && job.mode != PermuteMode::White;
     let gbuffer = options.gbuffer || reproject;
-    let mut previous_gbuf = Vec::new();
+    let mut previous_gbuf = vec![GBufferGpu::default(); if reproject { n } else { 0 }];
     let mut claims = vec![0u32; if reproject { layout.seed_count() } else { 0 }];
     let mut seeds = cpu::white_seeds(layout.padded_width(), layout.padded_height(), job.salt);
     let mut next = vec![0u32; seeds.len()];
@@ -273,7 +273,8 @@ pub fn render_sequence_cpu(
             gbuffer: options.gbuffer.then_some(&gbuf[..]),
         });
         if reproject {
-            previous_gbuf.clone_from(&gbuf);
+            // The next frame overwrites every texel of `gbuf`.
+            std::mem::swap(&mut previous_gbuf, &mut gbuf);
         }
         match job.mode {
             PermuteMode::White => {

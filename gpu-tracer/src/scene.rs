@@ -402,13 +402,7 @@ impl SceneGpu {
                     expected: "below kernels::abi::GBUFFER_NO_HIT",
                 });
             }
-            if let Some(vertex) = t.vertices.iter().position(|v| !v.is_finite()) {
-                return Err(Error::NonFiniteVertex {
-                    path: "<scene>".into(),
-                    model: format!("triangle {i}"),
-                    vertex,
-                });
-            }
+            check_triangle(i, &t.vertices, "<scene>")?;
             if t.material as usize >= materials.len() {
                 return Err(Error::MaterialIndex {
                     triangle: i,
@@ -456,6 +450,7 @@ impl SceneGpu {
                 actual: positions.len(),
             });
         }
+        check_positions(positions, "<positions>")?;
         let mut scene_order = vec![Triangle::new([Vec3::ZERO; 3], 0); positions.len()];
         for ((t, a), &orig) in self.triangles.iter().zip(&self.attrs).zip(&self.original_index) {
             let o = orig as usize;
@@ -470,7 +465,6 @@ impl SceneGpu {
                 object: a.ids.x,
             };
         }
-        check_vertices(&scene_order, "<positions>")?;
         let g = build_geometry(&scene_order, &self.materials)?;
         self.previous = g.triangles.iter().map(positions_only).collect();
         self.nodes = g.nodes;
@@ -627,13 +621,7 @@ impl SceneGpu {
                 actual: previous.len(),
             });
         }
-        if let Some(i) = previous.iter().position(|t| !t.iter().all(|v| v.is_finite())) {
-            return Err(Error::NonFiniteVertex {
-                path: "<previous positions>".into(),
-                model: format!("triangle {i}"),
-                vertex: previous[i].iter().position(|v| !v.is_finite()).unwrap_or(0),
-            });
-        }
+        check_positions(previous, "<previous positions>")?;
         for (p, &orig) in self.previous.iter_mut().zip(&self.original_index) {
             let [a, b, c] = previous[orig as usize];
             *p = TriangleGpu {
@@ -734,19 +722,26 @@ fn build_geometry(triangles_in: &[Triangle], materials: &[MaterialGpu]) -> Resul
     })
 }
 
-/// [`Error::NonFiniteVertex`] for the first triangle with a NaN or infinite
-/// coordinate.
-fn check_vertices(triangles: &[Triangle], path: &str) -> Result<()> {
-    for (i, t) in triangles.iter().enumerate() {
-        if let Some(vertex) = t.vertices.iter().position(|v| !v.is_finite()) {
-            return Err(Error::NonFiniteVertex {
-                path: path.into(),
-                model: format!("triangle {i}"),
-                vertex,
-            });
-        }
+/// [`Error::NonFiniteVertex`] for the first triangle of `positions` with a
+/// NaN or infinite coordinate.
+fn check_positions(positions: &[[Vec3; 3]], path: &str) -> Result<()> {
+    for (i, t) in positions.iter().enumerate() {
+        check_triangle(i, t, path)?;
     }
     Ok(())
+}
+
+/// [`Error::NonFiniteVertex`] when a vertex of triangle `i` is NaN or
+/// infinite.
+fn check_triangle(i: usize, vertices: &[Vec3; 3], path: &str) -> Result<()> {
+    match vertices.iter().position(|v| !v.is_finite()) {
+        Some(vertex) => Err(Error::NonFiniteVertex {
+            path: path.into(),
+            model: format!("triangle {i}"),
+            vertex,
+        }),
+        None => Ok(()),
+    }
 }
 
 /// A triangle's positions with the `w` words cleared.

@@ -75,14 +75,16 @@ impl Timeline {
             || self.camera_path.is_some_and(|p| p.speed != 0.0)
     }
 
-    /// The pose of frame `frame` for an image `height` pixels high, with
-    /// `base` the scene's camera when the rig has none.
+    /// The camera of frame `frame` for an image `height` pixels high, with
+    /// `base` the scene's camera when the rig has none: the rig's camera
+    /// node (if any), then the camera path. Transforms no triangle, so it is
+    /// cheap enough to check a whole sequence up front.
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for a non-finite or non-positive `fps` or
     /// a non-finite `start_time`; [`Error::InvalidCamera`] when the path
     /// makes the camera degenerate.
-    pub fn pose(&self, base: &Camera, frame: u32, height: u32) -> Result<FramePose> {
+    pub fn camera(&self, base: &Camera, frame: u32, height: u32) -> Result<Camera> {
         if !(self.fps.is_finite() && self.fps > 0.0) {
             return Err(Error::InvalidParameter {
                 name: "fps",
@@ -97,18 +99,25 @@ impl Timeline {
                 expected: "a finite time in seconds",
             });
         }
-        let time = self.time(frame);
-        let (mut camera, triangles) = match &self.rig {
-            Some(rig) => {
-                let pose = rig.pose(time);
-                let triangles = rig.animates_geometry().then_some(pose.triangles);
-                (pose.camera.unwrap_or(*base), triangles)
-            }
-            None => (*base, None),
-        };
-        if let Some(path) = &self.camera_path {
-            camera = path.camera_at(&camera, frame as f32, height)?;
+        let rig_camera = self.rig.as_ref().and_then(|rig| rig.camera_at(self.time(frame)));
+        let camera = rig_camera.unwrap_or(*base);
+        match &self.camera_path {
+            Some(path) => path.camera_at(&camera, frame as f32, height),
+            None => Ok(camera),
         }
+    }
+
+    /// The pose of frame `frame`: [`Timeline::camera`] and, when objects
+    /// move, the rig's triangles at the frame's time.
+    ///
+    /// # Errors
+    /// As [`Timeline::camera`].
+    pub fn pose(&self, base: &Camera, frame: u32, height: u32) -> Result<FramePose> {
+        let camera = self.camera(base, frame, height)?;
+        let triangles = match &self.rig {
+            Some(rig) if rig.animates_geometry() => Some(rig.pose(self.time(frame)).triangles),
+            _ => None,
+        };
         Ok(FramePose { camera, triangles })
     }
 }

@@ -20,12 +20,8 @@ pub fn triangle_uv(attr: &TriangleAttrGpu, u: f32, v: f32) -> Vec2 {
 /// or the albedo alone (bit for bit) without a texture.
 #[inline]
 pub fn surface_albedo(material: &MaterialGpu, images: &[u32], image_count: u32, uv: Vec2) -> Vec3 {
-    let albedo = material.albedo.truncate();
-    if material.textures.x == TEXTURE_NONE {
-        albedo
-    } else {
-        albedo * sample_image(images, image_count, material.textures.x, material.textures.y, uv)
-    }
+    let t = material.textures;
+    textured(material.albedo.truncate(), images, image_count, t.x, t.y, uv)
 }
 
 /// Emitted radiance (linear RGB, `>= 0`) of `material` at `uv`: the
@@ -33,10 +29,17 @@ pub fn surface_albedo(material: &MaterialGpu, images: &[u32], image_count: u32, 
 /// without a texture.
 #[inline]
 pub fn surface_emission(material: &MaterialGpu, images: &[u32], image_count: u32, uv: Vec2) -> Vec3 {
-    let emission = material.emission.truncate();
-    if material.textures.z == TEXTURE_NONE {
-        emission
+    let t = material.textures;
+    textured(material.emission.truncate(), images, image_count, t.z, t.w, uv)
+}
+
+/// `factor` times image `image` sampled with `flags` at `uv`, or `factor`
+/// itself when `image` is [`TEXTURE_NONE`].
+#[inline]
+fn textured(factor: Vec3, images: &[u32], image_count: u32, image: u32, flags: u32, uv: Vec2) -> Vec3 {
+    if image == TEXTURE_NONE {
+        factor
     } else {
-        emission * sample_image(images, image_count, material.textures.z, material.textures.w, uv)
+        factor * sample_image(images, image_count, image, flags, uv)
     }
 }

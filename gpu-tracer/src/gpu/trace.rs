@@ -69,15 +69,16 @@ impl SceneBuffers {
         }
     }
 
-    /// Rewrites the buffers in place (same counts).
-    fn write(&self, gpu: &Gpu, scene: &SceneGpu) {
+    /// Rewrites, in place (same counts), the buffers a new pose changes:
+    /// BVH, triangles, their attributes (leaf order), emitters and previous
+    /// positions. Materials and images stay: a pose never changes them
+    /// ([`SceneGpu::set_positions`]).
+    fn write_pose(&self, gpu: &Gpu, scene: &SceneGpu) {
         let q = &gpu.queue;
         q.write_buffer(&self.nodes, 0, bytemuck::cast_slice(&scene.nodes));
         q.write_buffer(&self.triangles, 0, bytemuck::cast_slice(&scene.triangles));
-        q.write_buffer(&self.materials, 0, bytemuck::cast_slice(&scene.materials));
         q.write_buffer(&self.emitters, 0, bytemuck::cast_slice(&scene.emitters));
         q.write_buffer(&self.attrs, 0, bytemuck::cast_slice(&scene.attrs));
-        q.write_buffer(&self.images, 0, bytemuck::cast_slice(&scene.images));
         q.write_buffer(&self.previous, 0, bytemuck::cast_slice(&scene.previous));
     }
 }
@@ -199,12 +200,14 @@ impl Tracer {
         (trace, gbuf)
     }
 
-    /// Replaces the scene on the device (a moving scene's next frame, with
-    /// its previous positions): rewrites the buffers where the sizes match,
-    /// else uploads new ones and rebuilds the bind groups.
+    /// Uploads a new pose of the scene [`Tracer::new`] was given (a moving
+    /// scene's next frame from [`SceneGpu::set_positions`], with its
+    /// previous positions; materials and images are those of the first
+    /// upload): rewrites the geometry buffers where the sizes match, else
+    /// uploads every buffer anew and rebuilds the bind groups.
     pub fn update_scene(&mut self, gpu: &Gpu, pipelines: &TracePipelines, scene: &SceneGpu) {
         if SceneBuffers::counts(scene) == self.scene.counts {
-            self.scene.write(gpu, scene);
+            self.scene.write_pose(gpu, scene);
             return;
         }
         self.scene = SceneBuffers::upload(gpu, scene);
