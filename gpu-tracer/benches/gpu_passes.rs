@@ -1,7 +1,9 @@
 //! Per-pass GPU times at 1280x720, measured on one device in one run: the
 //! 1-spp path-traced frame (Cornell box) against the G-buffer pass
-//! (primary visibility and motion vectors) and the sorting and retargeting
-//! passes (4x4 blocks, 64x64 tile).
+//! (primary visibility and motion vectors), the sorting and retargeting
+//! passes (4x4 blocks, 64x64 tile), and the seed reprojection (its motion
+//! pass and its six passes) under a camera panning 2 units a frame (about
+//! 1.5 px at the back wall).
 //!
 //! ```text
 //! cargo bench -p gpu-tracer --bench gpu_passes
@@ -9,11 +11,14 @@
 //!
 //! Uses timestamp queries where the device has them, else wall-clock time of
 //! each pass in its own submission. Prints each pass's median and its share
-//! of a traced frame (goals: permutation <= 5%, G-buffer <= 10%).
+//! of a traced frame (goals: permutation <= 5%, G-buffer <= 10%,
+//! reprojection <= 1%).
 
-use glam::Vec4;
 use gpu_tracer::cornell::cornell_box;
-use gpu_tracer::gpu::{Gpu, PassTimer, PermuteMode, PermutePipelines, SeedPermuter, TracePipelines, Tracer};
+use gpu_tracer::gpu::{
+    Gpu, PassTimer, PermuteMode, PermutePipelines, ReprojectPipelines, SeedPermuter, SeedReprojector,
+    TracePipelines, Tracer,
+};
 use gpu_tracer::{SceneGpu, TraceSettings};
 use sampler_core::FrameLayout;
 use std::time::Instant;
@@ -36,7 +41,15 @@ fn main() {
             return;
         }
     };
-    let scene = SceneGpu::build(&cornell_box()).expect("scene");
+    let base = cornell_box();
+    let mut scene = SceneGpu::build(&base).expect("scene");
+    let camera = |t: u32| {
+        let mut c = base.camera;
+        let shift = glam::Vec3::new(2.0 * t as f32, 0.0, 0.0);
+        c.origin += shift;
+        c.target += shift;
+        c
+    };
     let layout = FrameLayout::new(WIDTH, HEIGHT, 4, 64).expect("layout");
     let mut settings = TraceSettings::new(WIDTH, HEIGHT);
     settings.padded_width = layout.padded_width();
@@ -49,21 +62,30 @@ fn main() {
     let pp = PermutePipelines::new(&gpu).expect("permute pipelines");
     let color = Tracer::color_buffer(&gpu, WIDTH, HEIGHT);
     let permuter = SeedPermuter::new(&gpu, &pp, layout, &tile, &tables, &color).expect("permuter");
-    let tracer = Tracer::new(&gpu, &tp, &scene, &params, &permuter.seeds, color);
+    let mut tracer = Tracer::new(&gpu, &tp, &scene, &params, &permuter.seeds, color);
+    let rp = ReprojectPipelines::new(&gpu).expect("reproject pipelines");
+    let reprojector = SeedReprojector::new(&gpu, &rp, layout, &permuter.seeds).expect("reprojector");
+    tracer.enable_motion(&gpu, &tp, &reprojector.motion);
     permuter.set_frame(&gpu, 0);
     let mut e = gpu.device.create_command_encoder(&Default::default());
     permuter.encode_seed_init(&mut e, &pp);
     gpu.queue.submit([e.finish()]);
 
-    let timer = PassTimer::new(&gpu, 4);
+    let timer = PassTimer::new(&gpu, 6);
     let (mut trace_ms, mut sort_ms, mut retarget_ms, mut gbuffer_ms) = (vec![], vec![], vec![], vec![]);
+    let (mut motion_ms, mut reproject_ms) = (vec![], vec![]);
     for t in 0..rounds + 1 {
+        scene
+            .set_cameras(&camera(t), &camera(t.saturating_sub(1)))
+            .expect("camera");
         tracer.set_params(&gpu, &scene.trace_params(&settings, t).expect("params"));
         permuter.set_frame(&gpu, t);
         let times = match &timer {
             Some(timer) => {
                 let mut e = gpu.device.create_command_encoder(&Default::default());
                 tracer.encode_gbuffer(&mut e, &tp, Some((timer, 3)));
+                tracer.encode_motion(&mut e, &tp, Some((timer, 4)));
+                reprojector.encode(&mut e, &rp, Some((timer, 5)));
                 tracer.encode_trace(&mut e, &tp, Some((timer, 0)));
                 permuter.encode_intensity(&mut e, &pp);
                 permuter.encode_step(&mut e, &pp, t, PermuteMode::Permute, Some((timer, 1)));
@@ -86,7 +108,14 @@ fn main() {
                 // Sort and retarget together, then sort alone: retarget = difference.
                 run(&|e| permuter.encode_step(e, &pp, t, PermuteMode::Permute, None));
                 run(&|e| tracer.encode_gbuffer(e, &tp, None));
-                vec![ms[0], ms[2], 0.0, ms[3]]
+                run(&|e| reprojector.encode(e, &rp, None));
+                let mut e = gpu.device.create_command_encoder(&Default::default());
+                tracer.encode_motion(&mut e, &tp, None);
+                let start = Instant::now();
+                gpu.queue.submit([e.finish()]);
+                gpu.wait().expect("wait");
+                ms.push(start.elapsed().as_secs_f64() * 1e3);
+                vec![ms[0], ms[2], 0.0, ms[3], ms[5], ms[4]]
             }
         };
         if t > 0 {
@@ -94,9 +123,10 @@ fn main() {
             sort_ms.push(times[1]);
             retarget_ms.push(times[2]);
             gbuffer_ms.push(times[3]);
+            motion_ms.push(times[4]);
+            reproject_ms.push(times[5]);
         }
     }
-    let _ = Vec4::ZERO;
     let (tr, so, re, gb) = (
         median(&mut trace_ms),
         median(&mut sort_ms),
@@ -122,6 +152,8 @@ fn main() {
         ("retarget", re),
         ("sort + retarget", so + re),
         ("g-buffer + motion", gb),
+        ("reprojection motion pass", median(&mut motion_ms)),
+        ("reprojection (6 passes)", median(&mut reproject_ms)),
     ] {
         println!("{name:<28} {ms:>10.3} {:>13.2}%", 100.0 * ms / tr);
     }

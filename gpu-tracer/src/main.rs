@@ -82,7 +82,7 @@ struct RenderArgs {
     start_time: f32,
     /// Move the seeds along the motion vectors between frames (seeds follow
     /// the surfaces they sampled; no seed duplicated): `on` by default when
-    /// the camera or objects move. Runs on the CPU renderer only for now.
+    /// the camera or objects move.
     #[arg(long, value_enum)]
     reproject: Option<OnOff>,
     /// Write every frame to `<out>/frames/frame_NNNNN.exr` (linear) and
@@ -210,9 +210,6 @@ fn main() -> Result<()> {
 
 fn render(args: RenderArgs) -> Result<()> {
     // Fail on bad input before any work: scene, motion, output directory.
-    if args.reproject == Some(OnOff::On) && args.device == DeviceArg::Gpu {
-        bail!("--reproject on runs on the CPU renderer only for now: use --device cpu");
-    }
     let (mut scene, mut rig) = load_scene(&args)?;
     if let (Some(from), Some(at)) = (args.camera_from, args.camera_at) {
         scene.camera = Camera {
@@ -346,14 +343,12 @@ fn render(args: RenderArgs) -> Result<()> {
     let reproject = match args.reproject {
         Some(OnOff::On) => true,
         Some(OnOff::Off) => false,
-        None => moves && gpu.is_none(),
+        None => moves,
     };
-    if reproject && gpu.is_some() {
-        bail!("--reproject on runs on the CPU renderer only for now: add --device cpu");
-    }
-    if moves && gpu.is_some() && args.reproject.is_none() {
-        eprintln!("notice: seeds are not reprojected on the GPU yet (the CPU renderer does it)");
-    }
+    let options = SequenceOptions {
+        gbuffer: want_gbuffer,
+        reproject,
+    };
     let mut save_error: Option<anyhow::Error> = None;
     let mut on_frame = |f: &FrameView<'_>| {
         if save_error.is_none() {
@@ -370,24 +365,16 @@ fn render(args: RenderArgs) -> Result<()> {
             // unless frames or AOVs are saved).
             let callback: Option<&mut gpu_tracer::render::SequenceCallback<'_>> =
                 if saving { Some(&mut on_frame) } else { None };
-            render_sequence_gpu(gpu, &mut sequence, &job, want_gbuffer, |_| bar.inc(1), callback)?
+            render_sequence_gpu(gpu, &mut sequence, &job, options, |_| bar.inc(1), callback)?
         }
         None => {
             bar.set_prefix("CPU");
-            render_sequence_cpu(
-                &mut sequence,
-                &job,
-                SequenceOptions {
-                    gbuffer: want_gbuffer,
-                    reproject,
-                },
-                |f| {
-                    if saving {
-                        on_frame(f);
-                    }
-                    bar.inc(1)
-                },
-            )?
+            render_sequence_cpu(&mut sequence, &job, options, |f| {
+                if saving {
+                    on_frame(f);
+                }
+                bar.inc(1)
+            })?
         }
     };
     if let Some(e) = save_error {

@@ -1,64 +1,61 @@
-//! Motion vectors for the seed reprojection: the G-buffer's backward motion
-//! with disoccluded pixels marked, in the form
-//! `sampler_core::reproject_frame` takes.
+//! Motion vectors for the seed reprojection on the CPU: the G-buffer's
+//! backward motion with disoccluded pixels marked
+//! `kernels::motion::DISOCCLUDED` (no source, like NaN), in the form
+//! `sampler_core::reproject_frame` takes. Per pixel this is
+//! `kernels::motion::reprojection_motion_pixel`, the code the GPU's motion
+//! pass runs.
 
-use kernels::abi::{GBufferGpu, GBUFFER_HIT, GBUFFER_PREV_IN_FRONT};
+use glam::UVec2;
+use kernels::abi::GBufferGpu;
+use kernels::motion::{reprojection_motion_pixel, visibility};
 
-/// Largest relative difference between a point's depth in the previous
-/// camera and the previous frame's G-buffer depth at its previous pixel for
-/// the point to count as visible there (the usual TAA depth test). 5%:
-/// generous for the depth slopes of one pixel at grazing angles, far below
-/// the jump at an occluding edge of a room-scale scene.
-pub const DISOCCLUSION_DEPTH_TOLERANCE: f32 = 0.05;
+pub use kernels::motion::DISOCCLUSION_DEPTH_TOLERANCE;
+
+/// Writes the visibility of every texel of `gbuffer` (object id and linear
+/// depth, `kernels::motion::visibility`) to `out`: what the next frame's
+/// [`reprojection_motion`] needs of this frame, 8 bytes a pixel.
+///
+/// # Panics
+/// If the lengths differ.
+pub fn write_visibility(gbuffer: &[GBufferGpu], out: &mut [UVec2]) {
+    assert_eq!(
+        gbuffer.len(),
+        out.len(),
+        "visibility buffer must match the G-buffer"
+    );
+    for (o, g) in out.iter_mut().zip(gbuffer) {
+        *o = visibility(g);
+    }
+}
 
 /// Backward motion `[dx, dy]` per pixel (`width * height`, row-major) from
-/// this frame's G-buffer, with NaN where the pixel's point was not visible
+/// this frame's G-buffer, with `kernels::motion::DISOCCLUDED` where the pixel's point was not visible
 /// in the previous frame: behind the previous camera, outside the previous
 /// frame, hidden by something nearer (depth test against `previous`, the
-/// previous frame's G-buffer, with [`DISOCCLUSION_DEPTH_TOLERANCE`]), or on
-/// another object than the previous pixel showed. Background pixels keep
-/// their (camera-rotation) motion.
+/// previous frame's visibility from [`write_visibility`], with
+/// [`DISOCCLUSION_DEPTH_TOLERANCE`]), or on another object than the
+/// previous pixel showed. Background pixels keep their (camera-rotation)
+/// motion.
 ///
 /// # Panics
 /// If `current` or `previous` is not `width * height` long.
 pub fn reprojection_motion(
     current: &[GBufferGpu],
-    previous: &[GBufferGpu],
+    previous: &[UVec2],
     width: u32,
     height: u32,
 ) -> Vec<[f32; 2]> {
     let n = width as usize * height as usize;
     assert!(
         current.len() == n && previous.len() == n,
-        "G-buffers must be width * height"
+        "G-buffer and visibility must be width * height"
     );
     current
         .iter()
         .enumerate()
         .map(|(i, g)| {
-            let m = [g.motion.x, g.motion.y];
-            if g.ids.w & GBUFFER_HIT == 0 {
-                return m;
-            }
-            if g.ids.w & GBUFFER_PREV_IN_FRONT == 0 {
-                return [f32::NAN; 2];
-            }
-            let (x, y) = (
-                (i as u32 % width) as f32 + 0.5 + m[0],
-                (i as u32 / width) as f32 + 0.5 + m[1],
-            );
-            if !(x >= 0.0 && y >= 0.0 && x < width as f32 && y < height as f32) {
-                return [f32::NAN; 2];
-            }
-            let p = &previous[y as usize * width as usize + x as usize];
-            let visible = p.ids.w & GBUFFER_HIT != 0
-                && p.ids.x == g.ids.x
-                && (p.normal_depth.w - g.motion.z).abs() <= DISOCCLUSION_DEPTH_TOLERANCE * g.motion.z;
-            if visible {
-                m
-            } else {
-                [f32::NAN; 2]
-            }
+            let (x, y) = (i as u32 % width, i as u32 / width);
+            reprojection_motion_pixel(g, x, y, width, height, previous).to_array()
         })
         .collect()
 }
@@ -67,6 +64,13 @@ pub fn reprojection_motion(
 mod tests {
     use super::*;
     use glam::{UVec4, Vec4};
+    use kernels::abi::{GBUFFER_HIT, GBUFFER_PREV_IN_FRONT};
+
+    fn vis(g: &[GBufferGpu]) -> Vec<UVec2> {
+        let mut v = vec![UVec2::ZERO; g.len()];
+        write_visibility(g, &mut v);
+        v
+    }
 
     fn texel(object: u32, depth: f32, motion: [f32; 2], prev_depth: f32) -> GBufferGpu {
         GBufferGpu {
@@ -91,15 +95,19 @@ mod tests {
             texel(1, 10.0, [1.0, 0.0], 10.0), // was at pixel 2, hidden by the occluder
             texel(1, 10.0, [1.2, 0.0], 10.0), // was outside the frame
         ];
-        let m = reprojection_motion(&current, &previous, 3, 1);
+        let m = reprojection_motion(&current, &vis(&previous), 3, 1);
         assert_eq!(m[0], [1.0, 0.0]);
-        assert!(m[1][0].is_nan() && m[2][0].is_nan());
+        let gone = kernels::motion::DISOCCLUDED.to_array();
+        assert_eq!((m[1], m[2]), (gone, gone));
         // Depth within 5% on the same object: visible.
         let current = [
             texel(1, 10.0, [1.0, 0.0], 10.4),
             texel(1, 1.0, [0.0; 2], 1.0),
             texel(1, 1.0, [0.0; 2], 1.0),
         ];
-        assert_eq!(reprojection_motion(&current, &previous, 3, 1)[0], [1.0, 0.0]);
+        assert_eq!(
+            reprojection_motion(&current, &vis(&previous), 3, 1)[0],
+            [1.0, 0.0]
+        );
     }
 }

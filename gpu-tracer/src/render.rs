@@ -3,11 +3,14 @@
 //! according to the [`PermuteMode`].
 
 use crate::cpu;
-use crate::gpu::{Gpu, GpuError, PermuteMode, PermutePipelines, SeedPermuter, TracePipelines, Tracer};
-use crate::motion::reprojection_motion;
+use crate::gpu::{
+    Gpu, GpuError, PermuteMode, PermutePipelines, ReprojectPipelines, SeedPermuter, SeedReprojector,
+    TracePipelines, Tracer,
+};
+use crate::motion::{reprojection_motion, write_visibility};
 use crate::scene::{SceneGpu, TraceSettings};
 use crate::timeline::SceneSequence;
-use glam::Vec4;
+use glam::{UVec2, Vec4};
 use kernels::abi::GBufferGpu;
 use sampler_core::{DitherTile, FrameLayout, RetargetTables};
 use std::fmt;
@@ -73,7 +76,8 @@ pub struct SequenceOptions {
     pub gbuffer: bool,
     /// Move the seeds along each frame's backward motion vectors before it
     /// is traced (`sampler_core::reproject_frame`, with disoccluded pixels
-    /// from [`crate::motion::reprojection_motion`]); CPU only for now.
+    /// from [`crate::motion::reprojection_motion`]; on the GPU the same
+    /// code in `SeedReprojector`).
     /// Ignored in [`PermuteMode::White`] (fresh seeds every frame).
     pub reproject: bool,
 }
@@ -244,7 +248,7 @@ pub fn render_sequence_cpu(
     let n = layout.pixel_count();
     let reproject = options.reproject && job.mode != PermuteMode::White;
     let gbuffer = options.gbuffer || reproject;
-    let mut previous_gbuf = vec![GBufferGpu::default(); if reproject { n } else { 0 }];
+    let mut previous_vis = vec![UVec2::ZERO; if reproject { n } else { 0 }];
     let mut claims = vec![0u32; if reproject { layout.seed_count() } else { 0 }];
     let mut seeds = cpu::white_seeds(layout.padded_width(), layout.padded_height(), job.salt);
     let mut next = vec![0u32; seeds.len()];
@@ -261,9 +265,12 @@ pub fn render_sequence_cpu(
             cpu::gbuffer_frame(scene, &params, &mut gbuf)?;
         }
         if reproject && t > 0 {
-            let motion = reprojection_motion(&gbuf, &previous_gbuf, layout.width(), layout.height());
+            let motion = reprojection_motion(&gbuf, &previous_vis, layout.width(), layout.height());
             sampler_core::reproject_frame(&layout, &motion, &seeds, &mut claims, &mut next)?;
             std::mem::swap(&mut seeds, &mut next);
+        }
+        if reproject {
+            write_visibility(&gbuf, &mut previous_vis);
         }
         cpu::render_frame(scene, &params, &seeds, &mut color)?;
         cpu::accumulate_frame(&params, &color, &mut mean)?;
@@ -272,10 +279,6 @@ pub fn render_sequence_cpu(
             color: &color,
             gbuffer: options.gbuffer.then_some(&gbuf[..]),
         });
-        if reproject {
-            // The next frame overwrites every texel of `gbuf`.
-            std::mem::swap(&mut previous_gbuf, &mut gbuf);
-        }
         match job.mode {
             PermuteMode::White => {
                 seeds = cpu::white_seeds(
@@ -318,17 +321,34 @@ pub fn render_gpu(
     match on_frame.as_mut() {
         Some(cb) => {
             let mut adapter = |f: &FrameView<'_>| cb(f.index, f.color);
-            render_sequence_gpu(gpu, &mut sequence, job, false, on_submit, Some(&mut adapter))
+            render_sequence_gpu(
+                gpu,
+                &mut sequence,
+                job,
+                SequenceOptions::default(),
+                on_submit,
+                Some(&mut adapter),
+            )
         }
-        None => render_sequence_gpu(gpu, &mut sequence, job, false, on_submit, None),
+        None => render_sequence_gpu(
+            gpu,
+            &mut sequence,
+            job,
+            SequenceOptions::default(),
+            on_submit,
+            None,
+        ),
     }
 }
 
 /// Renders `job` on `gpu` over a [`SceneSequence`]: per frame, the cameras
 /// (and, when objects move, the scene's buffers) are updated, then the
-/// G-buffer pass (with `gbuffer`), the trace, the accumulation and the seed
-/// passes are submitted, with no read-back unless `on_frame` is given (then
-/// every frame's colour, and G-buffer with `gbuffer`, is read back for it).
+/// G-buffer pass (with `options.gbuffer` or `options.reproject`), the
+/// motion and seed-reprojection passes (with `options.reproject`, from
+/// frame 1), the trace, the accumulation and the seed passes are
+/// submitted, with no read-back unless `on_frame` is given (then every
+/// frame's colour, and G-buffer with `options.gbuffer`, is read back for
+/// it). The order and the seeds equal [`render_sequence_cpu`]'s.
 /// The G-buffer stays on the device in [`Tracer::gbuffer`] for passes that
 /// read it.
 ///
@@ -339,11 +359,13 @@ pub fn render_sequence_gpu(
     gpu: &Gpu,
     sequence: &mut SceneSequence<'_>,
     job: &RenderJob,
-    gbuffer: bool,
+    options: SequenceOptions,
     mut on_submit: impl FnMut(u32),
     mut on_frame: Option<&mut SequenceCallback<'_>>,
 ) -> Result<RenderOutput, RenderError> {
     let (layout, settings, tile, tables) = job.prepare()?;
+    let reproject = options.reproject && job.mode != PermuteMode::White;
+    let gbuffer = options.gbuffer || reproject;
     let params0 = sequence.scene().trace_params(&settings, 0)?;
     let trace_pipelines = TracePipelines::new(gpu)?;
     let permute_pipelines = PermutePipelines::new(gpu)?;
@@ -358,6 +380,15 @@ pub fn render_sequence_gpu(
         &permuter.seeds,
         color,
     );
+
+    let reprojection = if reproject {
+        let pipelines = ReprojectPipelines::new(gpu)?;
+        let reprojector = SeedReprojector::new(gpu, &pipelines, layout, &permuter.seeds)?;
+        tracer.enable_motion(gpu, &trace_pipelines, &reprojector.motion);
+        Some((pipelines, reprojector))
+    } else {
+        None
+    };
 
     permuter.set_frame(gpu, job.salt);
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
@@ -380,6 +411,12 @@ pub fn render_sequence_gpu(
         if gbuffer {
             tracer.encode_gbuffer(&mut encoder, &trace_pipelines, None);
         }
+        if let Some((pipelines, reprojector)) = &reprojection {
+            tracer.encode_motion(&mut encoder, &trace_pipelines, None);
+            if t > 0 {
+                reprojector.encode(&mut encoder, pipelines, None);
+            }
+        }
         tracer.encode_trace(&mut encoder, &trace_pipelines, None);
         tracer.encode_accumulate(&mut encoder, &trace_pipelines);
         if job.mode != PermuteMode::White {
@@ -390,7 +427,7 @@ pub fn render_sequence_gpu(
         on_submit(t);
         if let Some(f) = on_frame.as_mut() {
             let color = tracer.read_color(gpu)?;
-            let gbuf = if gbuffer {
+            let gbuf = if options.gbuffer {
                 tracer.read_gbuffer(gpu)?
             } else {
                 Vec::new()
@@ -398,7 +435,7 @@ pub fn render_sequence_gpu(
             f(&FrameView {
                 index: t,
                 color: &color,
-                gbuffer: gbuffer.then_some(&gbuf[..]),
+                gbuffer: options.gbuffer.then_some(&gbuf[..]),
             });
         }
     }

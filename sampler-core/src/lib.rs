@@ -54,6 +54,7 @@ pub mod owen;
 mod permute_cpu;
 pub mod r2;
 pub mod reproject;
+pub mod reproject_passes;
 pub mod retarget;
 pub mod screen_sobol;
 pub mod seed;

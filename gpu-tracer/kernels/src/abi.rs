@@ -33,6 +33,11 @@
 //! | | 5 | storage, read | images `[u32]` |
 //! | | 6 | storage, read | previous-frame positions `[TriangleGpu]`, parallel to binding 2 (`w` unused) |
 //! | | 7 | storage, write | G-buffer `[GBufferGpu]`, `width * height` |
+//! | [`MOTION_ENTRY`] | 0 | uniform | [`TraceParams`] |
+//! | | 1 | storage, read | G-buffer `[GBufferGpu]` of this frame |
+//! | | 2 | storage, read | previous frame's visibility `[UVec2]` (`crate::motion::visibility`), `width * height` |
+//! | | 3 | storage, write | this frame's visibility `[UVec2]`, `width * height` |
+//! | | 4 | storage, write | reprojection motion `[Vec2]` (pixels; `crate::motion::DISOCCLUDED` where disoccluded), `width * height` |
 //! | [`ACCUMULATE_ENTRY`] | 0 | uniform | [`TraceParams`] |
 //! | | 1 | storage, read | frame colour `[Vec4]`, `width * height` |
 //! | | 2 | storage, read-write | accumulation `[Vec4]`, `width * height` |
@@ -54,6 +59,10 @@ pub const ACCUMULATE_ENTRY: &str = "entry::accumulate_cs";
 /// Name of the G-buffer entry point (one invocation per visible pixel):
 /// primary visibility through the pixel centre, motion vectors.
 pub const GBUFFER_ENTRY: &str = "entry::gbuffer_cs";
+/// Name of the motion entry point (one invocation per visible pixel): the
+/// seed reprojection's motion vectors from the G-buffer
+/// (`crate::motion::reprojection_motion_pixel`).
+pub const MOTION_ENTRY: &str = "entry::motion_cs";
 /// Storage buffers the widest entry point ([`TRACE_ENTRY`]) binds.
 pub const MAX_STORAGE_BUFFERS_PER_STAGE: u32 = 9;
 

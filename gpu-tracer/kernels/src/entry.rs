@@ -7,8 +7,9 @@ use crate::abi::{
 };
 use crate::accumulate::accumulate_pixel;
 use crate::gbuffer::gbuffer_pixel;
+use crate::motion::{reprojection_motion_pixel, visibility};
 use crate::trace::trace_pixel;
-use glam::{UVec2, UVec3, Vec4};
+use glam::{UVec2, UVec3, Vec2, Vec4};
 use spirv_std::spirv;
 
 /// [`TRACE_ENTRY`](crate::abi::TRACE_ENTRY): one invocation per visible
@@ -96,4 +97,26 @@ pub fn gbuffer_cs(
         images,
         previous,
     );
+}
+
+/// [`MOTION_ENTRY`](crate::abi::MOTION_ENTRY): one invocation per visible
+/// pixel; writes the pixel's visibility for the next frame and its
+/// reprojection motion against the previous frame's visibility
+/// (`reprojection_motion_pixel`). Invocations outside the frame do nothing.
+#[spirv(compute(threads(8, 8)))]
+pub fn motion_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &TraceParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] gbuffer: &[GBufferGpu],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] previous: &[UVec2],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] current: &mut [UVec2],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] motion: &mut [Vec2],
+) {
+    if id.x >= params.width || id.y >= params.height {
+        return;
+    }
+    let i = id.y.wrapping_mul(params.width).wrapping_add(id.x) as usize;
+    let g = gbuffer[i];
+    current[i] = visibility(&g);
+    motion[i] = reprojection_motion_pixel(&g, id.x, id.y, params.width, params.height, previous);
 }

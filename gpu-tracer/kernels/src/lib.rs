@@ -12,7 +12,10 @@
 //!   ([`trace_pixel`] is what the trace entry point runs per pixel),
 //!   [`accumulate`] the running mean, [`texture`] image lookup and
 //!   [`surface`] textured albedo and emission, [`gbuffer`] the G-buffer and
-//!   motion vectors ([`gbuffer::gbuffer_pixel`]).
+//!   motion vectors ([`gbuffer::gbuffer_pixel`]), [`motion`] the motion vectors
+//!   the seed reprojection takes (disocclusion marked).
+//! - Entry points: [`entry`] (tracer), [`permute_entry`] (seed permutation),
+//!   [`reproject_entry`] (seed reprojection).
 //!
 //! Everything reachable from an entry point follows rust-gpu's rules:
 //! `u32`/`f32` arithmetic (`wrapping_*` on integers), fixed-size local
@@ -51,8 +54,10 @@ pub mod dither;
 pub mod entry;
 pub mod gbuffer;
 pub mod intersect;
+pub mod motion;
 pub mod numbers;
 pub mod permute_entry;
+pub mod reproject_entry;
 pub mod sampling;
 pub mod surface;
 pub mod texture;

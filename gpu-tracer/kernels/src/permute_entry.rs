@@ -42,7 +42,7 @@ pub fn linear_dispatch(n: u32) -> (u32, u32) {
 
 /// Linear invocation index of a [`linear_dispatch`] grid.
 #[inline]
-fn linear_id(id: UVec3) -> u32 {
+pub fn linear_id(id: UVec3) -> u32 {
     id.y.wrapping_mul(MAX_GROUPS_X * PERMUTE_WORKGROUP)
         .wrapping_add(id.x)
 }

@@ -3,11 +3,13 @@
 
 mod context;
 mod permute;
+mod reproject;
 mod timer;
 mod trace;
 
 pub use context::{groups, Gpu, KERNELS_SPV, REQUIRE_GPU_ENV};
 pub use permute::{PermuteMode, PermutePipelines, SeedPermuter};
+pub use reproject::{ReprojectPipelines, SeedReprojector};
 pub use timer::PassTimer;
 pub use trace::{TracePipelines, Tracer};
 

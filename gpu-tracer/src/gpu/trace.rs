@@ -4,14 +4,17 @@ use super::context::{groups, Gpu};
 use super::timer::PassTimer;
 use super::GpuError;
 use crate::scene::SceneGpu;
-use glam::Vec4;
-use kernels::abi::{GBufferGpu, TraceParams, ACCUMULATE_ENTRY, GBUFFER_ENTRY, TRACE_ENTRY, TRACE_WORKGROUP};
+use glam::{UVec2, Vec4};
+use kernels::abi::{
+    GBufferGpu, TraceParams, ACCUMULATE_ENTRY, GBUFFER_ENTRY, MOTION_ENTRY, TRACE_ENTRY, TRACE_WORKGROUP,
+};
 
 /// The trace, G-buffer and accumulate pipelines, created once per device.
 #[derive(Debug)]
 pub struct TracePipelines {
     trace: wgpu::ComputePipeline,
     gbuffer: wgpu::ComputePipeline,
+    motion: wgpu::ComputePipeline,
     accumulate: wgpu::ComputePipeline,
 }
 
@@ -24,6 +27,7 @@ impl TracePipelines {
         Ok(TracePipelines {
             trace: gpu.pipeline(TRACE_ENTRY)?,
             gbuffer: gpu.pipeline(GBUFFER_ENTRY)?,
+            motion: gpu.pipeline(MOTION_ENTRY)?,
             accumulate: gpu.pipeline(ACCUMULATE_ENTRY)?,
         })
     }
@@ -104,6 +108,17 @@ pub struct Tracer {
     trace_bg: wgpu::BindGroup,
     gbuffer_bg: wgpu::BindGroup,
     accumulate_bg: wgpu::BindGroup,
+    motion: Option<MotionPass>,
+}
+
+/// The motion pass's ping-pong visibility buffers (`width * height`
+/// `UVec2`, `kernels::motion::visibility`) and a bind group per direction:
+/// frame `t` reads `visibility[(t + 1) % 2]` and writes `visibility[t % 2]`.
+#[derive(Debug)]
+struct MotionPass {
+    bind_groups: [wgpu::BindGroup; 2],
+    /// Which bind group the next [`Tracer::encode_motion`] uses.
+    next: usize,
 }
 
 impl Tracer {
@@ -155,7 +170,52 @@ impl Tracer {
             trace_bg,
             gbuffer_bg,
             accumulate_bg,
+            motion: None,
         }
+    }
+
+    /// Sets up the motion pass ([`encode_motion`](Self::encode_motion)) to
+    /// write the reprojection motion of every frame into `motion`
+    /// (`width * height` `Vec2`, e.g. `SeedReprojector::motion`).
+    pub fn enable_motion(&mut self, gpu: &Gpu, pipelines: &TracePipelines, motion: &wgpu::Buffer) {
+        let n = (self.width * self.height) as usize;
+        let vis = [
+            gpu.storage_zeroed::<UVec2>("visibility (even frames)", n),
+            gpu.storage_zeroed::<UVec2>("visibility (odd frames)", n),
+        ];
+        let bind = |read: usize, write: usize| {
+            gpu.bind(
+                &pipelines.motion,
+                &[&self.params, &self.gbuffer, &vis[read], &vis[write], motion],
+            )
+        };
+        self.motion = Some(MotionPass {
+            bind_groups: [bind(1, 0), bind(0, 1)],
+            next: 0,
+        });
+    }
+
+    /// Encodes the motion pass (after [`encode_gbuffer`](Self::encode_gbuffer)
+    /// of the same frame): the motion vectors of this frame against the
+    /// previous one's visibility, with disoccluded pixels
+    /// `kernels::motion::DISOCCLUDED`
+    /// (`kernels::motion::reprojection_motion_pixel`), and this frame's
+    /// visibility for the next. Call once per frame; the first call's motion
+    /// is meaningless (no previous frame).
+    ///
+    /// # Panics
+    /// Without [`enable_motion`](Self::enable_motion) first.
+    pub fn encode_motion(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipelines: &TracePipelines,
+        timer: Option<(&PassTimer, u32)>,
+    ) {
+        let pass = self.motion.as_mut().expect("enable_motion before encode_motion");
+        let i = pass.next;
+        pass.next = 1 - i;
+        let pass = self.motion.as_ref().expect("checked above");
+        self.encode(encoder, &pipelines.motion, &pass.bind_groups[i], timer);
     }
 
     #[allow(clippy::too_many_arguments)]

@@ -1,0 +1,75 @@
+//! Motion vectors for the seed reprojection: the G-buffer's backward motion
+//! with disoccluded pixels marked [`DISOCCLUDED`], per pixel, in the form
+//! `sampler_core::reproject_frame` and the GPU reprojection passes take.
+//! The CPU renderer (`gpu_tracer::motion`) and the motion entry point
+//! ([`crate::entry::motion_cs`]) both call [`reprojection_motion_pixel`].
+
+use crate::abi::{GBufferGpu, GBUFFER_HIT, GBUFFER_NO_HIT, GBUFFER_PREV_IN_FRONT};
+use glam::{UVec2, Vec2};
+
+/// Largest relative difference between a point's depth in the previous
+/// camera and the previous frame's G-buffer depth at its previous pixel for
+/// the point to count as visible there (the usual TAA depth test). 5%:
+/// generous for the depth slopes of one pixel at grazing angles, far below
+/// the jump at an occluding edge of a room-scale scene.
+pub const DISOCCLUSION_DEPTH_TOLERANCE: f32 = 0.05;
+
+/// The motion written for a pixel whose point was not visible in the
+/// previous frame: `-f32::MAX` on both axes, a previous position far
+/// outside any frame, which the reprojection treats as "no source" exactly
+/// as it treats NaN. Not NaN itself: naga (wgpu's SPIR-V front end) rejects
+/// NaN constants in a shader module.
+pub const DISOCCLUDED: Vec2 = Vec2::splat(-f32::MAX);
+
+/// What the next frame needs of this frame's G-buffer texel to test
+/// visibility, 8 bytes: `x` the object id ([`GBUFFER_NO_HIT`] without a
+/// hit), `y` the bits of the linear depth (`f32`, world units; 0 without a
+/// hit).
+#[inline]
+pub fn visibility(g: &GBufferGpu) -> UVec2 {
+    if g.ids.w & GBUFFER_HIT == 0 {
+        UVec2::new(GBUFFER_NO_HIT, 0)
+    } else {
+        UVec2::new(g.ids.x, g.normal_depth.w.to_bits())
+    }
+}
+
+/// Backward motion of pixel `(x, y)` of a `width x height` frame with
+/// G-buffer texel `g`, in pixels (raster `y` down), or [`DISOCCLUDED`] where its point
+/// was not visible in the previous frame: behind the previous camera,
+/// outside the previous frame, hidden by something nearer (depth test
+/// against `previous`, the previous frame's [`visibility`] buffer,
+/// `width * height` row-major, with [`DISOCCLUSION_DEPTH_TOLERANCE`]), or on
+/// another object than the previous pixel showed. Background pixels keep
+/// their (camera-rotation) motion.
+#[inline]
+pub fn reprojection_motion_pixel(
+    g: &GBufferGpu,
+    x: u32,
+    y: u32,
+    width: u32,
+    height: u32,
+    previous: &[UVec2],
+) -> Vec2 {
+    let m = Vec2::new(g.motion.x, g.motion.y);
+    if g.ids.w & GBUFFER_HIT == 0 {
+        return m;
+    }
+    if g.ids.w & GBUFFER_PREV_IN_FRONT == 0 {
+        return DISOCCLUDED;
+    }
+    let px = x as f32 + 0.5 + m.x;
+    let py = y as f32 + 0.5 + m.y;
+    // Comparisons are false for NaN (a G-buffer without a previous position).
+    if !(px >= 0.0 && py >= 0.0 && px < width as f32 && py < height as f32) {
+        return DISOCCLUDED;
+    }
+    let p = previous[(py as u32).wrapping_mul(width).wrapping_add(px as u32) as usize];
+    let depth = f32::from_bits(p.y);
+    let prev_depth = g.motion.z;
+    if p.x == g.ids.x && libm::fabsf(depth - prev_depth) <= DISOCCLUSION_DEPTH_TOLERANCE * prev_depth {
+        m
+    } else {
+        DISOCCLUDED
+    }
+}

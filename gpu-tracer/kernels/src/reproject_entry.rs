@@ -1,0 +1,149 @@
+//! The `#[spirv]` entry points of the seed reprojection: one per pass of
+//! `sampler_core::reproject_passes`, thin wrappers so the GPU runs the
+//! code the CPU runs (conformance compares them bit for bit with
+//! `sampler_core::reproject_frame`).
+//!
+//! Bindings (descriptor set 0; `FrameParams` is a uniform, the rest storage
+//! buffers; sizes in elements):
+//!
+//! | entry | 0 | 1 | 2 | 3 | 4 | 5 | 6 |
+//! |---|---|---|---|---|---|---|---|
+//! | [`CLEAR_CLAIMS_ENTRY`] | params | claims `[u32]` (out, `seed_count`) | | | | | |
+//! | [`CLAIM_ENTRY`] | params | motion `[Vec2]` (`width * height`) | claims (atomic) | | | | |
+//! | [`TAKE_ENTRY`] | params | motion | claims | seeds in `[u32]` | seeds out `[u32]` | counts `[u32]` (out, `2 * chunks`) | |
+//! | [`SCAN_ENTRY`] | params | counts (in place) | | | | | |
+//! | [`LIST_FREE_ENTRY`] | params | claims | counts | free `[u32]` (out, `seed_count`) | | | |
+//! | [`RECYCLE_ENTRY`] | params | motion | claims | counts | free | seeds in | seeds out |
+//!
+//! Dispatch, in this order, each with `permute_entry::linear_dispatch(n)`:
+//! clear `n = seed_count`, claim `n = width * height`, take `n = chunks`,
+//! scan `n = 1`, list `n = chunks`, recycle `n = chunks`, where `chunks =
+//! sampler_core::reproject_passes::chunk_count(params)`.
+
+use crate::permute_entry::linear_id;
+use glam::{UVec3, Vec2};
+use sampler_core::reproject_passes::{
+    chunk_count, claim_pixel, clear_claim, list_free_chunk, recycle_chunk, scan_chunk_counts, take_chunk,
+};
+use sampler_core::{FrameParams, CLAIM_NONE};
+use spirv_std::arch::atomic_u_min;
+use spirv_std::memory::{Scope, Semantics};
+use spirv_std::spirv;
+
+/// Entry point name of [`clear_claims_cs`].
+pub const CLEAR_CLAIMS_ENTRY: &str = "reproject_entry::clear_claims_cs";
+/// Entry point name of [`claim_cs`].
+pub const CLAIM_ENTRY: &str = "reproject_entry::claim_cs";
+/// Entry point name of [`take_cs`].
+pub const TAKE_ENTRY: &str = "reproject_entry::take_cs";
+/// Entry point name of [`scan_cs`].
+pub const SCAN_ENTRY: &str = "reproject_entry::scan_cs";
+/// Entry point name of [`list_free_cs`].
+pub const LIST_FREE_ENTRY: &str = "reproject_entry::list_free_cs";
+/// Entry point name of [`recycle_cs`].
+pub const RECYCLE_ENTRY: &str = "reproject_entry::recycle_cs";
+
+/// Pass 1, one invocation per seed: every claims entry to `CLAIM_NONE`.
+#[spirv(compute(threads(64)))]
+pub fn clear_claims_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] claims: &mut [u32],
+) {
+    let i = linear_id(id);
+    if i < params.seed_count() {
+        claims[i as usize] = clear_claim();
+    }
+}
+
+/// Pass 2, one invocation per visible pixel (row-major): an atomic minimum
+/// of the pixel's key into its source's claims entry (`claim_pixel`).
+#[spirv(compute(threads(64)))]
+pub fn claim_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] motion: &[Vec2],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] claims: &mut [u32],
+) {
+    let i = linear_id(id);
+    if i < params.pixel_count() {
+        let (source, key) = claim_pixel(params, i % params.width, i / params.width, motion);
+        if source != CLAIM_NONE {
+            // SAFETY: an atomic on a storage-buffer element in bounds (`source`
+            // is a visible pixel's index of the padded buffer). Queue-family
+            // scope: every invocation of the dispatch is covered, and under the
+            // Vulkan memory model it needs no extra capability (device scope
+            // would need VulkanMemoryModelDeviceScope). No ordering semantics:
+            // the result is read only by later dispatches, after a barrier.
+            unsafe {
+                atomic_u_min::<u32, { Scope::QueueFamily as u32 }, { Semantics::NONE.bits() }>(
+                    &mut claims[source as usize],
+                    key,
+                );
+            }
+        }
+    }
+}
+
+/// Pass 3, one invocation per chunk: `take_chunk`.
+#[spirv(compute(threads(64)))]
+pub fn take_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] motion: &[Vec2],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] claims: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] seeds_in: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] seeds_out: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] counts: &mut [u32],
+) {
+    let c = linear_id(id);
+    if c < chunk_count(params) {
+        take_chunk(params, c, motion, claims, seeds_in, seeds_out, counts);
+    }
+}
+
+/// Pass 4, one invocation: `scan_chunk_counts`.
+#[spirv(compute(threads(64)))]
+pub fn scan_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] counts: &mut [u32],
+) {
+    if linear_id(id) == 0 {
+        scan_chunk_counts(chunk_count(params), counts);
+    }
+}
+
+/// Pass 5, one invocation per chunk: `list_free_chunk`.
+#[spirv(compute(threads(64)))]
+pub fn list_free_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] claims: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] counts: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] free: &mut [u32],
+) {
+    let c = linear_id(id);
+    if c < chunk_count(params) {
+        list_free_chunk(params, c, claims, counts, free);
+    }
+}
+
+/// Pass 6, one invocation per chunk: `recycle_chunk`.
+#[allow(clippy::too_many_arguments)]
+#[spirv(compute(threads(64)))]
+pub fn recycle_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] motion: &[Vec2],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] claims: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counts: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] free: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] seeds_in: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] seeds_out: &mut [u32],
+) {
+    let c = linear_id(id);
+    if c < chunk_count(params) {
+        recycle_chunk(params, c, motion, claims, counts, free, seeds_in, seeds_out);
+    }
+}

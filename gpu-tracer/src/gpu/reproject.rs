@@ -1,0 +1,184 @@
+//! The seed reprojection on the GPU: the six passes of
+//! `sampler_core::reproject_passes` over device-resident buffers, bit for
+//! bit what `sampler_core::reproject_frame` computes on the CPU.
+
+use super::context::Gpu;
+use super::timer::PassTimer;
+use super::GpuError;
+use glam::Vec2;
+use kernels::reproject_entry::{
+    CLAIM_ENTRY, CLEAR_CLAIMS_ENTRY, LIST_FREE_ENTRY, RECYCLE_ENTRY, SCAN_ENTRY, TAKE_ENTRY,
+};
+use sampler_core::reproject::MAX_REPROJECT_SEEDS;
+use sampler_core::reproject_passes::chunk_count;
+use sampler_core::{Buffer, FrameLayout};
+
+/// The six compute pipelines of the reprojection, created once per device.
+#[derive(Debug)]
+pub struct ReprojectPipelines {
+    clear: wgpu::ComputePipeline,
+    claim: wgpu::ComputePipeline,
+    take: wgpu::ComputePipeline,
+    scan: wgpu::ComputePipeline,
+    list_free: wgpu::ComputePipeline,
+    recycle: wgpu::ComputePipeline,
+}
+
+impl ReprojectPipelines {
+    /// Creates the pipelines from the kernels module.
+    ///
+    /// # Errors
+    /// [`GpuError::Validation`] if wgpu rejects one.
+    pub fn new(gpu: &Gpu) -> Result<Self, GpuError> {
+        Ok(ReprojectPipelines {
+            clear: gpu.pipeline(CLEAR_CLAIMS_ENTRY)?,
+            claim: gpu.pipeline(CLAIM_ENTRY)?,
+            take: gpu.pipeline(TAKE_ENTRY)?,
+            scan: gpu.pipeline(SCAN_ENTRY)?,
+            list_free: gpu.pipeline(LIST_FREE_ENTRY)?,
+            recycle: gpu.pipeline(RECYCLE_ENTRY)?,
+        })
+    }
+}
+
+/// Device buffers and bind groups of the reprojection of one seed buffer.
+///
+/// [`encode`](Self::encode) moves the seeds of `seeds` (the buffer given to
+/// [`new`](Self::new), `padded_width * padded_height` `u32`, laid out for
+/// the previous frame's screen) along [`motion`](Self::motion) and leaves
+/// the result in `seeds` again (through a scratch buffer and one copy).
+#[derive(Debug)]
+pub struct SeedReprojector {
+    layout: FrameLayout,
+    /// Backward motion per visible pixel, `width * height` `Vec2` (pixels,
+    /// raster `y` down; NaN, or anything placing the previous position outside
+    /// the frame, for a disoccluded pixel): written by the
+    /// tracer's motion pass or uploaded with
+    /// [`upload_motion`](Self::upload_motion).
+    pub motion: wgpu::Buffer,
+    seeds: wgpu::Buffer,
+    out: wgpu::Buffer,
+    clear_bg: wgpu::BindGroup,
+    claim_bg: wgpu::BindGroup,
+    take_bg: wgpu::BindGroup,
+    scan_bg: wgpu::BindGroup,
+    list_free_bg: wgpu::BindGroup,
+    recycle_bg: wgpu::BindGroup,
+}
+
+impl SeedReprojector {
+    /// Allocates the scratch buffers (claims, chunk counts, free list,
+    /// output: about `12 * seed_count` bytes, plus `8 * width * height` of
+    /// motion) and wires the passes to `seeds`.
+    ///
+    /// # Errors
+    /// [`GpuError::Input`] when the padded frame has more than
+    /// `MAX_REPROJECT_SEEDS` seeds.
+    pub fn new(
+        gpu: &Gpu,
+        pipelines: &ReprojectPipelines,
+        layout: FrameLayout,
+        seeds: &wgpu::Buffer,
+    ) -> Result<Self, GpuError> {
+        if layout.seed_count() > MAX_REPROJECT_SEEDS {
+            return Err(GpuError::Input(sampler_core::Error::FrameSize {
+                width: layout.width(),
+                height: layout.height(),
+            }));
+        }
+        let frame = layout.params(0);
+        let params = gpu.uniform("reproject params", &frame);
+        let motion = gpu.storage_zeroed::<Vec2>("motion", layout.pixel_count());
+        let claims = gpu.storage_zeroed::<u32>("claims", layout.seed_count());
+        let counts = gpu.storage_zeroed::<u32>("chunk counts", 2 * chunk_count(&frame) as usize);
+        let free = gpu.storage_zeroed::<u32>("free sources", layout.seed_count());
+        let out = gpu.storage_zeroed::<u32>("seeds (reprojected)", layout.seed_count());
+        Ok(SeedReprojector {
+            layout,
+            clear_bg: gpu.bind(&pipelines.clear, &[&params, &claims]),
+            claim_bg: gpu.bind(&pipelines.claim, &[&params, &motion, &claims]),
+            take_bg: gpu.bind(
+                &pipelines.take,
+                &[&params, &motion, &claims, seeds, &out, &counts],
+            ),
+            scan_bg: gpu.bind(&pipelines.scan, &[&params, &counts]),
+            list_free_bg: gpu.bind(&pipelines.list_free, &[&params, &claims, &counts, &free]),
+            recycle_bg: gpu.bind(
+                &pipelines.recycle,
+                &[&params, &motion, &claims, &counts, &free, seeds, &out],
+            ),
+            motion,
+            seeds: seeds.clone(),
+            out,
+        })
+    }
+
+    /// The frame layout.
+    pub fn layout(&self) -> &FrameLayout {
+        &self.layout
+    }
+
+    /// Encodes the six passes and the copy back into the seed buffer.
+    /// `timer` (if any, with its span index) times the six passes as one
+    /// span (the copy back is not timed).
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipelines: &ReprojectPipelines,
+        timer: Option<(&PassTimer, u32)>,
+    ) {
+        let p = self.layout.params(0);
+        let chunks = chunk_count(&p);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("seed reprojection"),
+            timestamp_writes: timer.map(|(t, span)| t.writes(span)),
+        });
+        // One compute pass: wgpu orders dispatches inside it and inserts the
+        // barriers storage-buffer hazards need.
+        let steps: [(&wgpu::ComputePipeline, &wgpu::BindGroup, u32); 6] = [
+            (&pipelines.clear, &self.clear_bg, p.seed_count()),
+            (&pipelines.claim, &self.claim_bg, p.pixel_count()),
+            (&pipelines.take, &self.take_bg, chunks),
+            (&pipelines.scan, &self.scan_bg, 1),
+            (&pipelines.list_free, &self.list_free_bg, chunks),
+            (&pipelines.recycle, &self.recycle_bg, chunks),
+        ];
+        for (pipeline, bind_group, n) in steps {
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, bind_group, &[]);
+            let (x, y) = kernels::permute_entry::linear_dispatch(n);
+            pass.dispatch_workgroups(x, y, 1);
+        }
+        drop(pass);
+        let bytes = p.seed_count() as u64 * 4;
+        encoder.copy_buffer_to_buffer(&self.out, 0, &self.seeds, 0, bytes);
+    }
+
+    /// Replaces the motion buffer with `motion` (`width * height`, pixels,
+    /// NaN or any out-of-frame motion for disoccluded pixels, as `sampler_core::reproject_frame` takes
+    /// it).
+    ///
+    /// # Errors
+    /// [`GpuError::Input`] for a wrong length.
+    pub fn upload_motion(&self, gpu: &Gpu, motion: &[[f32; 2]]) -> Result<(), GpuError> {
+        if motion.len() != self.layout.pixel_count() {
+            return Err(GpuError::Input(sampler_core::Error::BufferSize {
+                buffer: Buffer::Motion,
+                expected: self.layout.pixel_count(),
+                actual: motion.len(),
+            }));
+        }
+        gpu.queue
+            .write_buffer(&self.motion, 0, bytemuck::cast_slice(motion));
+        Ok(())
+    }
+
+    /// Reads the motion buffer back (blocking), as `[dx, dy]` pairs.
+    ///
+    /// # Errors
+    /// [`GpuError::Readback`].
+    pub fn read_motion(&self, gpu: &Gpu) -> Result<Vec<[f32; 2]>, GpuError> {
+        let v: Vec<Vec2> = gpu.read(&self.motion, self.layout.pixel_count())?;
+        Ok(v.into_iter().map(|m| m.to_array()).collect())
+    }
+}
