@@ -1,7 +1,9 @@
-//! Deterministic test inputs: dither tiles and valid retarget tables.
+//! Deterministic test inputs: dither tiles, valid retarget tables, and
+//! surface-feature frames.
 
+use glam::Vec3;
 use sampler_core::seed::hash_u32;
-use sampler_core::{pack_offset, IDENTITY_PACKED, RETARGET_RADIUS};
+use sampler_core::{pack_offset, SurfaceFeature, IDENTITY_PACKED, RETARGET_RADIUS};
 
 /// A `tile x tile` dither tile from `salt`: a random permutation of the
 /// ranks `0..tile*tile`, or, with `ties`, values in `0..4` so that many
@@ -64,6 +66,38 @@ pub fn random_table(tile: u32, salt: u32, swaps: u32) -> Vec<u32> {
             } else {
                 pack_offset(glam::IVec2::new(x, y))
             }
+        })
+        .collect()
+}
+
+/// Features of a frame made of `surfaces` regions: vertical bands, a disc,
+/// and (when `creases`) a normal that flips in a checkerboard of 5-px cells
+/// on surface 0; depths vary smoothly. Surface id per pixel, or
+/// `NO_SURFACE` on the band of id `surfaces`.
+pub fn banded_features(
+    width: u32,
+    height: u32,
+    surfaces: u32,
+    creases: bool,
+    salt: u32,
+) -> Vec<SurfaceFeature> {
+    (0..width * height)
+        .map(|i| {
+            let (x, y) = (i % width, i / width);
+            let (cx, cy) = (width as f32 * 0.6, height as f32 * 0.4);
+            let in_disc =
+                (x as f32 - cx).powi(2) + (y as f32 - cy).powi(2) < (width.min(height) as f32 * 0.25).powi(2);
+            let band = (x * (surfaces + 1) / width.max(1) + salt) % (surfaces + 1);
+            let id = if in_disc { surfaces + 7 } else { band };
+            if id == surfaces {
+                return SurfaceFeature::none();
+            }
+            let normal = if creases && id == 0 && ((x / 5) + (y / 5)) % 2 == 1 {
+                Vec3::X
+            } else {
+                Vec3::Z
+            };
+            SurfaceFeature::new(id, 5.0 + 0.01 * y as f32, normal)
         })
         .collect()
 }

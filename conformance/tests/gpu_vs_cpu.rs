@@ -779,3 +779,166 @@ fn motion_kernel_matches_the_cpu() {
         "{disoccluded} of {n} NaN"
     );
 }
+
+/// The feature-aware permutation on the GPU (`sort_features_cs`,
+/// `record_source_cs`, `retarget_features_cs`) against
+/// `sampler_core::permute_frame_features`: identical seeds, on frames with
+/// several surfaces, creases, background and padding.
+#[test]
+fn feature_aware_permutation_kernels_match_the_cpu_bit_for_bit() {
+    use conformance::fixtures::banded_features;
+    let Some(gpu) = Gpu::for_test("feature_aware_permutation_kernels_match_the_cpu_bit_for_bit") else {
+        return;
+    };
+    let pipelines = PermutePipelines::new(&gpu).expect("pipelines");
+    for (k, &(w, h, block, tile_side, frame)) in [
+        (37u32, 23u32, 4u32, 16u32, 3u32),
+        (64, 64, 4, 64, 17),
+        (130, 70, 5, 32, 200),
+    ]
+    .iter()
+    .enumerate()
+    {
+        let salt = k as u32 * 31 + 5;
+        let layout = FrameLayout::new(w, h, block, tile_side).unwrap();
+        let tile_values = random_tile(tile_side, salt, k == 1);
+        let tile = DitherTile::new(tile_side, &tile_values).unwrap();
+        let packed: Vec<Vec<u32>> = (0..4)
+            .map(|i| random_table(tile_side, salt + i, 6 * tile_side * tile_side))
+            .collect();
+        let tables =
+            RetargetTables::new(tile_side, [&packed[0], &packed[1], &packed[2], &packed[3]]).unwrap();
+        let values = intensities(layout.pixel_count(), salt);
+        let features = banded_features(w, h, 3, true, salt);
+        let seeds: Vec<u32> = (0..layout.seed_count() as u32)
+            .map(|i| hash_u32(i ^ salt))
+            .collect();
+        let thresholds = FeatureThresholds::DEFAULT;
+
+        let color = gpu.storage_zeroed::<Vec4>("colour", layout.pixel_count());
+        let mut permuter = SeedPermuter::new(&gpu, &pipelines, layout, &tile, &tables, &color).unwrap();
+        permuter.enable_features(&gpu, &pipelines, &thresholds);
+        permuter.upload_seeds(&gpu, &seeds).unwrap();
+        permuter.upload_intensity(&gpu, &values).unwrap();
+        permuter.upload_features(&gpu, &features).unwrap();
+        permuter.set_frame(&gpu, frame);
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        permuter.encode_step(&mut encoder, &pipelines, frame, PermuteMode::Permute, None);
+        gpu.queue.submit([encoder.finish()]);
+        let gpu_next = permuter.read_seeds(&gpu).unwrap();
+
+        let n = seeds.len();
+        let (mut sorted_buf, mut sources, mut cpu_next) = (vec![0; n], vec![0; n], vec![0; n]);
+        permute_frame_features(
+            &layout,
+            frame,
+            &values,
+            &features,
+            &thresholds,
+            &tile,
+            &tables,
+            &seeds,
+            &mut sorted_buf,
+            &mut sources,
+            &mut cpu_next,
+        )
+        .unwrap();
+        assert_eq!(gpu_next, cpu_next, "{w}x{h}, frame {frame}");
+        let mut plain = vec![0; n];
+        permute_frame(&layout, frame, &values, &tile, &tables, &seeds, &mut plain).unwrap();
+        assert_ne!(cpu_next, plain, "{w}x{h}: the features must change something");
+    }
+}
+
+/// The tracer's feature pass (`entry::features_cs`) against the CPU's
+/// `kernels::surface_features` on the same G-buffer and colour: identical
+/// ids and depths, normals within the encoding's precision and sort keys
+/// within 1e-6 relative (a shader's division need not round like the
+/// host's).
+#[test]
+fn feature_pass_matches_the_cpu() {
+    use glam::{UVec4, Vec3};
+    use gpu_tracer::gpu::{TracePipelines, Tracer};
+    use gpu_tracer::{cornell::cornell_box, SceneGpu, TraceSettings};
+    use kernels::abi::{GBufferGpu, GBUFFER_HIT, GBUFFER_NO_HIT};
+    use kernels::surface_features::{demodulated_intensity, surface_feature};
+    use sampler_core::features::decode_normal;
+    let Some(gpu) = Gpu::for_test("feature_pass_matches_the_cpu") else {
+        return;
+    };
+    let (w, h) = (29u32, 17u32);
+    let n = (w * h) as usize;
+    let scene = SceneGpu::build(&cornell_box()).unwrap();
+    let params = scene.trace_params(&TraceSettings::new(w, h), 0).unwrap();
+    let unit = |i: u32, k: u32| hash_u32(i ^ (k << 20)) as f32 / u32::MAX as f32;
+    let gbuffer: Vec<GBufferGpu> = (0..n as u32)
+        .map(|i| {
+            if i % 7 == 0 {
+                return GBufferGpu {
+                    ids: UVec4::new(GBUFFER_NO_HIT, GBUFFER_NO_HIT, GBUFFER_NO_HIT, 0),
+                    ..Default::default()
+                };
+            }
+            let normal = Vec3::new(unit(i, 1) - 0.5, unit(i, 2) - 0.5, unit(i, 3) - 0.5).normalize();
+            GBufferGpu {
+                normal_depth: normal.extend(1.0 + 9.0 * unit(i, 4)),
+                albedo: Vec4::new(unit(i, 5), unit(i, 6), unit(i, 7) * 0.01, 0.0),
+                ids: UVec4::new(i % 5, 0, 0, GBUFFER_HIT),
+                ..Default::default()
+            }
+        })
+        .collect();
+    let color: Vec<Vec4> = (0..n as u32)
+        .map(|i| Vec4::new(unit(i, 8) * 3.0, unit(i, 9), unit(i, 10), 1.0))
+        .collect();
+
+    let pipelines = TracePipelines::new(&gpu).unwrap();
+    let seeds = gpu.storage_zeroed::<u32>("seeds", n);
+    let features = gpu.storage_zeroed::<SurfaceFeature>("features", n);
+    let keys = gpu.storage_zeroed::<f32>("keys", n);
+    let mut tracer = Tracer::new(
+        &gpu,
+        &pipelines,
+        &scene,
+        &params,
+        &seeds,
+        Tracer::color_buffer(&gpu, w, h),
+    );
+    tracer.enable_features(&gpu, &pipelines, &features, &keys);
+    gpu.queue
+        .write_buffer(&tracer.gbuffer, 0, bytemuck::cast_slice(&gbuffer));
+    gpu.queue
+        .write_buffer(&tracer.color, 0, bytemuck::cast_slice(&color));
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    tracer.encode_features(&mut encoder, &pipelines);
+    gpu.queue.submit([encoder.finish()]);
+    let got_features: Vec<SurfaceFeature> = gpu.read(&features, n).unwrap();
+    let got_keys: Vec<f32> = gpu.read(&keys, n).unwrap();
+
+    let mut demodulated = 0;
+    for i in 0..n {
+        let (f, k) = (
+            surface_feature(&gbuffer[i]),
+            demodulated_intensity(color[i], &gbuffer[i]),
+        );
+        let g = got_features[i];
+        assert_eq!((g.id, g.depth.to_bits()), (f.id, f.depth.to_bits()), "pixel {i}");
+        if f.id != NO_SURFACE {
+            assert!(
+                decode_normal(g.normal).dot(decode_normal(f.normal)) > 0.999_99,
+                "pixel {i}: normal {:x} vs {:x}",
+                g.normal,
+                f.normal
+            );
+        }
+        assert!(
+            (got_keys[i] - k).abs() <= 1e-6 * k.abs(),
+            "pixel {i}: key {} vs {k}",
+            got_keys[i]
+        );
+        if k != luma(color[i].truncate()) {
+            demodulated += 1;
+        }
+    }
+    assert!(demodulated > n / 2, "only {demodulated} of {n} keys demodulated");
+}

@@ -85,6 +85,12 @@ struct RenderArgs {
     /// the camera or objects move.
     #[arg(long, value_enum)]
     reproject: Option<OnOff>,
+    /// Feature-aware permutation in `--mode permute`: sort keys with the
+    /// albedo divided out, each block sorted in groups of one surface, and
+    /// no retarget move across an edge (object id, normal, depth from the
+    /// G-buffer).
+    #[arg(long, value_enum, default_value = "off")]
+    features: OnOff,
     /// Write every frame to `<out>/frames/frame_NNNNN.exr` (linear) and
     /// `.png` (tone-mapped).
     #[arg(long)]
@@ -345,9 +351,11 @@ fn render(args: RenderArgs) -> Result<()> {
         Some(OnOff::Off) => false,
         None => moves,
     };
+    let features = args.features == OnOff::On;
     let options = SequenceOptions {
         gbuffer: want_gbuffer,
         reproject,
+        features,
     };
     let mut save_error: Option<anyhow::Error> = None;
     let mut on_frame = |f: &FrameView<'_>| {
@@ -406,7 +414,7 @@ fn render(args: RenderArgs) -> Result<()> {
         saved += &format!(", {}/frame_*.<aov>.exr", aovs_dir.display());
     }
     println!(
-        "rendered {} frame(s) of {}x{} at {} spp on {} in {:.2} s ({:?} mode, {} sampler, reprojection {}); wrote {}{saved}",
+        "rendered {} frame(s) of {}x{} at {} spp on {} in {:.2} s ({:?} mode, {} sampler, reprojection {}, features {}); wrote {}{saved}",
         args.frames,
         w,
         h,
@@ -416,6 +424,7 @@ fn render(args: RenderArgs) -> Result<()> {
         job.mode,
         args.sampler.name(),
         if reproject { "on" } else { "off" },
+        if features { "on" } else { "off" },
         files
             .iter()
             .map(|f| f.0.display().to_string())

@@ -12,7 +12,8 @@ use crate::scene::{SceneGpu, TraceSettings};
 use crate::timeline::SceneSequence;
 use glam::{UVec2, Vec4};
 use kernels::abi::GBufferGpu;
-use sampler_core::{DitherTile, FrameLayout, RetargetTables};
+use kernels::surface_features::{demodulated_intensity, surface_feature};
+use sampler_core::{DitherTile, FeatureThresholds, FrameLayout, RetargetTables, SurfaceFeature};
 use std::fmt;
 
 /// Which baked dither tile (and its retarget tables) the permutation uses.
@@ -80,6 +81,12 @@ pub struct SequenceOptions {
     /// code in `SeedReprojector`).
     /// Ignored in [`PermuteMode::White`] (fresh seeds every frame).
     pub reproject: bool,
+    /// Feature-aware permutation (`sampler_core::permute_frame_features`
+    /// with `FeatureThresholds::DEFAULT`): sort keys with the albedo divided
+    /// out, blocks sorted in groups of one surface, retarget moves cut at
+    /// edges, all from each frame's G-buffer. [`PermuteMode::Permute`]
+    /// only; the GPU runs the same code (`SeedPermuter::enable_features`).
+    pub features: bool,
 }
 
 /// Receives every frame of a sequence render.
@@ -247,8 +254,13 @@ pub fn render_sequence_cpu(
     let (layout, settings, tile, tables) = job.prepare()?;
     let n = layout.pixel_count();
     let reproject = options.reproject && job.mode != PermuteMode::White;
-    let gbuffer = options.gbuffer || reproject;
+    let features = options.features && job.mode == PermuteMode::Permute;
+    let gbuffer = options.gbuffer || reproject || features;
     let mut previous_vis = vec![UVec2::ZERO; if reproject { n } else { 0 }];
+    let feature_scratch = if features { layout.seed_count() } else { 0 };
+    let (mut sorted, mut sources) = (vec![0u32; feature_scratch], vec![0u32; feature_scratch]);
+    let mut surface = vec![SurfaceFeature::default(); if features { n } else { 0 }];
+    let mut keys = vec![0f32; if features { n } else { 0 }];
     let mut claims = vec![0u32; if reproject { layout.seed_count() } else { 0 }];
     let mut seeds = cpu::white_seeds(layout.padded_width(), layout.padded_height(), job.salt);
     let mut next = vec![0u32; seeds.len()];
@@ -289,6 +301,26 @@ pub fn render_sequence_cpu(
             }
             PermuteMode::Sort => {
                 sampler_core::sort_frame(&layout, t, &color, &tile, &seeds, &mut next)?;
+                std::mem::swap(&mut seeds, &mut next);
+            }
+            PermuteMode::Permute if features => {
+                for (((f, k), g), c) in surface.iter_mut().zip(&mut keys).zip(&gbuf).zip(&color) {
+                    *f = surface_feature(g);
+                    *k = demodulated_intensity(*c, g);
+                }
+                sampler_core::permute_frame_features(
+                    &layout,
+                    t,
+                    &keys,
+                    &surface,
+                    &FeatureThresholds::DEFAULT,
+                    &tile,
+                    &tables,
+                    &seeds,
+                    &mut sorted,
+                    &mut sources,
+                    &mut next,
+                )?;
                 std::mem::swap(&mut seeds, &mut next);
             }
             PermuteMode::Permute => {
@@ -365,13 +397,17 @@ pub fn render_sequence_gpu(
 ) -> Result<RenderOutput, RenderError> {
     let (layout, settings, tile, tables) = job.prepare()?;
     let reproject = options.reproject && job.mode != PermuteMode::White;
-    let gbuffer = options.gbuffer || reproject;
+    let features = options.features && job.mode == PermuteMode::Permute;
+    let gbuffer = options.gbuffer || reproject || features;
     let params0 = sequence.scene().trace_params(&settings, 0)?;
     let trace_pipelines = TracePipelines::new(gpu)?;
     let permute_pipelines = PermutePipelines::new(gpu)?;
     // The permuter owns the seed buffer and reads the tracer's colour.
     let color = Tracer::color_buffer(gpu, layout.width(), layout.height());
-    let permuter = SeedPermuter::new(gpu, &permute_pipelines, layout, &tile, &tables, &color)?;
+    let mut permuter = SeedPermuter::new(gpu, &permute_pipelines, layout, &tile, &tables, &color)?;
+    if features {
+        permuter.enable_features(gpu, &permute_pipelines, &FeatureThresholds::DEFAULT);
+    }
     let mut tracer = Tracer::new(
         gpu,
         &trace_pipelines,
@@ -381,6 +417,9 @@ pub fn render_sequence_gpu(
         color,
     );
 
+    if let Some(f) = permuter.features() {
+        tracer.enable_features(gpu, &trace_pipelines, f, &permuter.intensity);
+    }
     let reprojection = if reproject {
         let pipelines = ReprojectPipelines::new(gpu)?;
         let reprojector = SeedReprojector::new(gpu, &pipelines, layout, &permuter.seeds)?;
@@ -419,7 +458,9 @@ pub fn render_sequence_gpu(
         }
         tracer.encode_trace(&mut encoder, &trace_pipelines, None);
         tracer.encode_accumulate(&mut encoder, &trace_pipelines);
-        if job.mode != PermuteMode::White {
+        if features {
+            tracer.encode_features(&mut encoder, &trace_pipelines);
+        } else if job.mode != PermuteMode::White {
             permuter.encode_intensity(&mut encoder, &permute_pipelines);
         }
         permuter.encode_step(&mut encoder, &permute_pipelines, t, job.mode, None);

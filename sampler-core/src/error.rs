@@ -24,6 +24,10 @@ pub enum Buffer {
     Motion,
     /// Reprojection claims (scratch): `padded_width * padded_height` entries.
     Claims,
+    /// Per-pixel surface features: `width * height` entries.
+    Features,
+    /// A pass's scratch buffer: `padded_width * padded_height` entries.
+    Scratch,
 }
 
 impl fmt::Display for Buffer {
@@ -38,6 +42,8 @@ impl fmt::Display for Buffer {
             Buffer::SampleKeys => "screen-space sampler keys",
             Buffer::Motion => "motion-vector buffer",
             Buffer::Claims => "reprojection claims buffer",
+            Buffer::Features => "surface feature buffer",
+            Buffer::Scratch => "scratch seed buffer",
         })
     }
 }

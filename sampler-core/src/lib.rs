@@ -48,6 +48,8 @@ pub mod bake;
 pub mod defaults;
 pub mod dither;
 pub mod error;
+pub mod feature_permute;
+pub mod features;
 pub mod frame;
 pub mod layout;
 pub mod owen;
@@ -70,6 +72,8 @@ pub use frame::{
     permute_frame, permute_frame_baseline_isa, retarget_frame, retarget_pixel, retarget_pixel_at_offset,
     sort_block_at_offset, sort_block_in_frame, sort_frame,
 };
+pub use feature_permute::permute_frame_features;
+pub use features::{demodulated_luma, same_surface, FeatureThresholds, SurfaceFeature, NO_SURFACE};
 pub use layout::{FrameLayout, FrameParams};
 pub use owen::{owen_scramble, owen_sobol, owen_sobol_u32, shuffle_index};
 pub use r2::{r1, r2, Rd};

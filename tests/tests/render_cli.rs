@@ -104,6 +104,46 @@ fn cpu_render_with_each_apriori_sampler() {
     }
 }
 
+/// `--features on`: the feature-aware permutation renders on the CPU and
+/// on the GPU (the same passes, bit for bit: conformance), and says so.
+#[test]
+fn feature_aware_permutation_renders_on_cpu_and_gpu() {
+    let exe = tracer();
+    let dir = tempfile::tempdir().unwrap();
+    for device in ["cpu", "gpu"] {
+        let out = dir.path().join(device);
+        let o = run(
+            &exe,
+            &[
+                "render",
+                "--width",
+                "24",
+                "--height",
+                "16",
+                "--frames",
+                "3",
+                "--mode",
+                "permute",
+                "--features",
+                "on",
+                "--device",
+                device,
+                "--out",
+                out.to_str().unwrap(),
+            ],
+        );
+        let t = text(&o);
+        if device == "gpu" && !o.status.success() {
+            assert!(t.contains("no GPU adapter"), "{t}");
+            assert!(!gpu_required(), "BLUENOISE_REQUIRE_GPU=1 and no GPU: {t}");
+            eprintln!("SKIPPED (GPU features): {t}");
+            continue;
+        }
+        assert!(o.status.success() && t.contains("features on"), "{device}: {t}");
+        assert_eq!(png_size(&out.join("mean.png")), (24, 16));
+    }
+}
+
 #[test]
 fn auto_device_renders_on_gpu_or_says_it_fell_back() {
     let exe = tracer();

@@ -38,6 +38,11 @@
 //! | | 2 | storage, read | previous frame's visibility `[UVec2]` (`crate::motion::visibility`), `width * height` |
 //! | | 3 | storage, write | this frame's visibility `[UVec2]`, `width * height` |
 //! | | 4 | storage, write | reprojection motion `[Vec2]` (pixels; `crate::motion::DISOCCLUDED` where disoccluded), `width * height` |
+//! | [`FEATURES_ENTRY`] | 0 | uniform | [`TraceParams`] |
+//! | | 1 | storage, read | G-buffer `[GBufferGpu]` of this frame |
+//! | | 2 | storage, read | frame colour `[Vec4]` |
+//! | | 3 | storage, write | `[sampler_core::SurfaceFeature]`, `width * height` |
+//! | | 4 | storage, write | demodulated sort keys `[f32]`, `width * height` |
 //! | [`ACCUMULATE_ENTRY`] | 0 | uniform | [`TraceParams`] |
 //! | | 1 | storage, read | frame colour `[Vec4]`, `width * height` |
 //! | | 2 | storage, read-write | accumulation `[Vec4]`, `width * height` |
@@ -63,6 +68,10 @@ pub const GBUFFER_ENTRY: &str = "entry::gbuffer_cs";
 /// seed reprojection's motion vectors from the G-buffer
 /// (`crate::motion::reprojection_motion_pixel`).
 pub const MOTION_ENTRY: &str = "entry::motion_cs";
+/// Name of the feature entry point (one invocation per visible pixel): the
+/// feature-aware permutation's inputs from the G-buffer and the colour
+/// (`crate::surface_features`).
+pub const FEATURES_ENTRY: &str = "entry::features_cs";
 /// Storage buffers the widest entry point ([`TRACE_ENTRY`]) binds.
 pub const MAX_STORAGE_BUFFERS_PER_STAGE: u32 = 9;
 

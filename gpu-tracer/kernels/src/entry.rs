@@ -8,8 +8,10 @@ use crate::abi::{
 use crate::accumulate::accumulate_pixel;
 use crate::gbuffer::gbuffer_pixel;
 use crate::motion::{reprojection_motion_pixel, visibility};
+use crate::surface_features::{demodulated_intensity, surface_feature};
 use crate::trace::trace_pixel;
 use glam::{UVec2, UVec3, Vec2, Vec4};
+use sampler_core::SurfaceFeature;
 use spirv_std::spirv;
 
 /// [`TRACE_ENTRY`](crate::abi::TRACE_ENTRY): one invocation per visible
@@ -119,4 +121,26 @@ pub fn motion_cs(
     let g = gbuffer[i];
     current[i] = visibility(&g);
     motion[i] = reprojection_motion_pixel(&g, id.x, id.y, params.width, params.height, previous);
+}
+
+/// [`FEATURES_ENTRY`](crate::abi::FEATURES_ENTRY): one invocation per
+/// visible pixel; writes the pixel's surface feature and demodulated sort
+/// key for the feature-aware permutation (`surface_feature`,
+/// `demodulated_intensity`). Invocations outside the frame do nothing.
+#[spirv(compute(threads(8, 8)))]
+pub fn features_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &TraceParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] gbuffer: &[GBufferGpu],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] color: &[Vec4],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] features: &mut [SurfaceFeature],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] intensity: &mut [f32],
+) {
+    if id.x >= params.width || id.y >= params.height {
+        return;
+    }
+    let i = id.y.wrapping_mul(params.width).wrapping_add(id.x) as usize;
+    let g = gbuffer[i];
+    features[i] = surface_feature(&g);
+    intensity[i] = demodulated_intensity(color[i], &g);
 }

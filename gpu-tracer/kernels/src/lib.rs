@@ -13,7 +13,8 @@
 //!   [`accumulate`] the running mean, [`texture`] image lookup and
 //!   [`surface`] textured albedo and emission, [`gbuffer`] the G-buffer and
 //!   motion vectors ([`gbuffer::gbuffer_pixel`]), [`motion`] the motion vectors
-//!   the seed reprojection takes (disocclusion marked).
+//!   the seed reprojection takes (disocclusion marked), [`surface_features`]
+//!   the feature-aware permutation's per-pixel features and sort keys.
 //! - Entry points: [`entry`] (tracer), [`permute_entry`] (seed permutation),
 //!   [`reproject_entry`] (seed reprojection).
 //!
@@ -60,6 +61,7 @@ pub mod permute_entry;
 pub mod reproject_entry;
 pub mod sampling;
 pub mod surface;
+pub mod surface_features;
 pub mod texture;
 pub mod trace;
 

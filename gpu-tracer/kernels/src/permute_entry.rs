@@ -10,9 +10,25 @@
 //! | [`SORT_ENTRY`] | `FrameParams` (uniform) | intensity `[f32]` | tile `[u32]` | seeds in `[u32]` | seeds out `[u32]` |
 //! | [`RETARGET_ENTRY`] | `FrameParams` (uniform) | table `[u32]` | seeds in `[u32]` | seeds out `[u32]` | |
 //! | [`SEED_INIT_ENTRY`] | `FrameParams` (uniform; `frame` = salt) | seeds out `[u32]` | | | |
+//!
+//! The feature-aware permutation (`sampler_core::feature_permute`) replaces
+//! the sort and retarget passes with three (storage buffers after the
+//! uniform `FrameParams` at binding 0; `thresholds` is one
+//! `FeatureThresholds`, `features` `width * height` `SurfaceFeature`,
+//! `sources` `seed_count` `u32` scratch):
+//!
+//! | entry | 1 | 2 | 3 | 4 | 5 | 6 |
+//! |---|---|---|---|---|---|---|
+//! | [`SORT_FEATURES_ENTRY`] (per block) | intensity `[f32]` | features | thresholds | tile `[u32]` | seeds in | seeds out (sorted) |
+//! | [`RECORD_SOURCE_ENTRY`] (per seed) | table `[u32]` | sources (out) | | | | |
+//! | [`RETARGET_FEATURES_ENTRY`] (per seed) | table | sources | features | thresholds | seeds in (sorted) | seeds out |
 
 use glam::{UVec3, Vec4};
-use sampler_core::{initial_seed, luma, retarget_pixel, sort_block_in_frame, FrameParams};
+use sampler_core::feature_permute::{record_source, retarget_features_pixel, sort_block_features_at_offset};
+use sampler_core::{
+    initial_seed, luma, retarget_pixel, sort_block_in_frame, walk_offset, FeatureThresholds, FrameParams,
+    SurfaceFeature,
+};
 use spirv_std::spirv;
 
 /// Entry point name of [`intensity_cs`].
@@ -23,6 +39,12 @@ pub const SORT_ENTRY: &str = "permute_entry::sort_cs";
 pub const RETARGET_ENTRY: &str = "permute_entry::retarget_cs";
 /// Entry point name of [`seed_init_cs`].
 pub const SEED_INIT_ENTRY: &str = "permute_entry::seed_init_cs";
+/// Entry point name of [`sort_features_cs`].
+pub const SORT_FEATURES_ENTRY: &str = "permute_entry::sort_features_cs";
+/// Entry point name of [`record_source_cs`].
+pub const RECORD_SOURCE_ENTRY: &str = "permute_entry::record_source_cs";
+/// Entry point name of [`retarget_features_cs`].
+pub const RETARGET_FEATURES_ENTRY: &str = "permute_entry::retarget_features_cs";
 /// Invocations per workgroup of every permutation entry point.
 pub const PERMUTE_WORKGROUP: u32 = 64;
 /// Most workgroups a dispatch may have along one axis (Vulkan's guaranteed
@@ -112,5 +134,86 @@ pub fn seed_init_cs(
         let x = i % params.padded_width;
         let y = i / params.padded_width;
         seeds_out[i as usize] = initial_seed(x, y, params.padded_width, params.frame);
+    }
+}
+
+/// One invocation per block: the feature-aware sorting pass,
+/// `sampler_core::feature_permute::sort_block_features_at_offset` at the
+/// walk's offset of `params.frame`.
+#[allow(clippy::too_many_arguments)]
+#[spirv(compute(threads(64)))]
+pub fn sort_features_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] intensity: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] features: &[SurfaceFeature],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] thresholds: &[FeatureThresholds],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] tile: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] seeds_in: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] seeds_out: &mut [u32],
+) {
+    let blocks_x = params.blocks_x();
+    let i = linear_id(id);
+    if i < blocks_x.wrapping_mul(params.blocks_y()) {
+        let offset = walk_offset(params.frame, params.tile_log2);
+        sort_block_features_at_offset(
+            params,
+            offset,
+            i % blocks_x,
+            i / blocks_x,
+            intensity,
+            features,
+            &thresholds[0],
+            tile,
+            seeds_in,
+            seeds_out,
+        );
+    }
+}
+
+/// One invocation per seed: the inverse of the frame's retarget
+/// permutation, `sampler_core::feature_permute::record_source`.
+#[spirv(compute(threads(64)))]
+pub fn record_source_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] table: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] sources: &mut [u32],
+) {
+    let i = linear_id(id);
+    if i < params.seed_count() {
+        let offset = walk_offset(params.frame, params.tile_log2);
+        record_source(params, offset, table, i, sources);
+    }
+}
+
+/// One invocation per seed: the retarget cut at edges,
+/// `sampler_core::feature_permute::retarget_features_pixel`.
+#[allow(clippy::too_many_arguments)]
+#[spirv(compute(threads(64)))]
+pub fn retarget_features_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] table: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] sources: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] features: &[SurfaceFeature],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] thresholds: &[FeatureThresholds],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] seeds_in: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] seeds_out: &mut [u32],
+) {
+    let i = linear_id(id);
+    if i < params.seed_count() {
+        let offset = walk_offset(params.frame, params.tile_log2);
+        retarget_features_pixel(
+            params,
+            offset,
+            table,
+            sources,
+            features,
+            &thresholds[0],
+            i,
+            seeds_in,
+            seeds_out,
+        );
     }
 }

@@ -5,8 +5,14 @@
 use super::context::Gpu;
 use super::timer::PassTimer;
 use super::GpuError;
-use kernels::permute_entry::{linear_dispatch, INTENSITY_ENTRY, RETARGET_ENTRY, SEED_INIT_ENTRY, SORT_ENTRY};
-use sampler_core::{step_index, DitherTile, FrameLayout, FrameParams, RetargetTables, STEP_COUNT};
+use kernels::permute_entry::{
+    linear_dispatch, INTENSITY_ENTRY, RECORD_SOURCE_ENTRY, RETARGET_ENTRY, RETARGET_FEATURES_ENTRY,
+    SEED_INIT_ENTRY, SORT_ENTRY, SORT_FEATURES_ENTRY,
+};
+use sampler_core::{
+    step_index, DitherTile, FeatureThresholds, FrameLayout, FrameParams, RetargetTables, SurfaceFeature,
+    STEP_COUNT,
+};
 
 /// How seeds change between frames.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -26,6 +32,9 @@ pub struct PermutePipelines {
     sort: wgpu::ComputePipeline,
     retarget: wgpu::ComputePipeline,
     seed_init: wgpu::ComputePipeline,
+    sort_features: wgpu::ComputePipeline,
+    record_source: wgpu::ComputePipeline,
+    retarget_features: wgpu::ComputePipeline,
 }
 
 impl PermutePipelines {
@@ -39,6 +48,9 @@ impl PermutePipelines {
             sort: gpu.pipeline(SORT_ENTRY)?,
             retarget: gpu.pipeline(RETARGET_ENTRY)?,
             seed_init: gpu.pipeline(SEED_INIT_ENTRY)?,
+            sort_features: gpu.pipeline(SORT_FEATURES_ENTRY)?,
+            record_source: gpu.pipeline(RECORD_SOURCE_ENTRY)?,
+            retarget_features: gpu.pipeline(RETARGET_FEATURES_ENTRY)?,
         })
     }
 }
@@ -61,6 +73,20 @@ pub struct SeedPermuter {
     sort_bg: wgpu::BindGroup,
     retarget_bg: Vec<wgpu::BindGroup>,
     seed_init_bg: wgpu::BindGroup,
+    tile: wgpu::Buffer,
+    tables: Vec<wgpu::Buffer>,
+    features: Option<FeaturePasses>,
+}
+
+/// The buffers and bind groups of the feature-aware passes
+/// ([`SeedPermuter::enable_features`]).
+#[derive(Debug)]
+struct FeaturePasses {
+    features: wgpu::Buffer,
+    sort_bg: wgpu::BindGroup,
+    /// Per retarget table: the inverse pass and the cut retarget.
+    record_bg: Vec<wgpu::BindGroup>,
+    retarget_bg: Vec<wgpu::BindGroup>,
 }
 
 impl SeedPermuter {
@@ -110,7 +136,97 @@ impl SeedPermuter {
             sort_bg,
             retarget_bg,
             seed_init_bg,
+            tile: tile_buf,
+            tables: table_bufs,
+            features: None,
         })
+    }
+
+    /// Switches [`PermuteMode::Permute`] to the feature-aware permutation
+    /// (`sampler_core::permute_frame_features` with `thresholds`): its sort
+    /// keys are read from [`intensity`](Self::intensity) and its features
+    /// from [`features`](Self::features) (`width * height`
+    /// `SurfaceFeature`), which the caller fills each frame (the tracer's
+    /// feature pass, or [`upload_features`](Self::upload_features)).
+    pub fn enable_features(
+        &mut self,
+        gpu: &Gpu,
+        pipelines: &PermutePipelines,
+        thresholds: &FeatureThresholds,
+    ) {
+        let features = gpu.storage_zeroed::<SurfaceFeature>("surface features", self.layout.pixel_count());
+        let thresholds = gpu.storage("feature thresholds", std::slice::from_ref(thresholds));
+        let sources = gpu.storage_zeroed::<u32>("retarget sources", self.layout.seed_count());
+        let sort_bg = gpu.bind(
+            &pipelines.sort_features,
+            &[
+                &self.params,
+                &self.intensity,
+                &features,
+                &thresholds,
+                &self.tile,
+                &self.seeds,
+                &self.scratch,
+            ],
+        );
+        let record_bg = self
+            .tables
+            .iter()
+            .map(|t| gpu.bind(&pipelines.record_source, &[&self.params, t, &sources]))
+            .collect();
+        let retarget_bg = self
+            .tables
+            .iter()
+            .map(|t| {
+                gpu.bind(
+                    &pipelines.retarget_features,
+                    &[
+                        &self.params,
+                        t,
+                        &sources,
+                        &features,
+                        &thresholds,
+                        &self.scratch,
+                        &self.seeds,
+                    ],
+                )
+            })
+            .collect();
+        // The bind groups keep `thresholds` and `sources` alive.
+        self.features = Some(FeaturePasses {
+            features,
+            sort_bg,
+            record_bg,
+            retarget_bg,
+        });
+    }
+
+    /// The surface-feature buffer of the feature-aware permutation, if
+    /// [`enable_features`](Self::enable_features) was called.
+    pub fn features(&self) -> Option<&wgpu::Buffer> {
+        self.features.as_ref().map(|f| &f.features)
+    }
+
+    /// Replaces the surface features with `features` (`width * height`).
+    ///
+    /// # Errors
+    /// [`GpuError::Input`] for a wrong length; [`GpuError::Validation`]
+    /// without [`enable_features`](Self::enable_features).
+    pub fn upload_features(&self, gpu: &Gpu, features: &[SurfaceFeature]) -> Result<(), GpuError> {
+        let f = self
+            .features
+            .as_ref()
+            .ok_or_else(|| GpuError::Validation("upload_features needs enable_features first".into()))?;
+        if features.len() != self.layout.pixel_count() {
+            return Err(GpuError::Input(sampler_core::Error::BufferSize {
+                buffer: sampler_core::Buffer::Features,
+                expected: self.layout.pixel_count(),
+                actual: features.len(),
+            }));
+        }
+        gpu.queue
+            .write_buffer(&f.features, 0, bytemuck::cast_slice(features));
+        Ok(())
     }
 
     /// The frame layout.
@@ -165,6 +281,26 @@ impl SeedPermuter {
         let params: FrameParams = self.layout.params(frame);
         match mode {
             PermuteMode::White => self.encode_seed_init(encoder, pipelines),
+            PermuteMode::Permute if self.features.is_some() => {
+                let f = self.features.as_ref().expect("checked");
+                let blocks = params.blocks_x() * params.blocks_y();
+                let step = step_index(frame, params.tile_log2) as usize;
+                dispatch(encoder, &pipelines.sort_features, &f.sort_bg, blocks, timer);
+                dispatch(
+                    encoder,
+                    &pipelines.record_source,
+                    &f.record_bg[step],
+                    params.seed_count(),
+                    None,
+                );
+                dispatch(
+                    encoder,
+                    &pipelines.retarget_features,
+                    &f.retarget_bg[step],
+                    params.seed_count(),
+                    timer.map(|(t, span)| (t, span + 1)),
+                );
+            }
             PermuteMode::Sort | PermuteMode::Permute => {
                 let blocks = params.blocks_x() * params.blocks_y();
                 dispatch(encoder, &pipelines.sort, &self.sort_bg, blocks, timer);

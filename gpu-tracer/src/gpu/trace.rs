@@ -6,7 +6,8 @@ use super::GpuError;
 use crate::scene::SceneGpu;
 use glam::{UVec2, Vec4};
 use kernels::abi::{
-    GBufferGpu, TraceParams, ACCUMULATE_ENTRY, GBUFFER_ENTRY, MOTION_ENTRY, TRACE_ENTRY, TRACE_WORKGROUP,
+    GBufferGpu, TraceParams, ACCUMULATE_ENTRY, FEATURES_ENTRY, GBUFFER_ENTRY, MOTION_ENTRY, TRACE_ENTRY,
+    TRACE_WORKGROUP,
 };
 
 /// The trace, G-buffer and accumulate pipelines, created once per device.
@@ -15,6 +16,7 @@ pub struct TracePipelines {
     trace: wgpu::ComputePipeline,
     gbuffer: wgpu::ComputePipeline,
     motion: wgpu::ComputePipeline,
+    features: wgpu::ComputePipeline,
     accumulate: wgpu::ComputePipeline,
 }
 
@@ -28,6 +30,7 @@ impl TracePipelines {
             trace: gpu.pipeline(TRACE_ENTRY)?,
             gbuffer: gpu.pipeline(GBUFFER_ENTRY)?,
             motion: gpu.pipeline(MOTION_ENTRY)?,
+            features: gpu.pipeline(FEATURES_ENTRY)?,
             accumulate: gpu.pipeline(ACCUMULATE_ENTRY)?,
         })
     }
@@ -109,6 +112,7 @@ pub struct Tracer {
     gbuffer_bg: wgpu::BindGroup,
     accumulate_bg: wgpu::BindGroup,
     motion: Option<MotionPass>,
+    features_bg: Option<wgpu::BindGroup>,
 }
 
 /// The motion pass's ping-pong visibility buffers (`width * height`
@@ -171,7 +175,37 @@ impl Tracer {
             gbuffer_bg,
             accumulate_bg,
             motion: None,
+            features_bg: None,
         }
+    }
+
+    /// Sets up the feature pass ([`encode_features`](Self::encode_features))
+    /// to write each frame's surface features into `features` (`width *
+    /// height` `SurfaceFeature`, e.g. `SeedPermuter::features`) and its
+    /// demodulated sort keys into `intensity` (`width * height` `f32`).
+    pub fn enable_features(
+        &mut self,
+        gpu: &Gpu,
+        pipelines: &TracePipelines,
+        features: &wgpu::Buffer,
+        intensity: &wgpu::Buffer,
+    ) {
+        self.features_bg = Some(gpu.bind(
+            &pipelines.features,
+            &[&self.params, &self.gbuffer, &self.color, features, intensity],
+        ));
+    }
+
+    /// Encodes the feature pass (after this frame's G-buffer and trace).
+    ///
+    /// # Panics
+    /// Without [`enable_features`](Self::enable_features) first.
+    pub fn encode_features(&self, encoder: &mut wgpu::CommandEncoder, pipelines: &TracePipelines) {
+        let bg = self
+            .features_bg
+            .as_ref()
+            .expect("enable_features before encode_features");
+        self.encode(encoder, &pipelines.features, bg, None);
     }
 
     /// Sets up the motion pass ([`encode_motion`](Self::encode_motion)) to
