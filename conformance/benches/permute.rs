@@ -10,8 +10,20 @@
 //! with its ratio to the copy. The seed reprojection (`reproject_frame`,
 //! issue 13) is measured beside its own copy: the motion vectors and seeds
 //! it reads and the seeds it writes (its claims buffer is scratch on top).
+//! `REPROJECT_ONLY=1` runs only those two, to iterate on the reprojection:
+//!
+//! ```text
+//! REPROJECT_ONLY=1 cargo bench -p conformance --bench permute
+//! ```
+//!
+//! The feature-aware permutation (`permute_frame_features`, issue 14) runs
+//! on a frame of seven surfaces (vertical bands, a disc, creases; the bench
+//! prints how many of its blocks hold more than one group) and on a frame
+//! of one surface, and is reported against the same copy
+//! as the plain permutation (its feature buffer, 16 B a pixel, is read on
+//! top).
 
-use conformance::fixtures::{random_table, random_tile};
+use conformance::fixtures::{banded_features, random_table, random_tile};
 use sampler_core::*;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -76,6 +88,52 @@ fn naive_permute(
     }
 }
 
+/// The reprojection's first version (two sweeps: a clearing fill and every
+/// pixel's claim, then every pixel's claim again for the winners and the
+/// recycling): the baseline the fused CPU pass is measured against.
+fn reproject_two_sweeps(
+    layout: &FrameLayout,
+    motion: &[[f32; 2]],
+    seeds_in: &[u32],
+    claims: &mut [u32],
+    out: &mut [u32],
+) {
+    let p = layout.params(0);
+    let bits = reproject::index_bits(p.padded_width * p.padded_height);
+    let (w, h, pw) = (p.width as usize, p.height as usize, p.padded_width as usize);
+    claims.fill(CLAIM_NONE);
+    for (i, c) in claims.iter_mut().enumerate() {
+        if i % pw >= w || i / pw >= h {
+            *c = i as u32;
+        }
+    }
+    for y in 0..h {
+        for x in 0..w {
+            let (s, k) = reproject::claim_at(&p, bits, x as u32, y as u32, motion[y * w + x]);
+            if s != CLAIM_NONE && k < claims[s as usize] {
+                claims[s as usize] = k;
+            }
+        }
+    }
+    let mut free = claims
+        .iter()
+        .enumerate()
+        .filter(|(_, &c)| c == CLAIM_NONE)
+        .map(|(q, _)| q);
+    for (i, o) in out.iter_mut().enumerate() {
+        let (x, y) = (i % pw, i / pw);
+        if x >= w || y >= h {
+            *o = seeds_in[i];
+            continue;
+        }
+        let (s, k) = reproject::claim_at(&p, bits, x as u32, y as u32, motion[y * w + x]);
+        *o = match reproject::take_if_won(claims, seeds_in, s, k) {
+            Some(seed) => seed,
+            None => seeds_in[free.next().unwrap()],
+        };
+    }
+}
+
 fn time(f: &mut dyn FnMut()) -> Duration {
     let t = Instant::now();
     f();
@@ -91,6 +149,7 @@ fn main() {
     // `cargo test --benches` runs bench targets with `--test`: keep that quick.
     let quick = std::env::args().any(|a| a == "--test");
     let rounds = if quick { 1 } else { ROUNDS };
+    let reproject_only = std::env::var_os("REPROJECT_ONLY").is_some_and(|v| v == "1");
     let layout = FrameLayout::new(WIDTH, HEIGHT, BLOCK, TILE).unwrap();
     let tile_values = random_tile(TILE, 1, false);
     let tile = DitherTile::new(TILE, &tile_values).unwrap();
@@ -107,15 +166,33 @@ fn main() {
 
     let (mut t_copy, mut t_fast, mut t_naive, mut t_shader) = (vec![], vec![], vec![], vec![]);
     let mut t_baseline = vec![];
+    let (mut t_features, mut t_features_one) = (vec![], vec![]);
+    let features = banded_features(WIDTH, HEIGHT, 6, true, 0);
+    let one_surface = vec![SurfaceFeature::new(1, 2.0, glam::Vec3::Z); features.len()];
+    let (mut sorted_scratch, mut sources) =
+        (vec![0u32; layout.seed_count()], vec![0u32; layout.seed_count()]);
     // A camera pan of 0.7 px/frame with a disoccluded band: typical motion.
     let motion: Vec<[f32; 2]> = (0..layout.pixel_count() as u32)
         .map(|i| if i % WIDTH < 8 { [f32::NAN; 2] } else { [-0.7, 0.1] })
         .collect();
     let mut claims = vec![0u32; seeds.len()];
     let mut motion_scratch = vec![[0f32; 2]; motion.len()];
-    let (mut t_reproject, mut t_reproject_copy) = (vec![], vec![]);
+    let (mut t_reproject, mut t_reproject_copy, mut t_reproject_old) = (vec![], vec![], vec![]);
     for r in 0..rounds {
         let frame = r as u32;
+        if reproject_only {
+            t_reproject_copy.push(time(&mut || {
+                motion_scratch.copy_from_slice(black_box(&motion));
+                out.copy_from_slice(&seeds);
+            }));
+            t_reproject.push(time(&mut || {
+                reproject_frame(&layout, black_box(&motion), &seeds, &mut claims, &mut out).unwrap();
+            }));
+            t_reproject_old.push(time(&mut || {
+                reproject_two_sweeps(&layout, black_box(&motion), &seeds, &mut claims, &mut out)
+            }));
+            continue;
+        }
         t_copy.push(time(&mut || {
             copy_baseline(black_box(&intensities), &seeds, &mut scratch, &mut out)
         }));
@@ -150,6 +227,9 @@ fn main() {
         t_reproject.push(time(&mut || {
             reproject_frame(&layout, black_box(&motion), &seeds, &mut claims, &mut out).unwrap();
         }));
+        t_reproject_old.push(time(&mut || {
+            reproject_two_sweeps(&layout, black_box(&motion), &seeds, &mut claims, &mut out)
+        }));
         let table = tables.table(step_index(frame, 6)).packed();
         t_naive.push(time(&mut || {
             naive_permute(
@@ -162,6 +242,24 @@ fn main() {
                 &mut out,
             )
         }));
+        for (f, t) in [(&features, &mut t_features), (&one_surface, &mut t_features_one)] {
+            t.push(time(&mut || {
+                permute_frame_features(
+                    &layout,
+                    frame,
+                    black_box(&intensities),
+                    f,
+                    &FeatureThresholds::DEFAULT,
+                    &tile,
+                    &tables,
+                    &seeds,
+                    &mut sorted_scratch,
+                    &mut sources,
+                    &mut out,
+                )
+                .unwrap()
+            }));
+        }
         // The per-block rank-counting path the GPU kernels run, on the CPU.
         let mut mid = vec![0u32; seeds.len()];
         t_shader.push(time(&mut || {
@@ -170,6 +268,13 @@ fn main() {
         }));
     }
     black_box(&out);
+    if reproject_only {
+        return print_reproject(
+            [&mut t_reproject, &mut t_reproject_old, &mut t_reproject_copy],
+            motion.len(),
+            seeds.len(),
+        );
+    }
     let copy = median(&mut t_copy);
     let bytes = intensities.len() * 4 + seeds.len() * 8;
     println!(
@@ -182,6 +287,8 @@ fn main() {
         ("  same, baseline ISA (no AVX2)", median(&mut t_baseline)),
         ("sort_frame + retarget_frame (GPU path)", median(&mut t_shader)),
         ("naive (alloc + std sort per block)", median(&mut t_naive)),
+        ("permute_frame_features (7 surfaces)", median(&mut t_features)),
+        ("  same, one surface", median(&mut t_features_one)),
     ] {
         println!(
             "{name:<34} {:>10.3} {:>12.2}",
@@ -193,12 +300,65 @@ fn main() {
         "copy bandwidth: {:.2} GB/s",
         bytes as f64 / copy.as_secs_f64() / 1e9
     );
-    let reproject_copy = median(&mut t_reproject_copy);
-    let reproject = median(&mut t_reproject);
+    println!(
+        "feature frame: {:.1}% of blocks hold more than one group",
+        100.0 * mixed_blocks(&layout, &features)
+    );
+    print_reproject(
+        [&mut t_reproject, &mut t_reproject_old, &mut t_reproject_copy],
+        motion.len(),
+        seeds.len(),
+    );
+}
+
+/// Fraction of the frame's blocks whose visible pixels form more than one
+/// group (`sampler_core::feature_permute::block_groups`).
+fn mixed_blocks(layout: &FrameLayout, features: &[SurfaceFeature]) -> f64 {
+    use sampler_core::feature_permute::block_groups;
+    let p = layout.params(0);
+    let (mut mixed, mut total) = (0, 0);
+    for by in 0..p.blocks_y() {
+        for bx in 0..p.blocks_x() {
+            let mut f = [SurfaceFeature::default(); MAX_BLOCK_PIXELS];
+            let mut len = 0;
+            for y in by * p.block..((by + 1) * p.block).min(p.height) {
+                for x in bx * p.block..((bx + 1) * p.block).min(p.width) {
+                    f[len] = features[(y * p.width + x) as usize];
+                    len += 1;
+                }
+            }
+            if len == 0 {
+                continue;
+            }
+            let mut g = [0u32; MAX_BLOCK_PIXELS];
+            block_groups(len as u32, &f, &FeatureThresholds::DEFAULT, &mut g);
+            total += 1;
+            mixed += usize::from(g[..len].iter().any(|&v| v != 0));
+        }
+    }
+    mixed as f64 / total as f64
+}
+
+/// The reprojection's line: its median against its copy's, and the copy's
+/// bandwidth over the bytes the pass must touch (motion and seeds in, seeds
+/// out; the copy also writes the motion vectors back, which is not counted).
+fn print_reproject([t, t_old, t_copy]: [&mut [Duration]; 3], pixels: usize, seeds: usize) {
+    let (reproject, old, copy) = (median(t), median(t_old), median(t_copy));
     println!(
         "reproject_frame (pan 0.7 px): {:.3} ms, copy of motion + seeds {:.3} ms: {:.2} x copy",
         reproject.as_secs_f64() * 1e3,
-        reproject_copy.as_secs_f64() * 1e3,
-        reproject.as_secs_f64() / reproject_copy.as_secs_f64()
+        copy.as_secs_f64() * 1e3,
+        reproject.as_secs_f64() / copy.as_secs_f64()
+    );
+    println!(
+        "  same, first version (two sweeps): {:.3} ms: {:.2} x copy",
+        old.as_secs_f64() * 1e3,
+        old.as_secs_f64() / copy.as_secs_f64()
+    );
+    let bytes = pixels * 8 + seeds * 8;
+    println!(
+        "reprojection copy bandwidth: {:.2} GB/s ({:.1} MB of motion and seeds in, seeds out)",
+        bytes as f64 / copy.as_secs_f64() / 1e9,
+        bytes as f64 / 1e6
     );
 }

@@ -910,7 +910,7 @@ fn feature_pass_matches_the_cpu() {
     gpu.queue
         .write_buffer(&tracer.color, 0, bytemuck::cast_slice(&color));
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    tracer.encode_features(&mut encoder, &pipelines);
+    tracer.encode_features(&mut encoder, &pipelines, None);
     gpu.queue.submit([encoder.finish()]);
     let got_features: Vec<SurfaceFeature> = gpu.read(&features, n).unwrap();
     let got_keys: Vec<f32> = gpu.read(&keys, n).unwrap();

@@ -3,7 +3,8 @@
 //! (primary visibility and motion vectors), the sorting and retargeting
 //! passes (4x4 blocks, 64x64 tile), and the seed reprojection (its motion
 //! pass and its six passes) under a camera panning 2 units a frame (about
-//! 1.5 px at the back wall).
+//! 1.5 px at the back wall), and the feature-aware permutation (the
+//! tracer's feature pass, the grouped sort, the inverse + cut retarget).
 //!
 //! ```text
 //! cargo bench -p gpu-tracer --bench gpu_passes
@@ -12,7 +13,7 @@
 //! Uses timestamp queries where the device has them, else wall-clock time of
 //! each pass in its own submission. Prints each pass's median and its share
 //! of a traced frame (goals: permutation <= 5%, G-buffer <= 10%,
-//! reprojection <= 1%).
+//! reprojection <= 1%, feature-aware permutation <= 5%).
 
 use gpu_tracer::cornell::cornell_box;
 use gpu_tracer::gpu::{
@@ -66,20 +67,32 @@ fn main() {
     let rp = ReprojectPipelines::new(&gpu).expect("reproject pipelines");
     let reprojector = SeedReprojector::new(&gpu, &rp, layout, &permuter.seeds).expect("reprojector");
     tracer.enable_motion(&gpu, &tp, &reprojector.motion);
+    // A second permuter, feature-aware, fed by the tracer's feature pass.
+    let mut featured = SeedPermuter::new(&gpu, &pp, layout, &tile, &tables, &tracer.color).expect("permuter");
+    featured.enable_features(&gpu, &pp, &sampler_core::FeatureThresholds::DEFAULT);
+    tracer.enable_features(
+        &gpu,
+        &tp,
+        featured.features().expect("enabled"),
+        &featured.intensity,
+    );
     permuter.set_frame(&gpu, 0);
     let mut e = gpu.device.create_command_encoder(&Default::default());
     permuter.encode_seed_init(&mut e, &pp);
+    featured.encode_seed_init(&mut e, &pp);
     gpu.queue.submit([e.finish()]);
 
-    let timer = PassTimer::new(&gpu, 6);
+    let timer = PassTimer::new(&gpu, 9);
     let (mut trace_ms, mut sort_ms, mut retarget_ms, mut gbuffer_ms) = (vec![], vec![], vec![], vec![]);
     let (mut motion_ms, mut reproject_ms) = (vec![], vec![]);
+    let (mut features_ms, mut fsort_ms, mut fretarget_ms) = (vec![], vec![], vec![]);
     for t in 0..rounds + 1 {
         scene
             .set_cameras(&camera(t), &camera(t.saturating_sub(1)))
             .expect("camera");
         tracer.set_params(&gpu, &scene.trace_params(&settings, t).expect("params"));
         permuter.set_frame(&gpu, t);
+        featured.set_frame(&gpu, t);
         let times = match &timer {
             Some(timer) => {
                 let mut e = gpu.device.create_command_encoder(&Default::default());
@@ -89,6 +102,8 @@ fn main() {
                 tracer.encode_trace(&mut e, &tp, Some((timer, 0)));
                 permuter.encode_intensity(&mut e, &pp);
                 permuter.encode_step(&mut e, &pp, t, PermuteMode::Permute, Some((timer, 1)));
+                tracer.encode_features(&mut e, &tp, Some((timer, 6)));
+                featured.encode_step(&mut e, &pp, t, PermuteMode::Permute, Some((timer, 7)));
                 timer.resolve(&mut e);
                 gpu.queue.submit([e.finish()]);
                 timer.read_ms(&gpu).expect("timestamps")
@@ -109,13 +124,15 @@ fn main() {
                 run(&|e| permuter.encode_step(e, &pp, t, PermuteMode::Permute, None));
                 run(&|e| tracer.encode_gbuffer(e, &tp, None));
                 run(&|e| reprojector.encode(e, &rp, None));
+                run(&|e| tracer.encode_features(e, &tp, None));
+                run(&|e| featured.encode_step(e, &pp, t, PermuteMode::Permute, None));
                 let mut e = gpu.device.create_command_encoder(&Default::default());
                 tracer.encode_motion(&mut e, &tp, None);
                 let start = Instant::now();
                 gpu.queue.submit([e.finish()]);
                 gpu.wait().expect("wait");
                 ms.push(start.elapsed().as_secs_f64() * 1e3);
-                vec![ms[0], ms[2], 0.0, ms[3], ms[5], ms[4]]
+                vec![ms[0], ms[2], 0.0, ms[3], ms[7], ms[4], ms[5], ms[6], 0.0]
             }
         };
         if t > 0 {
@@ -125,6 +142,9 @@ fn main() {
             gbuffer_ms.push(times[3]);
             motion_ms.push(times[4]);
             reproject_ms.push(times[5]);
+            features_ms.push(times[6]);
+            fsort_ms.push(times[7]);
+            fretarget_ms.push(times[8]);
         }
     }
     let (tr, so, re, gb) = (
@@ -154,6 +174,9 @@ fn main() {
         ("g-buffer + motion", gb),
         ("reprojection motion pass", median(&mut motion_ms)),
         ("reprojection (6 passes)", median(&mut reproject_ms)),
+        ("feature pass", median(&mut features_ms)),
+        ("feature-aware sort", median(&mut fsort_ms)),
+        ("feature-aware retarget", median(&mut fretarget_ms)),
     ] {
         println!("{name:<28} {ms:>10.3} {:>13.2}%", 100.0 * ms / tr);
     }

@@ -459,7 +459,7 @@ pub fn render_sequence_gpu(
         tracer.encode_trace(&mut encoder, &trace_pipelines, None);
         tracer.encode_accumulate(&mut encoder, &trace_pipelines);
         if features {
-            tracer.encode_features(&mut encoder, &trace_pipelines);
+            tracer.encode_features(&mut encoder, &trace_pipelines, None);
         } else if job.mode != PermuteMode::White {
             permuter.encode_intensity(&mut encoder, &permute_pipelines);
         }

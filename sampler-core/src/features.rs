@@ -91,7 +91,8 @@ impl Default for FeatureThresholds {
 
 /// Whether `a` and `b` show the same surface: the same id, and (for a hit)
 /// depths within `t.depth_relative` of the larger one and normals within
-/// `t.normal_cos`. Symmetric; not transitive. NaN depths are never the same.
+/// `t.normal_cos` (equal normal encodings always match). Symmetric; not
+/// transitive. NaN depths are never the same.
 #[inline]
 pub fn same_surface(a: &SurfaceFeature, b: &SurfaceFeature, t: &FeatureThresholds) -> bool {
     if a.id != b.id {
@@ -101,8 +102,13 @@ pub fn same_surface(a: &SurfaceFeature, b: &SurfaceFeature, t: &FeatureThreshold
         return true;
     }
     let larger = if a.depth > b.depth { a.depth } else { b.depth };
+    // Written so that NaN depths fail.
     let close = libm::fabsf(a.depth - b.depth) <= t.depth_relative * larger;
-    close && decode_normal(a.normal).dot(decode_normal(b.normal)) >= t.normal_cos
+    if !close {
+        return false;
+    }
+    // Equal encodings (every pixel of a flat face) match without decoding.
+    a.normal == b.normal || decode_normal(a.normal).dot(decode_normal(b.normal)) >= t.normal_cos
 }
 
 /// The sort key with the albedo divided out: `luma(radiance) / luma(albedo)`

@@ -56,7 +56,12 @@ pub mod owen;
 mod permute_cpu;
 pub mod r2;
 pub mod reproject;
+mod reproject_batch;
 pub mod reproject_passes;
+mod reproject_sweep;
+#[cfg(test)]
+mod reproject_tests;
+mod reproject_two_sweeps;
 pub mod retarget;
 pub mod screen_sobol;
 pub mod seed;
@@ -68,12 +73,12 @@ pub mod zsobol;
 
 pub use dither::{tile_texel, DitherTile};
 pub use error::{Buffer, Error};
+pub use feature_permute::permute_frame_features;
+pub use features::{demodulated_luma, same_surface, FeatureThresholds, SurfaceFeature, NO_SURFACE};
 pub use frame::{
     permute_frame, permute_frame_baseline_isa, retarget_frame, retarget_pixel, retarget_pixel_at_offset,
     sort_block_at_offset, sort_block_in_frame, sort_frame,
 };
-pub use feature_permute::permute_frame_features;
-pub use features::{demodulated_luma, same_surface, FeatureThresholds, SurfaceFeature, NO_SURFACE};
 pub use layout::{FrameLayout, FrameParams};
 pub use owen::{owen_scramble, owen_sobol, owen_sobol_u32, shuffle_index};
 pub use r2::{r1, r2, Rd};

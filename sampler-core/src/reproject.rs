@@ -13,6 +13,9 @@
 //! The output is a **permutation** of the input seed buffer: every seed of
 //! the input appears exactly once in the output, so no seed is duplicated
 //! (duplicates make correlated, visible error) and every pixel has one.
+//! It rests on every claim key being below [`CLAIM_NONE`] (see the
+//! quantisation below), so that a claims entry equal to [`CLAIM_NONE`]
+//! means "unclaimed" and nothing else.
 //!
 //! # Rule
 //!
@@ -20,12 +23,17 @@
 //! point was at `(x + 0.5 + m.x, y + 0.5 + m.y)` in the previous frame), the
 //! **source** is the visible pixel `q` containing that position. Every
 //! pixel with a source **claims** it with the key
-//! `(distance << index_bits) | index(p)`, where `distance` is the squared
-//! distance from the previous position to `q`'s centre quantised to the
-//! bits left above the pixel index (8 or more: [`MAX_REPROJECT_SEEDS`]).
-//! Each source goes to its smallest key: the claimant whose point was
-//! closest to the source's centre, ties to the smaller pixel index. A winner
-//! takes its source's seed.
+//! `(distance << index_bits) | index(p)` ([`index_bits`] bits of pixel
+//! index), where `distance` is the squared distance from the previous
+//! position to `q`'s centre, in `[0, 0.5]`, scaled to `[0, levels]` and
+//! truncated, with `levels = 2^(32 - index_bits) - 2`: one level below the
+//! largest the bits above the index hold, so the largest key (distance
+//! 0.5 at the last index of a buffer of exactly `2^k` seeds, a point on a
+//! pixel corner) is `2^32 - 2^index_bits - 1`, below [`CLAIM_NONE`]. With
+//! [`MAX_REPROJECT_SEEDS`] seeds 8 bits of distance remain: levels 0 to
+//! 254. Each source goes to its smallest key: the claimant whose point was
+//! closest to the source's centre (to the quantisation), ties to the
+//! smaller pixel index. A winner takes its source's seed.
 //!
 //! Pixels without a seed then: losers of a claim, pixels whose motion is
 //! not finite (mark disoccluded pixels with NaN motion: the caller's depth
@@ -43,18 +51,30 @@
 //! The claim step is one `atomicMin` per pixel on a claims buffer cleared to
 //! [`CLAIM_NONE`] ([`claim`] computes the source and key); the winners' step
 //! is a per-pixel comparison ([`take_if_won`]); the recycling step is a pair
-//! of prefix sums. [`reproject_frame`] runs the same three steps on the CPU.
+//! of prefix sums ([`crate::reproject_passes`]).
+//!
+//! # CPU form
+//!
+//! [`reproject_frame`] runs the same three steps, the same output bit for
+//! bit, in one sweep over the motion vectors while no claim reaches more
+//! than 16 rows (`reproject_sweep.rs`, which documents the traffic floor),
+//! else in two (`reproject_two_sweeps.rs`); both compute the keys of 16
+//! pixels side by side (`reproject_batch.rs`), with AVX2 where the CPU has
+//! it. `reproject_tests.rs` checks every path against the first version.
+//! The figures are in `BENCHMARKS.md`.
 
 use crate::error::{Buffer, Error};
 use crate::layout::{FrameLayout, FrameParams};
+use crate::reproject_sweep::reproject_one_sweep;
+use crate::reproject_two_sweeps::reproject_two_sweeps;
 
 /// A claims-buffer entry no pixel has claimed (and the source of a pixel
-/// without one).
+/// without one). No claim key equals it (module docs, "Rule").
 pub const CLAIM_NONE: u32 = u32::MAX;
 
 /// Largest seed buffer (padded pixel count) [`reproject_frame`] accepts:
-/// `2^24` (e.g. 4096 x 4096), so a claim key keeps at least 8 bits for the
-/// distance above the pixel index.
+/// `2^24` (e.g. 4096 x 4096), so a claim key keeps 8 bits for the distance
+/// above the pixel index (levels 0 to 254, module docs).
 pub const MAX_REPROJECT_SEEDS: usize = 1 << 24;
 
 /// Number of bits of a pixel index in a claim key of a buffer of
@@ -69,7 +89,8 @@ pub fn index_bits(seed_count: u32) -> u32 {
 /// padded buffer of `params`) with backward motion `motion` (pixels; any
 /// value for padding indices). Returns `(CLAIM_NONE, CLAIM_NONE)` for a
 /// visible pixel without a source (non-finite motion, previous position
-/// outside the visible frame). Identical on the CPU and in shaders.
+/// outside the visible frame); any other key is below [`CLAIM_NONE`].
+/// Identical on the CPU and in shaders.
 #[inline]
 pub fn claim(params: &FrameParams, index: u32, motion: [f32; 2]) -> (u32, u32) {
     let pw = params.padded_width;
@@ -98,16 +119,21 @@ pub fn claim_at(params: &FrameParams, bits: u32, x: u32, y: u32, motion: [f32; 2
     let qy = (py as u32).min(params.height - 1);
     let dx = px - (qx as f32 + 0.5);
     let dy = py - (qy as f32 + 0.5);
-    // Squared distance in [0, 0.5], quantised to the bits above the index.
-    let distance_bits = 32 - bits;
-    let levels = ((1u32 << distance_bits) - 1) as f32;
-    let d = ((dx * dx + dy * dy) * 2.0 * levels).min(levels) as u32;
+    // Squared distance in [0, 0.5] scaled to [0, levels], one level below
+    // the largest the bits above the index hold, so that no key equals
+    // `CLAIM_NONE`. The minimum is taken on the integer: with at most 64
+    // seeds `levels` (2^26 - 2 or more) is not exact in f32 and rounds up
+    // to 2^(32 - bits), which would shift out of the key. The batched keys
+    // (`reproject_batch.rs`, above 128 seeds) take it in f32, where `levels`
+    // is exact and both minima agree.
+    let levels = (1u32 << (32 - bits)) - 2;
+    let d = (((dx * dx + dy * dy) * 2.0 * levels as f32) as u32).min(levels);
     (qy.wrapping_mul(pw).wrapping_add(qx), (d << bits) | index)
 }
 
 /// The winners' step for seed-buffer index `index`: its source's seed if
-/// its key won the claim (`claims[source] == key`), else [`CLAIM_NONE`]
-/// (the pixel gets a recycled seed). `claims` holds the minimum key per
+/// its key won the claim (`claims[source] == key`), else `None` (the
+/// pixel gets a recycled seed). `claims` holds the minimum key per
 /// source after every pixel's claim.
 #[inline]
 pub fn take_if_won(claims: &[u32], seeds_in: &[u32], source: u32, key: u32) -> Option<u32> {
@@ -172,190 +198,21 @@ pub fn reproject_frame(
         });
     }
     let params = layout.params(0);
-    let bits = index_bits(params.padded_width * params.padded_height);
-    let (w, h) = (params.width as usize, params.height as usize);
-    let pw = params.padded_width as usize;
-    // Claim: visible pixels take the minimum key per source; padding claims itself.
-    claims.fill(CLAIM_NONE);
-    for (y, row) in claims.chunks_exact_mut(pw).enumerate() {
-        if y >= h {
-            for (x, c) in row.iter_mut().enumerate() {
-                *c = (y * pw + x) as u32;
-            }
-        } else {
-            for (x, c) in row.iter_mut().enumerate().skip(w) {
-                *c = (y * pw + x) as u32;
-            }
-        }
-    }
-    for y in 0..h {
-        for x in 0..w {
-            let (source, key) = claim_at(&params, bits, x as u32, y as u32, motion[y * w + x]);
-            if source != CLAIM_NONE && key < claims[source as usize] {
-                claims[source as usize] = key;
-            }
-        }
-    }
-    // Winners take their source's seed; the k-th pixel without a seed (in
-    // buffer order) takes the k-th unclaimed source's seed. There are exactly
-    // as many of each (module docs).
-    let mut stats = ReprojectStats::default();
-    let mut free = claims
-        .iter()
-        .enumerate()
-        .filter(|(_, &c)| c == CLAIM_NONE)
-        .map(|(q, _)| q);
-    for (y, row) in seeds_out.chunks_exact_mut(pw).enumerate() {
-        for (x, out) in row.iter_mut().enumerate() {
-            if x >= w || y >= h {
-                *out = seeds_in[y * pw + x]; // padding always wins its own seed
-                continue;
-            }
-            let (source, key) = claim_at(&params, bits, x as u32, y as u32, motion[y * w + x]);
-            if let Some(seed) = take_if_won(claims, seeds_in, source, key) {
-                *out = seed;
-                stats.followed += 1;
-            } else {
-                let q = free
-                    .next()
-                    .expect("as many unclaimed sources as pixels without a seed");
-                *out = seeds_in[q];
-                stats.recycled += 1;
-            }
-        }
-    }
-    Ok(stats)
+    Ok(reproject_one_sweep(&params, motion, seeds_in, claims, seeds_out)
+        .unwrap_or_else(|| reproject_two_sweeps(&params, motion, seeds_in, claims, seeds_out)))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn layout(w: u32, h: u32) -> FrameLayout {
-        FrameLayout::new(w, h, 4, 16).unwrap()
-    }
-
-    fn run(l: &FrameLayout, motion: &[[f32; 2]]) -> alloc_free::Out {
-        let n = l.seed_count();
-        let mut out = alloc_free::Out::new(n);
-        let seeds = alloc_free::Out::iota(n);
-        let mut claims = alloc_free::Out::new(n);
-        out.stats = reproject_frame(
-            l,
-            motion,
-            seeds.as_slice(),
-            claims.as_mut_slice(),
-            out.as_mut_slice(),
-        )
-        .unwrap();
-        out
-    }
-
-    /// Fixed-capacity buffers: this crate is `no_std` without `alloc` in tests too.
-    mod alloc_free {
-        pub const CAP: usize = 48 * 48;
-        pub struct Out {
-            pub data: [u32; CAP],
-            pub len: usize,
-            pub stats: super::ReprojectStats,
-        }
-        impl Out {
-            pub fn new(len: usize) -> Self {
-                assert!(len <= CAP);
-                Out {
-                    data: [0; CAP],
-                    len,
-                    stats: Default::default(),
-                }
-            }
-            pub fn iota(len: usize) -> Self {
-                let mut o = Self::new(len);
-                for (i, v) in o.data[..len].iter_mut().enumerate() {
-                    *v = i as u32 * 7 + 3;
-                }
-                o
-            }
-            pub fn as_slice(&self) -> &[u32] {
-                &self.data[..self.len]
-            }
-            pub fn as_mut_slice(&mut self) -> &mut [u32] {
-                &mut self.data[..self.len]
-            }
-        }
-    }
-
-    fn is_permutation(out: &[u32]) -> bool {
-        let mut seen = [false; alloc_free::CAP];
-        out.iter().all(|&s| {
-            let i = ((s - 3) / 7) as usize;
-            (s - 3) % 7 == 0 && i < out.len() && !core::mem::replace(&mut seen[i], true)
-        })
-    }
-
-    #[test]
-    fn zero_motion_is_the_identity() {
-        let l = layout(20, 13);
-        let motion = [[0.0f32; 2]; 20 * 13];
-        let out = run(&l, &motion);
-        assert_eq!(out.as_slice(), alloc_free::Out::iota(l.seed_count()).as_slice());
-        assert_eq!(
-            out.stats,
-            ReprojectStats {
-                followed: 260,
-                recycled: 0
-            }
-        );
-    }
-
-    #[test]
-    fn a_uniform_shift_moves_seeds_and_recycles_the_uncovered_edge() {
-        let l = layout(20, 13);
-        // The picture moved 2 px right: every pixel's point was 2 px to its left.
-        let motion = [[-2.0f32, 0.0]; 20 * 13];
-        let out = run(&l, &motion);
-        let seeds = alloc_free::Out::iota(l.seed_count());
-        let pw = l.padded_width() as usize;
-        for y in 0..13 {
-            for x in 2..20 {
-                assert_eq!(out.as_slice()[y * pw + x], seeds.as_slice()[y * pw + x - 2]);
-            }
-        }
-        assert_eq!(
-            out.stats,
-            ReprojectStats {
-                followed: 18 * 13,
-                recycled: 2 * 13
-            }
-        );
-        assert!(is_permutation(out.as_slice()));
-    }
-
-    #[test]
-    fn adversarial_fields_stay_permutations() {
-        let l = layout(23, 17);
-        let n = 23 * 17;
-        let mut motion = [[0.0f32; 2]; 23 * 17];
-        let fields: [fn(u32, u32) -> [f32; 2]; 6] = [
-            |x, y| [11.0 - x as f32, 8.0 - y as f32], // all to one source
-            |_, _| [f32::NAN, f32::NAN],              // nothing valid
-            |x, y| [(y as f32 - 8.0) * 0.3, -(x as f32 - 11.0) * 0.3], // rotation
-            |x, y| [(x as f32 - 11.0) * -0.5, (y as f32 - 8.0) * -0.5], // zoom
-            |x, _| [if x % 3 == 0 { f32::INFINITY } else { 0.4 }, -0.6],
-            |x, y| [1e30 * (x as f32 - y as f32), 0.0],
-        ];
-        for field in fields {
-            for (i, m) in motion.iter_mut().enumerate().take(n) {
-                *m = field(i as u32 % 23, i as u32 / 23);
-            }
-            let out = run(&l, &motion);
-            assert!(is_permutation(out.as_slice()));
-            assert_eq!(out.stats.followed + out.stats.recycled, n as u32);
-        }
+    fn params(w: u32, h: u32, tile: u32) -> FrameParams {
+        FrameLayout::new(w, h, 2, tile).unwrap().params(0)
     }
 
     #[test]
     fn the_closest_claimant_wins_then_the_smaller_index() {
-        let params = layout(8, 8).params(0);
+        let params = params(8, 8, 16);
         // Pixel 1 lands 0.1 px from source 0's centre, pixel 2 0.3 px: pixel 1 wins.
         let (s1, k1) = claim(&params, 1, [-1.1, 0.0]);
         let (s2, k2) = claim(&params, 2, [-2.3, 0.0]);
@@ -374,26 +231,53 @@ mod tests {
     }
 
     #[test]
-    fn bad_buffers_are_errors() {
-        let l = layout(8, 8);
-        let n = l.seed_count();
-        let seeds = alloc_free::Out::iota(n);
-        let mut out = alloc_free::Out::new(n);
-        let mut claims = alloc_free::Out::new(n);
-        let motion = [[0.0f32; 2]; 63];
-        assert!(matches!(
-            reproject_frame(
-                &l,
-                &motion,
-                seeds.as_slice(),
-                claims.as_mut_slice(),
-                out.as_mut_slice()
-            ),
-            Err(Error::BufferSize {
-                buffer: Buffer::Motion,
-                expected: 64,
-                actual: 63
-            })
-        ));
+    fn the_largest_key_is_below_claim_none_and_the_largest_distance() {
+        // Buffers of exactly 2^k seeds without padding (the last index is
+        // all ones), from 2 seeds to MAX_REPROJECT_SEEDS, and padded ones.
+        let sizes = [
+            (1, 2, 2),
+            (2, 2, 2),
+            (4, 4, 4),
+            (8, 8, 8),
+            (8, 16, 16),
+            (16, 16, 16),
+            (64, 64, 64),
+            (256, 256, 64),
+            (4096, 4096, 64),
+            (5, 3, 2),
+            (1920, 1080, 64),
+        ];
+        for (w, h, tile) in sizes {
+            let p = params(w, h, tile);
+            let bits = index_bits(p.seed_count());
+            let levels = (1u32 << (32 - bits)) - 2;
+            // The last visible pixel, its point exactly on the corner of its
+            // own square: squared distance 0.5, the largest.
+            let (s, k) = claim_at(&p, bits, w - 1, h - 1, [-0.5, -0.5]);
+            let last = (h - 1) * p.padded_width + w - 1;
+            assert_eq!((s, k), (last, (levels << bits) | last), "{w}x{h}");
+            assert!(k < CLAIM_NONE, "{w}x{h}");
+            // ...which loses to any closer point, and beats no point closer.
+            let (_, centre) = claim_at(&p, bits, w - 1, h - 1, [0.0, 0.0]);
+            assert!(centre < k, "{w}x{h}");
+            if w > 1 {
+                let (s2, k2) = claim_at(&p, bits, w - 2, h - 1, [0.6, -0.4]);
+                assert_eq!(s2, last, "{w}x{h}");
+                assert!(k2 < k, "{w}x{h}");
+            }
+            // Every corner of every pixel of a 2^k buffer, at most 2^16 pixels.
+            if p.seed_count() <= 1 << 16 {
+                for y in 0..h {
+                    for x in 0..w {
+                        for m in [[-0.5, -0.5], [0.5, 0.5], [-0.5, 0.5], [0.5, -0.5]] {
+                            let (s, k) = claim_at(&p, bits, x, y, m);
+                            assert!(s == CLAIM_NONE || k >> bits == levels, "{w}x{h} ({x}, {y})");
+                        }
+                    }
+                }
+            }
+        }
+        // 8 bits of distance with the most seeds: levels 0 to 254.
+        assert_eq!((1u32 << (32 - index_bits(MAX_REPROJECT_SEEDS as u32))) - 2, 254);
     }
 }

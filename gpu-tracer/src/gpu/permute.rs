@@ -286,20 +286,19 @@ impl SeedPermuter {
                 let blocks = params.blocks_x() * params.blocks_y();
                 let step = step_index(frame, params.tile_log2) as usize;
                 dispatch(encoder, &pipelines.sort_features, &f.sort_bg, blocks, timer);
-                dispatch(
-                    encoder,
-                    &pipelines.record_source,
-                    &f.record_bg[step],
-                    params.seed_count(),
-                    None,
-                );
-                dispatch(
-                    encoder,
-                    &pipelines.retarget_features,
-                    &f.retarget_bg[step],
-                    params.seed_count(),
-                    timer.map(|(t, span)| (t, span + 1)),
-                );
+                // The inverse and the cut retarget in one compute pass (wgpu
+                // orders the dispatches), timed as one span.
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("feature-aware retarget"),
+                    timestamp_writes: timer.map(|(t, span)| t.writes(span + 1)),
+                });
+                let (x, y) = linear_dispatch(params.seed_count());
+                pass.set_pipeline(&pipelines.record_source);
+                pass.set_bind_group(0, &f.record_bg[step], &[]);
+                pass.dispatch_workgroups(x, y, 1);
+                pass.set_pipeline(&pipelines.retarget_features);
+                pass.set_bind_group(0, &f.retarget_bg[step], &[]);
+                pass.dispatch_workgroups(x, y, 1);
             }
             PermuteMode::Sort | PermuteMode::Permute => {
                 let blocks = params.blocks_x() * params.blocks_y();

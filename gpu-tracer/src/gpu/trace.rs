@@ -200,12 +200,17 @@ impl Tracer {
     ///
     /// # Panics
     /// Without [`enable_features`](Self::enable_features) first.
-    pub fn encode_features(&self, encoder: &mut wgpu::CommandEncoder, pipelines: &TracePipelines) {
+    pub fn encode_features(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipelines: &TracePipelines,
+        timer: Option<(&PassTimer, u32)>,
+    ) {
         let bg = self
             .features_bg
             .as_ref()
             .expect("enable_features before encode_features");
-        self.encode(encoder, &pipelines.features, bg, None);
+        self.encode(encoder, &pipelines.features, bg, timer);
     }
 
     /// Sets up the motion pass ([`encode_motion`](Self::encode_motion)) to

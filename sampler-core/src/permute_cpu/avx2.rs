@@ -24,7 +24,7 @@ use core::sync::atomic::{AtomicU8, Ordering};
 static AVX2_STATE: AtomicU8 = AtomicU8::new(0);
 
 /// True when the CPU and the operating system support AVX2 (checked once).
-pub(super) fn available() -> bool {
+pub(crate) fn available() -> bool {
     match AVX2_STATE.load(Ordering::Relaxed) {
         1 => false,
         2 => true,

@@ -45,7 +45,7 @@ use crate::walk::walk_offset;
 use glam::UVec2;
 
 #[cfg(target_arch = "x86_64")]
-mod avx2;
+pub(crate) mod avx2;
 
 /// Largest tile side the cached dither order supports.
 const MAX_CACHED_TILE: u32 = 128;
