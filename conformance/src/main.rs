@@ -1,9 +1,19 @@
 //! `conformance report --out DIR [--size N --frames N --ref-spp N]`: the rendered-quality
 //! study of the seed permutation (issue 5) as an HTML page with images and plots.
+//!
+//! `conformance study [--size N --frames N --ref-spp N --methods a,b,...]`: the static
+//! study (`conformance::render_study`) for chosen rows only, printed as markdown tables
+//! (whole image, per region, feature diagnostics).
+//!
+//! `conformance motion [--size N --frames N --ref-spp N --speeds A,B --object-speed C]`:
+//! the study in motion (issue 13, `conformance::motion_study`), printed as markdown
+//! tables.
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
-use conformance::render_study::default_cache_dir;
+use conformance::motion_case::MotionCase;
+use conformance::motion_study::{markdown, run_study, MotionConfig, MotionMethod};
+use conformance::render_study::{default_cache_dir, Method, Study, StudyConfig};
 use conformance::report::{write_report, ReportConfig};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
@@ -35,6 +45,71 @@ enum Command {
         /// Maximum path length in segments (2 = direct light only).
         #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=64))]
         max_depth: u32,
+        /// Do not read or write the reference cache under target/quality-cache.
+        #[arg(long)]
+        no_cache: bool,
+    },
+    /// Render the still Cornell box with the chosen methods (1 spp) and print markdown
+    /// tables: whole image, blurred RMSE per region, feature diagnostics.
+    Study {
+        /// Image side in pixels (at least 32).
+        #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(32..=2048))]
+        size: u32,
+        /// Frames per method.
+        #[arg(long, default_value_t = 128, value_parser = clap::value_parser!(u32).range(1..=4096))]
+        frames: u32,
+        /// Samples per pixel of the reference.
+        #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(2..=1_000_000))]
+        ref_spp: u32,
+        /// Maximum path length in segments.
+        #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=64))]
+        max_depth: u32,
+        /// Rows, by name (white is always measured: every figure is relative to it).
+        /// Default: white, permute, permute-jitter, feature-permute,
+        /// feature-permute-jitter.
+        #[arg(long, value_delimiter = ',')]
+        methods: Vec<String>,
+        /// Salt of the initial white-noise seeds (the scatter between salts shows how
+        /// far single runs can be trusted).
+        #[arg(long, default_value_t = 1)]
+        salt: u32,
+        /// Also write the tables to this file.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Do not read or write the reference cache under target/quality-cache.
+        #[arg(long)]
+        no_cache: bool,
+    },
+    /// Render the Cornell box in motion (camera orbit, moving block) and a still
+    /// sequence with the motion study's rows; print markdown tables.
+    Motion {
+        /// Image side in pixels (at least 32).
+        #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(32..=2048))]
+        size: u32,
+        /// Frames per sequence and method (1 spp).
+        #[arg(long, default_value_t = 128, value_parser = clap::value_parser!(u32).range(1..=4096))]
+        frames: u32,
+        /// Samples per pixel of each pose's reference. 128 keeps a full run (84 distinct
+        /// poses at 256x256) near half an hour on 2 cores; its noise is subtracted from
+        /// the EMA figures.
+        #[arg(long, default_value_t = 128, value_parser = clap::value_parser!(u32).range(2..=1_000_000))]
+        ref_spp: u32,
+        /// Maximum path length in segments.
+        #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=64))]
+        max_depth: u32,
+        /// Orbit speeds at the image centre, pixels per frame.
+        #[arg(long, value_delimiter = ',', default_values_t = [0.5f32, 2.0])]
+        speeds: Vec<f32>,
+        /// Speed of the moving block's centre, pixels per frame (0: no object sequence).
+        #[arg(long, default_value_t = 1.0)]
+        object_speed: f32,
+        /// Sway period in frames, a multiple of 4 (default: size / 4; shorter periods
+        /// keep fast orbits inside the room).
+        #[arg(long)]
+        sway_period: Option<u32>,
+        /// Also write the tables to this file.
+        #[arg(long)]
+        out: Option<PathBuf>,
         /// Do not read or write the reference cache under target/quality-cache.
         #[arg(long)]
         no_cache: bool,
@@ -83,6 +158,94 @@ fn main() -> Result<()> {
                 out.join("index.html").display(),
                 start.elapsed().as_secs_f64()
             );
+            Ok(())
+        }
+        Command::Study {
+            size,
+            frames,
+            ref_spp,
+            max_depth,
+            methods,
+            salt,
+            out,
+            no_cache,
+        } => {
+            let mut rows = vec![Method::White];
+            if methods.is_empty() {
+                rows = Method::FEATURE_ROWS.to_vec();
+            }
+            for name in &methods {
+                let m = Method::from_name(name).ok_or_else(|| {
+                    let known: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
+                    anyhow::anyhow!("unknown method {name:?} (known: {})", known.join(", "))
+                })?;
+                if !rows.contains(&m) {
+                    rows.push(m);
+                }
+            }
+            let config = StudyConfig {
+                max_depth,
+                salt,
+                ..StudyConfig::new(size, 1, frames, ref_spp)
+            };
+            let cache = default_cache_dir();
+            let start = std::time::Instant::now();
+            let study = Study::new(config, (!no_cache).then_some(cache.as_path()), |_, _| {})?;
+            eprintln!("[{:7.1} s] reference ready", start.elapsed().as_secs_f64());
+            let result = study.run(&rows, |m, t| {
+                if t + 1 == frames {
+                    eprintln!("[{:7.1} s] {} done", start.elapsed().as_secs_f64(), m.name());
+                }
+            })?;
+            let tables = result.markdown();
+            println!("{}", result.summary());
+            println!("{tables}");
+            println!("total {:.1} s", start.elapsed().as_secs_f64());
+            if let Some(path) = out {
+                std::fs::write(&path, &tables)?;
+            }
+            Ok(())
+        }
+        Command::Motion {
+            size,
+            frames,
+            ref_spp,
+            max_depth,
+            speeds,
+            object_speed,
+            sway_period,
+            out,
+            no_cache,
+        } => {
+            let config = MotionConfig {
+                max_depth,
+                sway_period,
+                ..MotionConfig::new(size, frames, ref_spp)
+            };
+            let mut cases: Vec<MotionCase> = speeds
+                .iter()
+                .map(|&px_per_frame| MotionCase::Orbit { px_per_frame })
+                .collect();
+            if object_speed != 0.0 {
+                cases.push(MotionCase::Object {
+                    px_per_frame: object_speed,
+                });
+            }
+            let cache = default_cache_dir();
+            let start = std::time::Instant::now();
+            let results = run_study(
+                config,
+                &cases,
+                &MotionMethod::ALL,
+                (!no_cache).then_some(cache.as_path()),
+                |msg| eprintln!("[{:7.1} s] {msg}", start.elapsed().as_secs_f64()),
+            )?;
+            let tables = markdown(&results);
+            println!("{tables}");
+            println!("total {:.1} s", start.elapsed().as_secs_f64());
+            if let Some(path) = out {
+                std::fs::write(&path, &tables)?;
+            }
             Ok(())
         }
     }

@@ -12,6 +12,10 @@
 //! - (c) RMS of the temporally accumulated image (mean of frames `0..n`) minus the
 //!   reference, whole image, for every `n`.
 //!
+//! - (d) per region ([`crate::regions`]: emitter zone, edges, interior, from the
+//!   frame-0 G-buffer of the still camera): the sigma-1 blurred error's squared sum
+//!   ([`StudyResult::pooled_region`]) and the accumulated error's.
+//!
 //! Figures are made relative to the [`Method::White`] run of the same configuration
 //! (white = 1) by [`StudyResult::relative`]. All runs start from the same white-noise
 //! seeds (salt [`StudyConfig::salt`]), so frame 0 is identical for every method except
@@ -52,6 +56,16 @@
 //! walk's base step). The frame loop is [`permute_with_offset`], which with the R2
 //! walk's offsets reproduces `sampler_core::permute_frame` exactly (tested).
 //!
+//! # The feature-aware rows (issue 14)
+//!
+//! [`Method::FeaturePermute`] and [`Method::FeaturePermuteJitter`] render through the
+//! tracer's own loop (`gpu_tracer::render::render_sequence_cpu` with
+//! `SequenceOptions::features` on a still sequence): each frame's G-buffer gives the
+//! `SurfaceFeature`s and the demodulated keys of `sampler_core::permute_frame_features`.
+//! [`StudyResult::features`] says how much of the frame they treat differently from the
+//! plain permutation, and [`MethodRun::seed_repeats`] (from a mirror of the seeds,
+//! checked against frame 1) how often a pixel gets a seed it already had.
+//!
 //! # The blue-noise-dither baseline
 //!
 //! [`Method::Dither`]: fresh white-noise seeds every frame (as [`Method::White`]) and
@@ -61,19 +75,27 @@
 //! t mod 64))`, through `kernels::trace::trace_pixel_dithered`. CPU only: the GPU
 //! entry point has no mask binding.
 
+pub use crate::insets::{crop, Inset, Surface};
+pub use crate::reference::{default_cache_dir, Reference};
+pub use crate::walks::{permute_with_offset, render_dither, render_walk, Walk};
+
+use crate::insets::{check_inset, inset_layout, max_gradient};
+use crate::regions::{classify_regions, region_shares, Region};
 use crate::{low_frequency_ratio, radial_power, GaussianBlur, Grid, SpectrumAnalyzer};
-use anyhow::{bail, ensure, Context, Result};
-use glam::{UVec2, Vec2, Vec3, Vec4};
-use gpu_tracer::cornell::{cornell_box, GREEN, RED};
+use anyhow::{ensure, Result};
+use glam::{Vec3, Vec4};
+use gpu_tracer::cornell::cornell_box;
+use gpu_tracer::render::{render_sequence_cpu, FrameView, SequenceOptions};
 use gpu_tracer::scene::{SceneGpu, TraceSettings};
+use gpu_tracer::timeline::SceneSequence;
 use gpu_tracer::{cpu, PermuteMode, RenderJob, TileChoice};
-use kernels::abi::{TraceParams, SEED_MODE_BLUE_NOISE_DITHER, SEED_MODE_FIXED};
-use rayon::prelude::*;
+use kernels::abi::{GBufferGpu, SEED_MODE_FIXED};
+use kernels::surface_features::surface_feature;
+use sampler_core::feature_permute::{block_groups, edge_is_cut, retarget_index};
 use sampler_core::{
-    luma, retarget_pixel_at_offset, sort_block_at_offset, walk_offset, DitherTile, FrameLayout, Intensity,
-    RetargetTable,
+    step_index, walk_offset, FeatureThresholds, FrameLayout, Intensity, SurfaceFeature, MAX_BLOCK_PIXELS,
 };
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The frame at which the goals on single frames are checked (module docs).
 pub const GOAL_FRAME: u32 = 8;
@@ -103,11 +125,18 @@ pub enum Method {
     ScreenSobol,
     /// Fresh white seeds, the path's 2D decisions from ZSobol (`--sampler zsobol`).
     ZSobol,
+    /// The feature-aware permutation (issue 14, `SequenceOptions::features` of the
+    /// tracer's CPU loop): demodulated sort keys, blocks sorted in groups of one
+    /// surface, retarget moves cut at edges, features from the G-buffer.
+    FeaturePermute,
+    /// [`Method::FeaturePermute`] with the pixel jitter from screen-space Sobol, as
+    /// [`Method::PermuteJitter`].
+    FeaturePermuteJitter,
 }
 
 impl Method {
     /// Every method, white first.
-    pub const ALL: [Method; 8] = [
+    pub const ALL: [Method; 10] = [
         Method::White,
         Method::Sort,
         Method::Permute,
@@ -116,7 +145,23 @@ impl Method {
         Method::Dither,
         Method::ScreenSobol,
         Method::ZSobol,
+        Method::FeaturePermute,
+        Method::FeaturePermuteJitter,
     ];
+
+    /// The rows of issue 14's comparison (`conformance study` defaults).
+    pub const FEATURE_ROWS: [Method; 5] = [
+        Method::White,
+        Method::Permute,
+        Method::PermuteJitter,
+        Method::FeaturePermute,
+        Method::FeaturePermuteJitter,
+    ];
+
+    /// The method called `name` ([`Method::name`]).
+    pub fn from_name(name: &str) -> Option<Method> {
+        Method::ALL.into_iter().find(|m| m.name() == name)
+    }
 
     /// Short name used in tables, files and on the command line.
     pub fn name(self) -> &'static str {
@@ -129,6 +174,8 @@ impl Method {
             Method::Dither => "bn-dither",
             Method::ScreenSobol => "screen-sobol",
             Method::ZSobol => "zsobol",
+            Method::FeaturePermute => "feature-permute",
+            Method::FeaturePermuteJitter => "feature-permute-jitter",
         }
     }
 
@@ -143,6 +190,12 @@ impl Method {
             Method::Dither => "white seeds + STBN mask on the first bounce direction",
             Method::ScreenSobol => "white seeds + screen-space Sobol (our keys) on every 2D decision",
             Method::ZSobol => "white seeds + ZSobol on every 2D decision",
+            Method::FeaturePermute => {
+                "feature-aware permute: demodulated keys, groups of one surface, cut retarget moves"
+            }
+            Method::FeaturePermuteJitter => {
+                "feature-aware permute, with the pixel jitter from screen-space Sobol"
+            }
         }
     }
 }
@@ -187,7 +240,7 @@ impl StudyConfig {
         }
     }
 
-    fn settings(&self) -> TraceSettings {
+    pub(crate) fn settings(&self) -> TraceSettings {
         let mut s = TraceSettings::new(self.size, self.size);
         s.spp = self.spp;
         s.max_depth = self.max_depth;
@@ -195,7 +248,7 @@ impl StudyConfig {
         s
     }
 
-    fn layout(&self) -> Result<FrameLayout> {
+    pub(crate) fn layout(&self) -> Result<FrameLayout> {
         Ok(FrameLayout::new(
             self.size,
             self.size,
@@ -203,206 +256,6 @@ impl StudyConfig {
             self.tile.side(),
         )?)
     }
-}
-
-/// Which surface an inset must show.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Surface {
-    /// The back wall (`z = 559.2`).
-    BackWall,
-    /// The floor (`y = 0`).
-    Floor,
-    /// The red (left) wall.
-    RedWall,
-    /// The green (right) wall.
-    GreenWall,
-}
-
-/// A square region of the image on one flat surface.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Inset {
-    /// Name used in reports.
-    pub name: &'static str,
-    /// Surface every pixel of the inset sees.
-    pub surface: Surface,
-    /// Left column.
-    pub x0: u32,
-    /// Top row.
-    pub y0: u32,
-    /// Side in pixels.
-    pub side: u32,
-    /// Largest relative central-difference gradient of the reference luma inside the
-    /// inset, `max |grad L| / mean L` per pixel (set by [`Study::new`]).
-    pub max_gradient: f64,
-}
-
-/// The insets for an image of `size` pixels: (name, surface, x0, y0, side) as
-/// fractions of the size, read off a map of the surfaces the centre rays hit (the
-/// back wall right of the tall block, both side walls at mid height);
-/// [`check_inset`] verifies them at every size. [`Surface::Floor`] is kept for callers
-/// that place their own insets.
-fn inset_layout(size: u32) -> Vec<Inset> {
-    let f = |v: f64| (v * size as f64).round() as u32;
-    let big = (size * 3 / 16).max(4);
-    let small = (size / 8).max(4);
-    let mk = |name, surface, x: f64, y: f64, side| Inset {
-        name,
-        surface,
-        x0: f(x),
-        y0: f(y),
-        side,
-        max_gradient: f64::NAN,
-    };
-    vec![
-        mk("back wall", Surface::BackWall, 0.54, 0.25, big),
-        mk("red wall", Surface::RedWall, 0.05, 0.4, small),
-        mk("green wall", Surface::GreenWall, 0.8, 0.4, small),
-    ]
-}
-
-/// The reference image: two independent halves.
-#[derive(Clone, Debug)]
-pub struct Reference {
-    /// Side in pixels.
-    pub size: u32,
-    /// Total samples per pixel.
-    pub spp: u32,
-    /// Mean of both halves, linear RGB, row-major.
-    pub rgb: Vec<Vec3>,
-    /// Luma of [`Self::rgb`].
-    pub luma: Vec<f32>,
-    /// Estimated variance of the reference's luma per pixel, averaged over the image:
-    /// `mean((A - B)^2) / 4`.
-    pub noise_var: f64,
-}
-
-const CACHE_MAGIC: &[u8; 8] = b"BNREF01\0";
-
-impl Reference {
-    /// Renders (or loads from `cache_dir`) the reference for `config`. The file name
-    /// holds every setting the image depends on.
-    ///
-    /// # Errors
-    /// Rendering errors; cache I/O errors are ignored (the image is then rendered).
-    pub fn get(
-        scene: &SceneGpu,
-        config: &StudyConfig,
-        cache_dir: Option<&Path>,
-        mut progress: impl FnMut(u32, u32),
-    ) -> Result<Reference> {
-        ensure!(
-            config.ref_spp >= 2,
-            "the reference needs at least 2 samples per pixel"
-        );
-        let half_spp = config.ref_spp / 2;
-        let name = format!(
-            "cornell-ref-{s}x{s}-spp{r}-depth{d}-rr{rr}.bin",
-            s = config.size,
-            r = 2 * half_spp,
-            d = config.max_depth,
-            rr = TraceSettings::new(1, 1).rr_depth
-        );
-        let path = cache_dir.map(|d| d.join(&name));
-        let n = (config.size * config.size) as usize;
-        if let Some(p) = &path {
-            if let Some((a, b)) = read_cache(p, n) {
-                return Ok(Reference::from_halves(config.size, 2 * half_spp, &a, &b));
-            }
-        }
-        let pass_spp = half_spp.min(64);
-        let passes = half_spp.div_ceil(pass_spp);
-        let mut settings = TraceSettings::new(config.size, config.size);
-        settings.max_depth = config.max_depth;
-        settings.seed_mode = SEED_MODE_FIXED;
-        let mut halves = [vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]];
-        let mut color = vec![Vec4::ZERO; n];
-        let total = 2 * passes;
-        let mut done = 0;
-        for (h, half) in halves.iter_mut().enumerate() {
-            let mut left = half_spp;
-            for pass in 0..passes {
-                settings.spp = pass_spp.min(left);
-                left -= settings.spp;
-                let params = scene.trace_params(&settings, 0)?;
-                // Salts far from the study's, one per pass and half.
-                let salt = 0x5EED_0000 ^ ((h as u32) << 12) ^ pass;
-                let seeds = cpu::white_seeds(config.size, config.size, salt);
-                cpu::render_frame(scene, &params, &seeds, &mut color)?;
-                let w = settings.spp as f32 / half_spp as f32;
-                for (acc, c) in half.iter_mut().zip(&color) {
-                    *acc += c.truncate() * w;
-                }
-                done += 1;
-                progress(done, total);
-            }
-        }
-        if let Some(p) = &path {
-            // Best effort: a failed write only costs a re-render next time.
-            let _ = write_cache(p, &halves[0], &halves[1]);
-        }
-        Ok(Reference::from_halves(
-            config.size,
-            2 * half_spp,
-            &halves[0],
-            &halves[1],
-        ))
-    }
-
-    fn from_halves(size: u32, spp: u32, a: &[Vec3], b: &[Vec3]) -> Reference {
-        let rgb: Vec<Vec3> = a.iter().zip(b).map(|(x, y)| (*x + *y) * 0.5).collect();
-        let luma_image: Vec<f32> = rgb.iter().map(|c| luma(*c)).collect();
-        let noise_var = a
-            .iter()
-            .zip(b)
-            .map(|(x, y)| {
-                let d = (luma(*x) - luma(*y)) as f64;
-                d * d / 4.0
-            })
-            .sum::<f64>()
-            / a.len() as f64;
-        Reference {
-            size,
-            spp,
-            rgb,
-            luma: luma_image,
-            noise_var,
-        }
-    }
-}
-
-fn read_cache(path: &Path, n: usize) -> Option<(Vec<Vec3>, Vec<Vec3>)> {
-    let bytes = std::fs::read(path).ok()?;
-    if bytes.len() != 8 + 2 * n * 12 || &bytes[..8] != CACHE_MAGIC {
-        return None;
-    }
-    let floats: Vec<f32> = bytes[8..]
-        .chunks_exact(4)
-        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-        .collect();
-    let v: Vec<Vec3> = floats.chunks_exact(3).map(Vec3::from_slice).collect();
-    let (a, b) = v.split_at(n);
-    Some((a.to_vec(), b.to_vec()))
-}
-
-fn write_cache(path: &Path, a: &[Vec3], b: &[Vec3]) -> std::io::Result<()> {
-    if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir)?;
-    }
-    let mut bytes = Vec::with_capacity(8 + (a.len() + b.len()) * 12);
-    bytes.extend_from_slice(CACHE_MAGIC);
-    for c in a.iter().chain(b) {
-        for v in c.to_array() {
-            bytes.extend_from_slice(&v.to_le_bytes());
-        }
-    }
-    let tmp = path.with_extension(format!("tmp{}", std::process::id()));
-    std::fs::write(&tmp, bytes)?;
-    std::fs::rename(&tmp, path)
-}
-
-/// The default reference cache: `target/quality-cache` of this workspace.
-pub fn default_cache_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/quality-cache")
 }
 
 /// A frame kept for pictures.
@@ -429,6 +282,18 @@ pub struct MethodRun {
     pub blur1: Vec<f64>,
     /// Per frame: RMS error after a Gaussian blur of sigma 2.
     pub blur2: Vec<f64>,
+    /// Per frame: sum of the squared sigma-1-blurred error over each region
+    /// ([`Region::ALL`] order; regions of [`Study::regions`]).
+    pub blur1_regions: Vec<[f64; 3]>,
+    /// Entry `n - 1`: sum over each region of the squared error of the mean of frames
+    /// `0..n` (reference noise not removed).
+    pub acc_regions: Vec<[f64; 3]>,
+    /// For the permuting rows (permute, permute-jitter and the feature-aware ones):
+    /// per region, the fraction of (pixel, frame) pairs whose seed the pixel already
+    /// had in an earlier frame. With fixed seeds a repeated seed repeats the pixel's
+    /// estimate (its jitter, for the rows without the sampler's jitter), so repeats
+    /// stall the accumulation.
+    pub seed_repeats: Option<[f64; 3]>,
     /// Entry `n - 1`: RMS of the mean of frames `0..n` minus the reference.
     pub acc_rmse: Vec<f64>,
     /// [`Self::acc_rmse`] with the reference's own noise removed (module docs).
@@ -457,8 +322,39 @@ pub struct StudyResult {
     pub insets: Vec<Inset>,
     /// Reference noise variance (luma, per pixel).
     pub reference_noise_var: f64,
+    /// Share of the image of each region ([`Region::ALL`] order).
+    pub region_shares: [f64; 3],
+    /// What the feature-aware permutation sees in this frame ([`FeatureDiagnostics`]).
+    pub features: FeatureDiagnostics,
     /// The runs, in the order they were requested.
     pub runs: Vec<MethodRun>,
+}
+
+/// How much of the frame the feature-aware permutation treats differently from the
+/// plain one, from the still camera's G-buffer with `FeatureThresholds::DEFAULT`
+/// (the features do not change between frames; the retarget table and tile offset do).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FeatureDiagnostics {
+    /// Fraction of sorting blocks (with a visible pixel) holding more than one group.
+    pub split_blocks: f64,
+    /// Fraction of visible pixels in such blocks.
+    pub pixels_in_split_blocks: f64,
+    /// Mean number of groups of a split block.
+    pub groups_per_split_block: f64,
+    /// Fraction of retarget moves (`p -> table(p)`, all seeds, mean over the study's
+    /// frames) that are cut (not [`sampler_core::same_surface`], or padding / visible).
+    pub cut_moves: f64,
+    /// Fraction of retarget moves that stay in place (the table's fixed points).
+    pub fixed_moves: f64,
+    /// Per region ([`Region::ALL`] order): fraction of its pixels in split blocks.
+    pub split_by_region: [f64; 3],
+    /// Per region: fraction of the moves out of its pixels that are cut (mean over
+    /// frames).
+    pub cut_by_region: [f64; 3],
+    /// Surface ids whose visible pixels have more than one albedo (where the
+    /// demodulated key can order a group's pixels differently from the raw key; with
+    /// none, demodulation only rescales each group's keys and the sort is the same).
+    pub ids_with_varying_albedo: usize,
 }
 
 /// A relative figure: `method / white` for one metric.
@@ -482,6 +378,160 @@ impl StudyResult {
     /// The run of `method`, if measured.
     pub fn run(&self, method: Method) -> Option<&MethodRun> {
         self.runs.iter().find(|r| r.method == method)
+    }
+
+    /// Blurred (sigma 1) RMSE over frames `from..` of `method` in `region` (`None`: the
+    /// whole image), relative to white's: as [`Self::pooled`] with [`Metric::Blur1`],
+    /// restricted to the region's pixels. `None` for a missing run, no frames or an
+    /// empty region.
+    pub fn pooled_region(&self, method: Method, region: Option<Region>, from: usize) -> Option<f64> {
+        let Some(region) = region else {
+            return self.pooled(method, Metric::Blur1, from);
+        };
+        let k = region as usize;
+        let sum = |r: &MethodRun| -> Option<f64> {
+            let tail = r.blur1_regions.get(from..).filter(|t| !t.is_empty())?;
+            Some(tail.iter().map(|v| v[k]).sum())
+        };
+        let (m, w) = (sum(self.run(method)?)?, sum(self.run(Method::White)?)?);
+        (w > 0.0).then(|| (m / w).sqrt())
+    }
+
+    /// Markdown tables of the study (white = 1): whole-image figures, the blurred RMSE
+    /// per region, and the feature diagnostics.
+    pub fn markdown(&self) -> String {
+        let c = &self.config;
+        let from = (GOAL_FRAME.min(c.frames - 1)) as usize;
+        let points: Vec<u32> = ACCUMULATION_POINTS
+            .iter()
+            .copied()
+            .filter(|&n| n <= c.frames && n >= 64)
+            .collect();
+        let cell = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
+        let mut s = format!(
+            "Cornell box {0}x{0}, {1} spp, depth {2}, {3} frames, reference {4} spp, block {5}, tile {6}, salt {7}; \
+             white = 1, pooled over frames {from}..\n\n",
+            c.size,
+            c.spp,
+            c.max_depth,
+            c.frames,
+            c.ref_spp,
+            c.block,
+            c.tile.side(),
+            c.salt
+        );
+        s += "| method | LF @8 | LF mean 8.. | blur s1 8.. | blur s2 8..";
+        for n in &points {
+            s += &format!(" | acc {n}");
+        }
+        s += " |\n|---|---|---|---|---";
+        s += &"|---".repeat(points.len());
+        s += "|\n";
+        for r in &self.runs {
+            let m = r.method;
+            let frames = r.rmse.len();
+            let lf_mean = (from..frames)
+                .map(|i| self.relative(m, Metric::LowFrequency, i).unwrap_or(f64::NAN))
+                .sum::<f64>()
+                / (frames - from).max(1) as f64;
+            s += &format!(
+                "| {} | {} | {lf_mean:.3} | {} | {}",
+                m.name(),
+                cell(self.relative(m, Metric::LowFrequency, from)),
+                cell(self.pooled(m, Metric::Blur1, from)),
+                cell(self.pooled(m, Metric::Blur2, from)),
+            );
+            for &n in &points {
+                s += &format!(
+                    " | {}",
+                    cell(self.relative(m, Metric::Accumulated, n as usize - 1))
+                );
+            }
+            s += " |\n";
+        }
+        let sh = self.region_shares;
+        s += &format!(
+            "\nBlurred RMSE (sigma 1) per region, frames {from}.. (regions from the frame-0 G-buffer: \
+             emitter zone {:.2}%, edges {:.2}%, interior {:.2}% of the image):\n\n\
+             | method | whole | emitter zone | edges | interior |\n|---|---|---|---|---|\n",
+            100.0 * sh[0],
+            100.0 * sh[1],
+            100.0 * sh[2]
+        );
+        for r in &self.runs {
+            s += &format!(
+                "| {} | {}",
+                r.method.name(),
+                cell(self.pooled_region(r.method, None, from))
+            );
+            for region in Region::ALL {
+                s += &format!(" | {}", cell(self.pooled_region(r.method, Some(region), from)));
+            }
+            s += " |\n";
+        }
+        let last = c.frames as usize;
+        let acc_region = |m: Method, n: usize, k: usize| -> Option<f64> {
+            let get = |r: &MethodRun| r.acc_regions.get(n - 1).map(|v| v[k]);
+            let (a, b) = (get(self.run(m)?)?, get(self.run(Method::White)?)?);
+            (b > 0.0).then(|| (a / b).sqrt())
+        };
+        s += &format!(
+            "\nAccumulated RMSE per region after {last} frames (raw, reference noise not removed), and the \
+             fraction of (pixel, frame) pairs whose seed the pixel already had:\n\n\
+             | method | acc emitter zone | acc edges | acc interior | repeated seeds emitter / edges / interior |\n\
+             |---|---|---|---|---|\n"
+        );
+        for r in &self.runs {
+            s += &format!("| {}", r.method.name());
+            for k in 0..3 {
+                s += &format!(" | {}", cell(acc_region(r.method, last, k)));
+            }
+            s += &match r.seed_repeats {
+                Some(v) => format!(
+                    " | {:.1}% / {:.1}% / {:.1}% |\n",
+                    100.0 * v[0],
+                    100.0 * v[1],
+                    100.0 * v[2]
+                ),
+                None => " | - |\n".to_string(),
+            };
+        }
+        // Share of white's blurred squared error per region.
+        if let Some(w) = self.run(Method::White) {
+            let tail = &w.blur1_regions[from.min(w.blur1_regions.len())..];
+            let total: f64 = tail.iter().map(|v| v.iter().sum::<f64>()).sum();
+            if total > 0.0 {
+                let part = |k: usize| 100.0 * tail.iter().map(|v| v[k]).sum::<f64>() / total;
+                s += &format!(
+                    "\nWhite's blurred squared error by region: emitter zone {:.1}%, edges {:.1}%, interior {:.1}%.\n",
+                    part(0),
+                    part(1),
+                    part(2)
+                );
+            }
+        }
+        let f = &self.features;
+        s += &format!(
+            "\nFeature diagnostics (still camera, default thresholds): {:.1}% of blocks hold several groups \
+             ({:.1}% of pixels, {:.2} groups each); {:.1}% of retarget moves are cut, {:.1}% stay in place.\n",
+            100.0 * f.split_blocks,
+            100.0 * f.pixels_in_split_blocks,
+            f.groups_per_split_block,
+            100.0 * f.cut_moves,
+            100.0 * f.fixed_moves
+        );
+        s += &format!(
+            "Per region (emitter zone / edges / interior): pixels in split blocks {:.1}% / {:.1}% / {:.1}%, \
+             moves out of its pixels cut {:.1}% / {:.1}% / {:.1}%. Surface ids with more than one albedo: {}.\n",
+            100.0 * f.split_by_region[0],
+            100.0 * f.split_by_region[1],
+            100.0 * f.split_by_region[2],
+            100.0 * f.cut_by_region[0],
+            100.0 * f.cut_by_region[1],
+            100.0 * f.cut_by_region[2],
+            f.ids_with_varying_albedo
+        );
+        s
     }
 
     /// RMS over frames `from..` of a per-frame RMSE `metric` ([`Metric::Blur1`],
@@ -613,6 +663,10 @@ pub struct Study {
     pub reference: Reference,
     /// The flat insets, checked geometrically.
     pub insets: Vec<Inset>,
+    /// The region of every pixel ([`crate::regions`]), from the frame-0 G-buffer.
+    pub regions: Vec<Region>,
+    /// The frame-0 G-buffer (centre rays; the camera does not move).
+    pub gbuffer: Vec<GBufferGpu>,
 }
 
 impl Study {
@@ -636,12 +690,105 @@ impl Study {
             check_inset(&scene, &params, inset)?;
             inset.max_gradient = max_gradient(&reference.luma, config.size, inset);
         }
+        let mut gbuffer = vec![GBufferGpu::default(); (config.size * config.size) as usize];
+        cpu::gbuffer_frame(&scene, &params, &mut gbuffer)?;
+        let regions = classify_regions(&gbuffer, config.size, config.size);
         Ok(Study {
             config,
             scene,
             reference,
             insets,
+            regions,
+            gbuffer,
         })
+    }
+
+    /// The feature diagnostics of this frame (see [`FeatureDiagnostics`]).
+    ///
+    /// # Errors
+    /// Bad layout.
+    pub fn feature_diagnostics(&self) -> Result<FeatureDiagnostics> {
+        let layout = self.config.layout()?;
+        let features: Vec<SurfaceFeature> = self.gbuffer.iter().map(surface_feature).collect();
+        let thresholds = FeatureThresholds::DEFAULT;
+        let params = layout.params(0);
+        let mut d = FeatureDiagnostics::default();
+        let (mut blocks, mut split, mut groups_total, mut split_pixels) = (0u64, 0u64, 0u64, 0u64);
+        for by in 0..params.blocks_y() {
+            for bx in 0..params.blocks_x() {
+                let mut feats = [SurfaceFeature::default(); MAX_BLOCK_PIXELS];
+                let mut len = 0usize;
+                for y in by * params.block..((by + 1) * params.block).min(params.height) {
+                    for x in bx * params.block..((bx + 1) * params.block).min(params.width) {
+                        feats[len] = features[(y * params.width + x) as usize];
+                        len += 1;
+                    }
+                }
+                if len == 0 {
+                    continue;
+                }
+                blocks += 1;
+                let mut groups = [0u32; MAX_BLOCK_PIXELS];
+                block_groups(len as u32, &feats, &thresholds, &mut groups);
+                let count = (0..len).filter(|&i| groups[i] == i as u32).count() as u64;
+                if count > 1 {
+                    split += 1;
+                    groups_total += count;
+                    split_pixels += len as u64;
+                    for y in by * params.block..((by + 1) * params.block).min(params.height) {
+                        for x in bx * params.block..((bx + 1) * params.block).min(params.width) {
+                            let r = self.regions[(y * params.width + x) as usize] as usize;
+                            d.split_by_region[r] += 1.0;
+                        }
+                    }
+                }
+            }
+        }
+        d.split_blocks = split as f64 / blocks.max(1) as f64;
+        d.pixels_in_split_blocks = split_pixels as f64 / params.pixel_count() as f64;
+        d.groups_per_split_block = groups_total as f64 / split.max(1) as f64;
+        let (_, tables) = self.config.tile.load();
+        let region_pixels =
+            Region::ALL.map(|r| self.regions.iter().filter(|&&x| x == r).count().max(1) as f64);
+        for (v, n) in d.split_by_region.iter_mut().zip(region_pixels) {
+            *v /= n;
+        }
+        let (mut cut, mut fixed, mut moves) = (0u64, 0u64, 0u64);
+        for t in 0..self.config.frames {
+            let params = layout.params(t);
+            let offset = walk_offset(t, params.tile_log2);
+            let table = tables.table(step_index(t, params.tile_log2)).packed();
+            for p in 0..params.seed_count() {
+                let q = retarget_index(&params, offset, table, p);
+                moves += 1;
+                fixed += u64::from(q == p);
+                let is_cut = edge_is_cut(&params, &features, &thresholds, p, q);
+                cut += u64::from(is_cut);
+                let (x, y) = (p % params.padded_width, p / params.padded_width);
+                if is_cut && x < params.width && y < params.height {
+                    d.cut_by_region[self.regions[(y * params.width + x) as usize] as usize] += 1.0;
+                }
+            }
+        }
+        for (v, n) in d.cut_by_region.iter_mut().zip(region_pixels) {
+            *v /= n * f64::from(self.config.frames);
+        }
+        let mut albedo: std::collections::HashMap<u32, Vec<[u32; 3]>> = std::collections::HashMap::new();
+        for g in self
+            .gbuffer
+            .iter()
+            .filter(|g| g.ids.w & kernels::abi::GBUFFER_HIT != 0)
+        {
+            let a = [g.albedo.x.to_bits(), g.albedo.y.to_bits(), g.albedo.z.to_bits()];
+            let seen = albedo.entry(g.ids.x).or_default();
+            if !seen.contains(&a) {
+                seen.push(a);
+            }
+        }
+        d.ids_with_varying_albedo = albedo.values().filter(|v| v.len() > 1).count();
+        d.cut_moves = cut as f64 / moves.max(1) as f64;
+        d.fixed_moves = fixed as f64 / moves.max(1) as f64;
+        Ok(d)
     }
 
     /// Runs every method of `methods` and measures it. `progress(method, t)` is called
@@ -658,14 +805,23 @@ impl Study {
             config: self.config,
             insets: self.insets.clone(),
             reference_noise_var: self.reference.noise_var,
+            region_shares: region_shares(&self.regions),
+            features: self.feature_diagnostics()?,
             runs,
         })
     }
 
     fn run_method(&self, method: Method, mut progress: impl FnMut(u32)) -> Result<MethodRun> {
         let mut meter = Meter::new(self, method)?;
+        let mut tracker = SeedTracker::new(self, method)?;
+        let mut tracker_error = None;
         let mut on_frame = |t: u32, color: &[Vec4]| {
             meter.frame(t, color);
+            if let Some(tr) = tracker.as_mut() {
+                if let Err(e) = tr.frame(self, t, color) {
+                    tracker_error.get_or_insert(e);
+                }
+            }
             progress(t);
         };
         match method {
@@ -688,6 +844,29 @@ impl Study {
                 };
                 gpu_tracer::render_cpu(&self.scene, &job, &mut on_frame)?;
             }
+            Method::FeaturePermute | Method::FeaturePermuteJitter => {
+                let mut settings = self.config.settings();
+                if method == Method::FeaturePermuteJitter {
+                    settings.sampler = kernels::abi::SAMPLER_SCREEN_SOBOL | kernels::abi::SAMPLER_JITTER_ONLY;
+                }
+                let job = RenderJob {
+                    settings,
+                    frames: self.config.frames,
+                    mode: PermuteMode::Permute,
+                    block: self.config.block,
+                    tile: self.config.tile,
+                    salt: self.config.salt,
+                };
+                let options = SequenceOptions {
+                    gbuffer: false,
+                    reproject: false,
+                    features: true,
+                };
+                let mut sequence = SceneSequence::still(&self.scene, self.config.size);
+                render_sequence_cpu(&mut sequence, &job, options, |f: &FrameView<'_>| {
+                    on_frame(f.index, f.color)
+                })?;
+            }
             Method::FixedStep => render_walk(self, Walk::FixedStep, &mut on_frame)?,
             Method::Dither => render_dither(self, &mut on_frame)?,
             Method::ScreenSobol | Method::ZSobol => {
@@ -708,57 +887,124 @@ impl Study {
                 gpu_tracer::render_cpu(&self.scene, &job, &mut on_frame)?;
             }
         }
-        meter.finish()
+        if let Some(e) = tracker_error {
+            return Err(e);
+        }
+        let mut run = meter.finish()?;
+        run.seed_repeats = tracker.map(|t| t.repeats(&self.regions));
+        Ok(run)
     }
 }
 
-fn check_inset(scene: &SceneGpu, params: &TraceParams, inset: &Inset) -> Result<()> {
-    ensure!(
-        inset.x0 + inset.side <= params.width && inset.y0 + inset.side <= params.height,
-        "inset {} lies outside the image",
-        inset.name
-    );
-    for y in inset.y0..inset.y0 + inset.side {
-        for x in inset.x0..inset.x0 + inset.side {
-            let ray = kernels::camera::primary_ray(params, x, y, Vec2::splat(0.5));
-            let hit = kernels::bvh::closest_hit(&scene.nodes, &scene.triangles, &ray, 0.0, f32::MAX)
-                .with_context(|| format!("inset {}: pixel ({x}, {y}) sees nothing", inset.name))?;
-            let tri = scene.triangles[hit.triangle as usize];
-            let p = ray.origin + ray.dir * hit.t;
-            let material = tri.v0.w as u32;
-            let ok = match inset.surface {
-                Surface::BackWall => p.z >= 559.0,
-                Surface::Floor => p.y <= 0.5,
-                Surface::RedWall => material == RED,
-                Surface::GreenWall => material == GREEN,
-            };
-            if !ok {
-                bail!(
-                    "inset {} ({}, {}, side {}): pixel ({x}, {y}) sees {p} (material {material}), not the {:?}",
-                    inset.name,
-                    inset.x0,
-                    inset.y0,
-                    inset.side,
-                    inset.surface
-                );
+/// Mirrors the seeds of a permuting row from its frames (the same library calls as the
+/// tracer's CPU loop) and records every visible pixel's seed per frame
+/// ([`MethodRun::seed_repeats`]). Frame 1 is re-traced from the mirrored seeds and must
+/// match the renderer's frame bit for bit.
+struct SeedTracker {
+    method: Method,
+    layout: FrameLayout,
+    seeds: Vec<u32>,
+    next: Vec<u32>,
+    sorted: Vec<u32>,
+    sources: Vec<u32>,
+    features: Vec<SurfaceFeature>,
+    /// `history[pixel * frames + t]`.
+    history: Vec<u32>,
+    frames: usize,
+}
+
+impl SeedTracker {
+    fn new(study: &Study, method: Method) -> Result<Option<SeedTracker>> {
+        if !matches!(
+            method,
+            Method::Permute | Method::PermuteJitter | Method::FeaturePermute | Method::FeaturePermuteJitter
+        ) {
+            return Ok(None);
+        }
+        let c = &study.config;
+        let layout = c.layout()?;
+        let seeds = cpu::white_seeds(layout.padded_width(), layout.padded_height(), c.salt);
+        let n = seeds.len();
+        Ok(Some(SeedTracker {
+            method,
+            layout,
+            next: vec![0; n],
+            sorted: vec![0; n],
+            sources: vec![0; n],
+            seeds,
+            features: study.gbuffer.iter().map(surface_feature).collect(),
+            history: vec![0; (c.size * c.size * c.frames) as usize],
+            frames: c.frames as usize,
+        }))
+    }
+
+    fn frame(&mut self, study: &Study, t: u32, color: &[Vec4]) -> Result<()> {
+        let (w, pw) = (self.layout.width() as usize, self.layout.padded_width() as usize);
+        for (i, _) in color.iter().enumerate() {
+            self.history[i * self.frames + t as usize] = self.seeds[(i / w) * pw + i % w];
+        }
+        if t == 1 {
+            let mut settings = study.config.settings();
+            settings.padded_width = self.layout.padded_width();
+            if matches!(self.method, Method::PermuteJitter | Method::FeaturePermuteJitter) {
+                settings.sampler = kernels::abi::SAMPLER_SCREEN_SOBOL | kernels::abi::SAMPLER_JITTER_ONLY;
             }
+            let params = study.scene.trace_params(&settings, t)?;
+            let mut check = vec![Vec4::ZERO; color.len()];
+            cpu::render_frame(&study.scene, &params, &self.seeds, &mut check)?;
+            ensure!(
+                check == color,
+                "{}: the mirrored seeds do not reproduce frame 1",
+                self.method.name()
+            );
         }
+        let (tile, tables) = study.config.tile.load();
+        if matches!(self.method, Method::FeaturePermute | Method::FeaturePermuteJitter) {
+            let keys: Vec<f32> = color
+                .iter()
+                .zip(&study.gbuffer)
+                .map(|(c, g)| kernels::surface_features::demodulated_intensity(*c, g))
+                .collect();
+            sampler_core::permute_frame_features(
+                &self.layout,
+                t,
+                &keys,
+                &self.features,
+                &FeatureThresholds::DEFAULT,
+                &tile,
+                &tables,
+                &self.seeds,
+                &mut self.sorted,
+                &mut self.sources,
+                &mut self.next,
+            )?;
+        } else {
+            sampler_core::permute_frame(
+                &self.layout,
+                t,
+                color,
+                &tile,
+                &tables,
+                &self.seeds,
+                &mut self.next,
+            )?;
+        }
+        std::mem::swap(&mut self.seeds, &mut self.next);
+        Ok(())
     }
-    Ok(())
-}
 
-fn max_gradient(luma: &[f32], size: u32, inset: &Inset) -> f64 {
-    let s = size as usize;
-    let at = |x: u32, y: u32| luma[y as usize * s + x as usize] as f64;
-    let mut worst: f64 = 0.0;
-    for y in inset.y0 + 1..inset.y0 + inset.side - 1 {
-        for x in inset.x0 + 1..inset.x0 + inset.side - 1 {
-            let gx = (at(x + 1, y) - at(x - 1, y)) / 2.0;
-            let gy = (at(x, y + 1) - at(x, y - 1)) / 2.0;
-            worst = worst.max(gx.hypot(gy) / at(x, y).max(1e-6));
+    /// Per region, the fraction of (pixel, frame) pairs with a seed seen before.
+    fn repeats(&self, regions: &[Region]) -> [f64; 3] {
+        let (mut rep, mut all) = ([0u64; 3], [0u64; 3]);
+        for (i, r) in regions.iter().enumerate() {
+            let mut v = self.history[i * self.frames..(i + 1) * self.frames].to_vec();
+            v.sort_unstable();
+            v.dedup();
+            rep[*r as usize] += (self.frames - v.len()) as u64;
+            all[*r as usize] += self.frames as u64;
         }
+        [0, 1, 2].map(|k| rep[k] as f64 / all[k].max(1) as f64)
     }
-    worst
 }
 
 /// Per-frame measurement of one method.
@@ -785,6 +1031,9 @@ impl<'a> Meter<'a> {
                 rmse: Vec::new(),
                 blur1: Vec::new(),
                 blur2: Vec::new(),
+                blur1_regions: Vec::new(),
+                acc_regions: Vec::new(),
+                seed_repeats: None,
                 acc_rmse: Vec::new(),
                 acc_rmse_corrected: Vec::new(),
                 radial: Vec::new(),
@@ -813,7 +1062,13 @@ impl<'a> Meter<'a> {
             .collect();
         let grid = Grid::new(size, size, error.clone()).expect("frame size");
         self.run.rmse.push(grid.rms());
-        self.run.blur1.push(self.blur1.apply(&grid).rms());
+        let blurred = self.blur1.apply(&grid);
+        self.run.blur1.push(blurred.rms());
+        let mut sums = [0.0f64; 3];
+        for (b, r) in blurred.data().iter().zip(&self.study.regions) {
+            sums[*r as usize] += (*b as f64) * (*b as f64);
+        }
+        self.run.blur1_regions.push(sums);
         self.run.blur2.push(self.blur2.apply(&grid).rms());
         let mut lf = Vec::with_capacity(self.study.insets.len());
         for (k, inset) in self.study.insets.iter().enumerate() {
@@ -835,11 +1090,20 @@ impl<'a> Meter<'a> {
         // Accumulation.
         let n = (t + 1) as f64;
         let mut mse = 0.0;
-        for ((s, c), r) in self.sum.iter_mut().zip(color).zip(&reference.luma) {
+        let mut acc = [0.0f64; 3];
+        for (((s, c), r), region) in self
+            .sum
+            .iter_mut()
+            .zip(color)
+            .zip(&reference.luma)
+            .zip(&self.study.regions)
+        {
             *s += c.intensity() as f64;
             let d = *s / n - *r as f64;
             mse += d * d;
+            acc[*region as usize] += d * d;
         }
+        self.run.acc_regions.push(acc);
         mse /= self.sum.len() as f64;
         self.run.acc_rmse.push(mse.sqrt());
         self.run
@@ -861,199 +1125,5 @@ impl<'a> Meter<'a> {
         let k = self.radial_frames.max(1) as f64;
         self.run.radial.iter_mut().for_each(|v| *v /= k);
         Ok(self.run)
-    }
-}
-
-/// The inset's part of a `size x size` row-major image.
-pub fn crop(image: &[f32], size: usize, inset: &Inset) -> Grid {
-    let s = inset.side as usize;
-    Grid::from_fn(s, s, |x, y| {
-        image[(inset.y0 as usize + y) * size + inset.x0 as usize + x]
-    })
-    .expect("inset size")
-}
-
-/// Offset sequence of the dither tile.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Walk {
-    /// The aperiodic R2 walk (`sampler_core::walk_offset`), table per step.
-    R2,
-    /// `o_t = t * base_step mod W`, always table 0.
-    FixedStep,
-}
-
-impl Walk {
-    /// Offset of frame `t` and the index of the retarget table for the step after it.
-    pub fn offset_and_table(self, t: u32, tile_log2: u32) -> (UVec2, u32) {
-        match self {
-            Walk::R2 => (walk_offset(t, tile_log2), sampler_core::step_index(t, tile_log2)),
-            Walk::FixedStep => {
-                let mask = (1u32 << tile_log2) - 1;
-                let step = sampler_core::walk::base_step(tile_log2);
-                (
-                    UVec2::new(t.wrapping_mul(step.x) & mask, t.wrapping_mul(step.y) & mask),
-                    0,
-                )
-            }
-        }
-    }
-}
-
-/// One permutation step with an explicit tile offset: sorting pass against
-/// `tile[(p + offset) mod W]` in every block, then the retargeting scatter with `table`
-/// read at `(p + offset) mod W`. Same conventions and tie-breaking as
-/// `sampler_core::permute_frame`: `sampler_core::sort_block_at_offset` per block,
-/// then `sampler_core::retarget_pixel_at_offset` per seed.
-///
-/// # Panics
-/// If a buffer does not match `layout`.
-pub fn permute_with_offset<T: Intensity>(
-    layout: &FrameLayout,
-    offset: UVec2,
-    intensities: &[T],
-    tile: &DitherTile<'_>,
-    table: RetargetTable<'_>,
-    seeds_in: &[u32],
-    seeds_out: &mut [u32],
-) {
-    let p = layout.params(0);
-    assert_eq!(seeds_in.len(), layout.seed_count());
-    assert_eq!(seeds_out.len(), layout.seed_count());
-    assert_eq!(intensities.len(), layout.pixel_count());
-    let mut sorted = seeds_in.to_vec();
-    for by in 0..p.blocks_y() {
-        for bx in 0..p.blocks_x() {
-            sort_block_at_offset(
-                &p,
-                offset,
-                bx,
-                by,
-                intensities,
-                tile.values(),
-                seeds_in,
-                &mut sorted,
-            );
-        }
-    }
-    for i in 0..p.seed_count() {
-        retarget_pixel_at_offset(&p, offset, i, table.packed(), &sorted, seeds_out);
-    }
-}
-
-/// Renders `study.config.frames` frames permuting with `walk` (CPU), calling
-/// `on_frame(t, colour)` for each.
-///
-/// # Errors
-/// Rendering errors.
-pub fn render_walk(study: &Study, walk: Walk, on_frame: &mut impl FnMut(u32, &[Vec4])) -> Result<()> {
-    let c = &study.config;
-    let layout = c.layout()?;
-    let (tile, tables) = c.tile.load();
-    let mut settings = c.settings();
-    settings.padded_width = layout.padded_width();
-    let mut seeds = cpu::white_seeds(layout.padded_width(), layout.padded_height(), c.salt);
-    let mut next = vec![0u32; seeds.len()];
-    let mut color = vec![Vec4::ZERO; layout.pixel_count()];
-    for t in 0..c.frames {
-        let params = study.scene.trace_params(&settings, t)?;
-        cpu::render_frame(&study.scene, &params, &seeds, &mut color)?;
-        on_frame(t, &color);
-        let (offset, table) = walk.offset_and_table(t, tile.tile_log2());
-        permute_with_offset(
-            &layout,
-            offset,
-            &color,
-            &tile,
-            tables.table(table),
-            &seeds,
-            &mut next,
-        );
-        std::mem::swap(&mut seeds, &mut next);
-    }
-    Ok(())
-}
-
-/// The blue-noise-dither baseline (module docs), CPU only.
-///
-/// # Errors
-/// Rendering errors.
-pub fn render_dither(study: &Study, on_frame: &mut impl FnMut(u32, &[Vec4])) -> Result<()> {
-    let c = &study.config;
-    let mask = sampler_core::defaults::stbn_128();
-    let mut settings = c.settings();
-    settings.seed_mode = SEED_MODE_FIXED;
-    let layout = c.layout()?;
-    settings.padded_width = layout.padded_width();
-    let (w, pw) = (c.size, layout.padded_width());
-    let mut color = vec![Vec4::ZERO; layout.pixel_count()];
-    let scene = &study.scene;
-    for t in 0..c.frames {
-        // The host's settings only accept the modes the GPU implements; the dither mode
-        // is set on the kernel parameters directly.
-        let params = TraceParams {
-            seed_mode: SEED_MODE_BLUE_NOISE_DITHER,
-            ..scene.trace_params(&settings, t)?
-        };
-        // The same seeds as the white run's frame t (`render_cpu` uses salt + t).
-        let seeds = cpu::white_seeds(pw, layout.padded_height(), c.salt.wrapping_add(t));
-        let z = t % mask.depth();
-        color.par_chunks_mut(w as usize).enumerate().for_each(|(y, row)| {
-            let y = y as u32;
-            for (x, out) in row.iter_mut().enumerate() {
-                let x = x as u32;
-                let dither = Vec2::new(mask.value(x, y, z), mask.value(x + 64, y + 64, z));
-                *out = kernels::trace::trace_pixel_dithered(
-                    &params,
-                    UVec2::new(x, y),
-                    seeds[(y * pw + x) as usize],
-                    dither,
-                    &scene.nodes,
-                    &scene.triangles,
-                    &scene.materials,
-                    &scene.emitters,
-                    &scene.attrs,
-                    &scene.images,
-                );
-            }
-        });
-        on_frame(t, &color);
-    }
-    Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn fixed_step_repeats_every_16_frames_and_r2_does_not() {
-        let fixed: Vec<UVec2> = (0..40)
-            .map(|t| Walk::FixedStep.offset_and_table(t, 6).0)
-            .collect();
-        assert_eq!(fixed[1], UVec2::new(48, 36));
-        assert_eq!(fixed[16], UVec2::ZERO);
-        assert_eq!(fixed[17], fixed[1]);
-        let distinct: std::collections::HashSet<_> = fixed.iter().collect();
-        assert_eq!(distinct.len(), 16);
-        let r2: std::collections::HashSet<_> = (0..64).map(|t| Walk::R2.offset_and_table(t, 6).0).collect();
-        assert!(r2.len() > 60, "{}", r2.len());
-    }
-
-    #[test]
-    fn permute_with_r2_offsets_equals_permute_frame() {
-        let layout = FrameLayout::new(70, 45, 4, 64).unwrap();
-        let (tile, tables) = TileChoice::Tile64.load();
-        let image: Vec<f32> = (0..layout.pixel_count())
-            .map(|i| sampler_core::random_f32(i as u32, 99))
-            .collect();
-        let seeds: Vec<u32> = (0..layout.seed_count() as u32).map(|i| i * 7 + 3).collect();
-        for t in [0u32, 1, 5, 17, 63] {
-            let mut want = vec![0; seeds.len()];
-            sampler_core::permute_frame(&layout, t, &image, &tile, &tables, &seeds, &mut want).unwrap();
-            let (o, k) = Walk::R2.offset_and_table(t, 6);
-            let mut got = vec![0; seeds.len()];
-            permute_with_offset(&layout, o, &image, &tile, tables.table(k), &seeds, &mut got);
-            assert_eq!(got, want, "frame {t}");
-        }
     }
 }

@@ -44,6 +44,8 @@ fn colour(m: Method) -> RGBColor {
         Method::Dither => RGBColor(0, 158, 115),
         Method::ScreenSobol => RGBColor(204, 121, 167),
         Method::ZSobol => RGBColor(86, 180, 233),
+        Method::FeaturePermute => RGBColor(0, 170, 170),
+        Method::FeaturePermuteJitter => RGBColor(0, 100, 100),
     }
 }
 
