@@ -1,0 +1,163 @@
+//! Names for what rust-gpu's SPIR-V leaves anonymous: the bound buffers
+//! ([`name_globals`]) and the uniform and buffer types ([`name_types`]).
+
+use crate::{Error, ENTRIES};
+use naga::valid::ModuleInfo;
+use naga::Module;
+use std::collections::BTreeMap;
+
+/// Names every bound global variable after the kernel parameter it is
+/// (rust-gpu's SPIR-V carries no names, so naga would call them `global_N`):
+/// `<pass>_<parameter>`, e.g. `sort_seeds_in` for binding 3 of
+/// `permute_entry_sort_cs`. rust-gpu may share one variable among entry
+/// points that declare the same binding with the same type; such a variable
+/// is named after the parameter alone when all users agree (`params`), else
+/// after all users joined by `_or_`. Checks that each entry point uses
+/// exactly the bindings of [`Entry::bindings`](crate::Entry::bindings).
+pub(crate) fn name_globals(module: &mut Module, info: &ModuleInfo) -> Result<(), Error> {
+    let mut users: BTreeMap<naga::Handle<naga::GlobalVariable>, Vec<(&str, &str)>> = BTreeMap::new();
+    for (i, ep) in module.entry_points.iter().enumerate() {
+        let entry = ENTRIES
+            .iter()
+            .find(|e| e.name == ep.name)
+            .expect("only ENTRIES are kept");
+        let used = info.get_entry_point(i);
+        let mut found = Vec::new();
+        for (handle, global) in module.global_variables.iter() {
+            if let Some(b) = global.binding.filter(|_| !used[handle].is_empty()) {
+                found.push((b.group, b.binding));
+                if let Some(role) = entry.bindings.get(b.binding as usize) {
+                    users.entry(handle).or_default().push((entry.pass(), role));
+                }
+            }
+        }
+        found.sort_unstable();
+        let expected: Vec<(u32, u32)> = (0..entry.bindings.len() as u32).map(|b| (0, b)).collect();
+        if found != expected {
+            return Err(Error::Bindings {
+                entry: entry.name,
+                found,
+            });
+        }
+    }
+    for (handle, users) in users {
+        let name = match users.as_slice() {
+            [(pass, role)] => format!("{pass}_{role}"),
+            [(_, role), ..] if users.len() == ENTRIES.len() && users.iter().all(|u| u.1 == *role) => {
+                role.to_string()
+            }
+            _ => users
+                .iter()
+                .map(|(pass, role)| format!("{pass}_{role}"))
+                .collect::<Vec<_>>()
+                .join("_or_"),
+        };
+        module.global_variables.get_mut(handle).name = Some(name);
+    }
+    Ok(())
+}
+
+/// `sampler_core::FrameParams`'s fields and byte offsets, in order: the
+/// members of the uniform at binding 0.
+pub const FRAME_PARAMS_FIELDS: [(&str, usize); 8] = {
+    use core::mem::offset_of;
+    use sampler_core::FrameParams as P;
+    [
+        ("width", offset_of!(P, width)),
+        ("height", offset_of!(P, height)),
+        ("padded_width", offset_of!(P, padded_width)),
+        ("padded_height", offset_of!(P, padded_height)),
+        ("block", offset_of!(P, block)),
+        ("tile_log2", offset_of!(P, tile_log2)),
+        ("frame", offset_of!(P, frame)),
+        ("reserved", offset_of!(P, reserved)),
+    ]
+};
+const _: () = assert!(core::mem::size_of::<sampler_core::FrameParams>() == 32);
+
+/// Gives the anonymous types of rust-gpu's SPIR-V names a reader can follow:
+/// the uniform's `FrameParamsBlock { value: FrameParams }` with
+/// [`FRAME_PARAMS_FIELDS`], and each storage buffer's
+/// `<Element>Array { values: array<Element> }` (`U32Array`, `F32Array`,
+/// `Vec2Array`, `Vec4Array`, `AtomicU32Array`).
+///
+/// # Errors
+/// [`Error::Validation`] if the uniform is not the 32-byte `FrameParams`.
+pub(crate) fn name_types(module: &mut Module) -> Result<(), Error> {
+    use naga::{ArraySize, Scalar, ScalarKind, TypeInner, VectorSize};
+    let bad = |message: String| Error::Validation {
+        what: "the FrameParams uniform".to_string(),
+        message,
+    };
+    let uniform = module
+        .global_variables
+        .iter()
+        .find(|(_, g)| g.space == naga::AddressSpace::Uniform)
+        .map(|(_, g)| g.ty)
+        .ok_or_else(|| bad("no uniform".to_string()))?;
+    let params = match &module.types[uniform].inner {
+        TypeInner::Struct { members, .. } if members.len() == 1 => members[0].ty,
+        other => return Err(bad(format!("unexpected type {other:?}"))),
+    };
+    let mut renames = vec![(uniform, "FrameParamsBlock".to_string(), vec!["value".to_string()])];
+    match &module.types[params].inner {
+        TypeInner::Struct { members, span: 32 }
+            if members.len() == FRAME_PARAMS_FIELDS.len()
+                && members.iter().zip(FRAME_PARAMS_FIELDS).all(|(m, (_, offset))| {
+                    m.offset as usize == offset && module.types[m.ty].inner == TypeInner::Scalar(Scalar::U32)
+                }) =>
+        {
+            renames.push((
+                params,
+                "FrameParams".to_string(),
+                FRAME_PARAMS_FIELDS.iter().map(|f| f.0.to_string()).collect(),
+            ));
+        }
+        other => return Err(bad(format!("not sampler_core::FrameParams: {other:?}"))),
+    }
+    for (handle, ty) in module.types.iter() {
+        let TypeInner::Struct { members, .. } = &ty.inner else {
+            continue;
+        };
+        let [member] = members.as_slice() else {
+            continue;
+        };
+        let TypeInner::Array {
+            base,
+            size: ArraySize::Dynamic,
+            ..
+        } = module.types[member.ty].inner
+        else {
+            continue;
+        };
+        let element = match module.types[base].inner {
+            TypeInner::Scalar(Scalar::U32) => "U32",
+            TypeInner::Scalar(Scalar::F32) => "F32",
+            TypeInner::Atomic(Scalar {
+                kind: ScalarKind::Uint,
+                width: 4,
+            }) => "AtomicU32",
+            TypeInner::Vector {
+                size: VectorSize::Bi,
+                scalar: Scalar::F32,
+            } => "Vec2",
+            TypeInner::Vector {
+                size: VectorSize::Quad,
+                scalar: Scalar::F32,
+            } => "Vec4",
+            _ => continue,
+        };
+        renames.push((handle, format!("{element}Array"), vec!["values".to_string()]));
+    }
+    for (handle, name, member_names) in renames {
+        let mut ty = module.types[handle].clone();
+        ty.name = Some(name);
+        if let TypeInner::Struct { members, .. } = &mut ty.inner {
+            for (m, n) in members.iter_mut().zip(member_names) {
+                m.name = Some(n);
+            }
+        }
+        module.types.replace(handle, ty);
+    }
+    Ok(())
+}
