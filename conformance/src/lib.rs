@@ -25,19 +25,23 @@
 
 pub mod blur;
 pub mod error;
+pub mod feature_diagnostics;
 pub mod fixtures;
 pub mod grid;
 pub mod history;
 pub mod insets;
 pub mod low_frequency;
 pub mod motion_case;
+pub mod motion_insets;
 pub mod motion_study;
+pub mod motion_tables;
 pub mod radial;
 pub mod reference;
 pub mod regions;
 pub mod render_study;
 pub mod report;
 pub mod spectrum;
+pub mod study_result;
 pub mod temporal;
 pub mod threshold;
 pub mod volume;

@@ -52,21 +52,24 @@
 
 use crate::history::{ReprojectedHistory, HISTORY_ALPHA};
 use crate::insets::crop;
-use crate::insets::{check_inset, inset_layout, Inset};
+use crate::insets::{check_inset, Inset};
 use crate::motion_case::{self, MotionCase};
+use crate::motion_insets::place_insets;
+pub use crate::motion_insets::{fit_insets, InsetAnchor, MIN_INSET_SIDE};
+pub use crate::motion_tables::markdown;
 use crate::reference::{pose_key, Reference};
 use crate::regions::{classify_regions, Region};
 use crate::render_study::GOAL_FRAME;
 use crate::{low_frequency_ratio, GaussianBlur, Grid, SpectrumAnalyzer};
 use anyhow::{ensure, Context, Result};
-use glam::{UVec2, Vec2, Vec3};
+use glam::UVec2;
 use gpu_tracer::cornell::cornell_box;
 use gpu_tracer::motion::{reprojection_motion, write_visibility};
 use gpu_tracer::render::{render_sequence_cpu, FrameView, SequenceOptions};
 use gpu_tracer::scene::{Scene, TraceSettings};
 use gpu_tracer::timeline::{SceneSequence, Timeline};
 use gpu_tracer::{cpu, PermuteMode, RenderJob, TileChoice};
-use kernels::abi::{GBufferGpu, TraceParams, SEED_MODE_FIXED};
+use kernels::abi::{GBufferGpu, SEED_MODE_FIXED};
 use sampler_core::{FrameLayout, Intensity};
 use std::collections::HashMap;
 use std::path::Path;
@@ -189,7 +192,7 @@ impl MotionConfig {
         }
     }
 
-    fn settings(&self) -> TraceSettings {
+    pub(crate) fn settings(&self) -> TraceSettings {
         let mut s = TraceSettings::new(self.size, self.size);
         s.max_depth = self.max_depth;
         s.seed_mode = SEED_MODE_FIXED;
@@ -288,32 +291,6 @@ pub enum Figure {
         /// Interior only.
         interior: bool,
     },
-}
-
-impl Figure {
-    /// The columns of the tables, in order.
-    pub const COLUMNS: [Figure; 7] = [
-        Figure::LowFrequency,
-        Figure::Blur(None),
-        Figure::Blur(Some(Region::Emitter)),
-        Figure::Blur(Some(Region::Edge)),
-        Figure::Blur(Some(Region::Interior)),
-        Figure::Ema { interior: false },
-        Figure::Ema { interior: true },
-    ];
-
-    /// Column header.
-    pub fn header(self) -> &'static str {
-        match self {
-            Figure::LowFrequency => "LF mean 8..",
-            Figure::Blur(None) => "blur s1",
-            Figure::Blur(Some(Region::Emitter)) => "blur emitter",
-            Figure::Blur(Some(Region::Edge)) => "blur edges",
-            Figure::Blur(Some(Region::Interior)) => "blur interior",
-            Figure::Ema { interior: false } => "EMA",
-            Figure::Ema { interior: true } => "EMA interior",
-        }
-    }
 }
 
 /// A measured sequence: every method's run.
@@ -649,109 +626,6 @@ fn has_source(i: usize, m: [f32; 2], size: u32) -> bool {
     px >= 0.0 && py >= 0.0 && px < size as f32 && py < size as f32
 }
 
-/// A flat inset of the motion study: the static study's inset (`insets::inset_layout`),
-/// possibly smaller, centred every frame on the projection of the world point under its
-/// frame-0 centre.
-#[derive(Clone, Debug, PartialEq)]
-pub struct InsetAnchor {
-    /// The inset (its position is frame 0's).
-    pub inset: Inset,
-    /// The world point under its centre in frame 0.
-    pub point: Vec3,
-}
-
-/// The insets of a frame with camera `params`: each centred on its anchor's projection
-/// (rounded to whole pixels).
-fn place_insets(anchors: &[InsetAnchor], params: &TraceParams, size: u32) -> Result<Vec<Inset>> {
-    anchors
-        .iter()
-        .map(|a| {
-            let side = a.inset.side;
-            let raster = kernels::camera::project_point(params, a.point)
-                .with_context(|| format!("inset {}: its point is behind the camera", a.inset.name))?;
-            let x0 = (raster.x - side as f32 / 2.0).round();
-            let y0 = (raster.y - side as f32 / 2.0).round();
-            ensure!(
-                x0 >= 0.0 && y0 >= 0.0 && x0 + side as f32 <= size as f32 && y0 + side as f32 <= size as f32,
-                "inset {} moved out of the image (to ({x0}, {y0}))",
-                a.inset.name
-            );
-            Ok(Inset {
-                x0: x0 as u32,
-                y0: y0 as u32,
-                ..a.inset.clone()
-            })
-        })
-        .collect()
-}
-
-/// Smallest inset side the study accepts.
-pub const MIN_INSET_SIDE: u32 = 8;
-
-/// The insets of the study for `config` and `cases`: the static study's three insets,
-/// each shrunk about its centre's world point (in steps of 2 pixels) until it stays on
-/// its surface in every frame of every case, so that every sequence (the still one
-/// included) is measured on the same insets. An inset that would have to shrink below
-/// [`MIN_INSET_SIDE`] is left out (a side wall seen at a grazing angle on a small image:
-/// the orbit narrows the wall it turns towards).
-///
-/// # Errors
-/// Bad settings, or no inset left.
-pub fn fit_insets(config: &MotionConfig, cases: &[MotionCase]) -> Result<Vec<InsetAnchor>> {
-    let size = config.size;
-    let scene = cornell_box();
-    let settings = config.settings();
-    let still = gpu_tracer::SceneGpu::build(&scene)?;
-    let params = still.trace_params(&settings, 0)?;
-    let mut anchors = Vec::new();
-    for inset in inset_layout(size) {
-        let (cx, cy) = (inset.x0 + inset.side / 2, inset.y0 + inset.side / 2);
-        let ray = kernels::camera::primary_ray(&params, cx, cy, Vec2::ZERO);
-        let hit = kernels::bvh::closest_hit(&still.nodes, &still.triangles, &ray, 0.0, f32::MAX)
-            .with_context(|| format!("inset {}: centre sees nothing", inset.name))?;
-        anchors.push(Some(InsetAnchor {
-            point: ray.origin + ray.dir * hit.t,
-            inset,
-        }));
-    }
-    for &case in cases {
-        let (timeline, _) = motion_case::timeline(case, &scene, size, config.frames, config.sway_period)?;
-        let mut sequence = SceneSequence::new(&scene, timeline, size)?;
-        for t in 0..config.frames {
-            if t > 0 {
-                sequence.advance()?;
-            }
-            let params = sequence.scene().trace_params(&settings, t)?;
-            for slot in anchors.iter_mut() {
-                let Some(a) = slot else { continue };
-                loop {
-                    let fits = place_insets(std::slice::from_ref(a), &params, size)
-                        .and_then(|i| check_inset(sequence.scene(), &params, &i[0]));
-                    match fits {
-                        Ok(()) => break,
-                        Err(_) if a.inset.side < MIN_INSET_SIDE + 2 => {
-                            *slot = None;
-                            break;
-                        }
-                        Err(_) => a.inset.side -= 2,
-                    }
-                }
-            }
-        }
-    }
-    let mut anchors: Vec<InsetAnchor> = anchors.into_iter().flatten().collect();
-    ensure!(
-        !anchors.is_empty(),
-        "no inset of at least {MIN_INSET_SIDE} pixels stays on its surface in every frame"
-    );
-    // Frame-0 positions of the shrunk insets.
-    let placed = place_insets(&anchors, &params, size)?;
-    for (a, p) in anchors.iter_mut().zip(placed) {
-        a.inset = p;
-    }
-    Ok(anchors)
-}
-
 /// Runs `cases` (the still sequence first if it is not among them, since every moving
 /// figure is also divided by the static one) with `methods`. `progress` receives
 /// one-line messages.
@@ -823,100 +697,10 @@ pub fn run_study(
     Ok(results)
 }
 
-/// The study's markdown tables: figures relative to white per sequence, the moving
-/// sequences relative to the same method's static figures, and the diagnostics. The
-/// first result must be the still sequence (as [`run_study`] returns them).
-pub fn markdown(results: &[CaseResult]) -> String {
-    let mut s = String::new();
-    let Some(first) = results.first() else {
-        return s;
-    };
-    let c = &first.config;
-    s += &format!(
-        "Cornell box {0}x{0}, 1 spp, {1} frames, depth {2}, reference {3} spp per pose, block {4}, tile {5}; \
-         LF and blur over frames {6}.., EMA (alpha {7}) over frames {8}..\n\n",
-        c.size,
-        c.frames,
-        c.max_depth,
-        c.ref_spp / 2 * 2,
-        c.block,
-        c.tile.side(),
-        GOAL_FRAME,
-        HISTORY_ALPHA,
-        EMA_FROM
-    );
-    s += "LF insets (x0, y0, side at frame 0; they follow their surface):\n";
-    for r in results {
-        s += &format!("- {}:", r.case.name());
-        for (i, _) in r.insets.iter().zip(&r.own_insets).filter(|(_, own)| **own) {
-            s += &format!(" {} ({}, {}, {});", i.name, i.x0, i.y0, i.side);
-        }
-        s += "\n";
-    }
-    s += "\n";
-    let header = |first: &str| {
-        let mut h = format!("| {first} | method |");
-        let mut sep = "|---|---|".to_string();
-        for f in Figure::COLUMNS {
-            h += &format!(" {} |", f.header());
-            sep += "---|";
-        }
-        format!("{h}\n{sep}\n")
-    };
-    let cell = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
-    s += "White = 1:\n\n";
-    s += &header("sequence");
-    for r in results {
-        for run in &r.runs {
-            s += &format!("| {} | {} |", r.case.name(), run.method.name());
-            for f in Figure::COLUMNS {
-                s += &format!(" {} |", cell(r.relative(run.method, f)));
-            }
-            s += "\n";
-        }
-    }
-    let still = results.iter().find(|r| r.case == MotionCase::Still);
-    if let Some(still) = still {
-        s += "\nIn motion / the same method's static figure (both white = 1; goals: <= 1.1 at 0.5 px/frame, \
-              <= 1.25 at 2 px/frame, with reprojection):\n\n";
-        s += &header("sequence");
-        for r in results.iter().filter(|r| r.case != MotionCase::Still) {
-            for run in r.runs.iter().filter(|x| x.method != MotionMethod::White) {
-                s += &format!("| {} | {} |", r.case.name(), run.method.name());
-                for f in Figure::COLUMNS {
-                    s += &format!(" {} |", cell(r.versus_static(still, run.method, f)));
-                }
-                s += "\n";
-            }
-        }
-    }
-    s += "\nSequences (fractions of the image, mean over frames 1..):\n\n";
-    s += "| sequence | motion | centre px/frame | mean px/frame | seeds followed | recycled | stayed in pixel | history resets \
-          | emitter / edges / interior | poses |\n|---|---|---|---|---|---|---|---|---|---|\n";
-    for r in results {
-        let st = &r.stats;
-        s += &format!(
-            "| {} | {} | {:.2} | {:.2} | {:.3} | {:.4} | {:.3} | {:.4} | {:.3} / {:.3} / {:.3} | {} |\n",
-            r.case.name(),
-            r.description,
-            st.centre_speed,
-            st.mean_speed,
-            st.followed,
-            st.recycled,
-            st.stayed,
-            st.history_resets,
-            st.region_share[0],
-            st.region_share[1],
-            st.region_share[2],
-            st.poses
-        );
-    }
-    s
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::insets::inset_layout;
 
     #[test]
     fn figures_pool_over_frames_relative_to_white() {

@@ -1,0 +1,303 @@
+//! Tables and summaries of a measured rendered-quality study: the relative figures
+//! (white = 1) of a [`StudyResult`].
+//!
+//! Moved here from [`crate::render_study`]: [`Metric`] and the `StudyResult` impl
+//! (`run`, `pooled_region`, `markdown`, `pooled`, `relative`, `summary`).
+
+use crate::regions::Region;
+use crate::render_study::{Method, MethodRun, StudyResult, ACCUMULATION_POINTS, GOAL_FRAME};
+
+/// A relative figure: `method / white` for one metric.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Metric {
+    /// Low-frequency power ratio on the insets at a frame.
+    LowFrequency,
+    /// Blurred (sigma 1) RMSE at a frame.
+    Blur1,
+    /// Blurred (sigma 2) RMSE at a frame.
+    Blur2,
+    /// Unblurred RMSE at a frame.
+    Rmse,
+    /// Accumulated RMSE after `n` frames (index `n - 1`), reference noise removed.
+    Accumulated,
+    /// Accumulated RMSE, raw.
+    AccumulatedRaw,
+}
+
+impl StudyResult {
+    /// The run of `method`, if measured.
+    pub fn run(&self, method: Method) -> Option<&MethodRun> {
+        self.runs.iter().find(|r| r.method == method)
+    }
+
+    /// Blurred (sigma 1) RMSE over frames `from..` of `method` in `region` (`None`: the
+    /// whole image), relative to white's: as [`Self::pooled`] with [`Metric::Blur1`],
+    /// restricted to the region's pixels. `None` for a missing run, no frames or an
+    /// empty region.
+    pub fn pooled_region(&self, method: Method, region: Option<Region>, from: usize) -> Option<f64> {
+        let Some(region) = region else {
+            return self.pooled(method, Metric::Blur1, from);
+        };
+        let k = region as usize;
+        let sum = |r: &MethodRun| -> Option<f64> {
+            let tail = r.blur1_regions.get(from..).filter(|t| !t.is_empty())?;
+            Some(tail.iter().map(|v| v[k]).sum())
+        };
+        let (m, w) = (sum(self.run(method)?)?, sum(self.run(Method::White)?)?);
+        (w > 0.0).then(|| (m / w).sqrt())
+    }
+
+    /// Markdown tables of the study (white = 1): whole-image figures, the blurred RMSE
+    /// per region, and the feature diagnostics.
+    pub fn markdown(&self) -> String {
+        let c = &self.config;
+        let from = (GOAL_FRAME.min(c.frames - 1)) as usize;
+        let points: Vec<u32> = ACCUMULATION_POINTS
+            .iter()
+            .copied()
+            .filter(|&n| n <= c.frames && n >= 64)
+            .collect();
+        let cell = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
+        let mut s = format!(
+            "Cornell box {0}x{0}, {1} spp, depth {2}, {3} frames, reference {4} spp, block {5}, tile {6}, salt {7}; \
+             white = 1, pooled over frames {from}..\n\n",
+            c.size,
+            c.spp,
+            c.max_depth,
+            c.frames,
+            c.ref_spp,
+            c.block,
+            c.tile.side(),
+            c.salt
+        );
+        s += "| method | LF @8 | LF mean 8.. | blur s1 8.. | blur s2 8..";
+        for n in &points {
+            s += &format!(" | acc {n}");
+        }
+        s += " |\n|---|---|---|---|---";
+        s += &"|---".repeat(points.len());
+        s += "|\n";
+        for r in &self.runs {
+            let m = r.method;
+            let frames = r.rmse.len();
+            let lf_mean = (from..frames)
+                .map(|i| self.relative(m, Metric::LowFrequency, i).unwrap_or(f64::NAN))
+                .sum::<f64>()
+                / (frames - from).max(1) as f64;
+            s += &format!(
+                "| {} | {} | {lf_mean:.3} | {} | {}",
+                m.name(),
+                cell(self.relative(m, Metric::LowFrequency, from)),
+                cell(self.pooled(m, Metric::Blur1, from)),
+                cell(self.pooled(m, Metric::Blur2, from)),
+            );
+            for &n in &points {
+                s += &format!(
+                    " | {}",
+                    cell(self.relative(m, Metric::Accumulated, n as usize - 1))
+                );
+            }
+            s += " |\n";
+        }
+        let sh = self.region_shares;
+        s += &format!(
+            "\nBlurred RMSE (sigma 1) per region, frames {from}.. (regions from the frame-0 G-buffer: \
+             emitter zone {:.2}%, edges {:.2}%, interior {:.2}% of the image):\n\n\
+             | method | whole | emitter zone | edges | interior |\n|---|---|---|---|---|\n",
+            100.0 * sh[0],
+            100.0 * sh[1],
+            100.0 * sh[2]
+        );
+        for r in &self.runs {
+            s += &format!(
+                "| {} | {}",
+                r.method.name(),
+                cell(self.pooled_region(r.method, None, from))
+            );
+            for region in Region::ALL {
+                s += &format!(" | {}", cell(self.pooled_region(r.method, Some(region), from)));
+            }
+            s += " |\n";
+        }
+        let last = c.frames as usize;
+        let acc_region = |m: Method, n: usize, k: usize| -> Option<f64> {
+            let get = |r: &MethodRun| r.acc_regions.get(n - 1).map(|v| v[k]);
+            let (a, b) = (get(self.run(m)?)?, get(self.run(Method::White)?)?);
+            (b > 0.0).then(|| (a / b).sqrt())
+        };
+        s += &format!(
+            "\nAccumulated RMSE per region after {last} frames (raw, reference noise not removed), and the \
+             fraction of (pixel, frame) pairs whose seed the pixel already had:\n\n\
+             | method | acc emitter zone | acc edges | acc interior | repeated seeds emitter / edges / interior |\n\
+             |---|---|---|---|---|\n"
+        );
+        for r in &self.runs {
+            s += &format!("| {}", r.method.name());
+            for k in 0..3 {
+                s += &format!(" | {}", cell(acc_region(r.method, last, k)));
+            }
+            s += &match r.seed_repeats {
+                Some(v) => format!(
+                    " | {:.1}% / {:.1}% / {:.1}% |\n",
+                    100.0 * v[0],
+                    100.0 * v[1],
+                    100.0 * v[2]
+                ),
+                None => " | - |\n".to_string(),
+            };
+        }
+        // Share of white's blurred squared error per region.
+        if let Some(w) = self.run(Method::White) {
+            let tail = &w.blur1_regions[from.min(w.blur1_regions.len())..];
+            let total: f64 = tail.iter().map(|v| v.iter().sum::<f64>()).sum();
+            if total > 0.0 {
+                let part = |k: usize| 100.0 * tail.iter().map(|v| v[k]).sum::<f64>() / total;
+                s += &format!(
+                    "\nWhite's blurred squared error by region: emitter zone {:.1}%, edges {:.1}%, interior {:.1}%.\n",
+                    part(0),
+                    part(1),
+                    part(2)
+                );
+            }
+        }
+        let f = &self.features;
+        s += &format!(
+            "\nFeature diagnostics (still camera, default thresholds): {:.1}% of blocks hold several groups \
+             ({:.1}% of pixels, {:.2} groups each); {:.1}% of retarget moves are cut, {:.1}% stay in place.\n",
+            100.0 * f.split_blocks,
+            100.0 * f.pixels_in_split_blocks,
+            f.groups_per_split_block,
+            100.0 * f.cut_moves,
+            100.0 * f.fixed_moves
+        );
+        s += &format!(
+            "Per region (emitter zone / edges / interior): pixels in split blocks {:.1}% / {:.1}% / {:.1}%, \
+             moves out of its pixels cut {:.1}% / {:.1}% / {:.1}%. Surface ids with more than one albedo: {}.\n",
+            100.0 * f.split_by_region[0],
+            100.0 * f.split_by_region[1],
+            100.0 * f.split_by_region[2],
+            100.0 * f.cut_by_region[0],
+            100.0 * f.cut_by_region[1],
+            100.0 * f.cut_by_region[2],
+            f.ids_with_varying_albedo
+        );
+        s
+    }
+
+    /// RMS over frames `from..` of a per-frame RMSE `metric` ([`Metric::Blur1`],
+    /// [`Metric::Blur2`] or [`Metric::Rmse`]) of `method`, divided by white's: the
+    /// method's RMSE over all those frames relative to white's. Unlike the mean of the
+    /// per-frame ratios it is not pulled up by frames in which white's error happens to
+    /// be small (a 1-spp frame's error is dominated by a few pixels, so single frames
+    /// vary a lot). `None` for other metrics, a missing run or no frames.
+    pub fn pooled(&self, method: Method, metric: Metric, from: usize) -> Option<f64> {
+        let series = |r: &MethodRun| -> Option<f64> {
+            let v = match metric {
+                Metric::Blur1 => &r.blur1,
+                Metric::Blur2 => &r.blur2,
+                Metric::Rmse => &r.rmse,
+                _ => return None,
+            };
+            let tail = v.get(from..).filter(|t| !t.is_empty())?;
+            Some(tail.iter().map(|x| x * x).sum())
+        };
+        let m = series(self.run(method)?)?;
+        let w = series(self.run(Method::White)?)?;
+        Some((m / w).sqrt())
+    }
+
+    /// `metric` of `method` divided by white's at frame index `i` (for the accumulated
+    /// metrics: after `i + 1` frames). `None` if either run is missing or `i` is out of
+    /// range.
+    pub fn relative(&self, method: Method, metric: Metric, i: usize) -> Option<f64> {
+        let m = self.run(method)?;
+        let w = self.run(Method::White)?;
+        let get = |r: &MethodRun| -> Option<f64> {
+            Some(match metric {
+                Metric::LowFrequency => {
+                    r.lf_insets.get(i)?;
+                    r.lf(i)
+                }
+                Metric::Blur1 => *r.blur1.get(i)?,
+                Metric::Blur2 => *r.blur2.get(i)?,
+                Metric::Rmse => *r.rmse.get(i)?,
+                Metric::Accumulated => *r.acc_rmse_corrected.get(i)?,
+                Metric::AccumulatedRaw => *r.acc_rmse.get(i)?,
+            })
+        };
+        Some(get(m)? / get(w)?)
+    }
+
+    /// A plain-text table of the headline figures (relative to white).
+    pub fn summary(&self) -> String {
+        let c = &self.config;
+        let t = (GOAL_FRAME.min(c.frames - 1)) as usize;
+        let mut s = format!(
+            "Cornell box {0}x{0}, {1} spp, {2} frames, reference {3} spp (noise var {4:.3e}), block {5}, tile {6}, seed mode {7}\n",
+            c.size,
+            c.spp,
+            c.frames,
+            c.ref_spp,
+            self.reference_noise_var,
+            c.block,
+            c.tile.side(),
+            c.seed_mode
+        );
+        s += &format!(
+            "{:<14} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",
+            "method",
+            format!("LF@{t}"),
+            "LFmean",
+            format!("blur1@{t}"),
+            format!("blur2@{t}"),
+            "blur1avg",
+            "blur1rms"
+        );
+        let points: Vec<u32> = ACCUMULATION_POINTS
+            .iter()
+            .copied()
+            .filter(|&n| n <= c.frames)
+            .collect();
+        for n in &points {
+            s += &format!(" {:>13}", format!("acc{n} (raw)"));
+        }
+        s += "\n";
+        for r in &self.runs {
+            let rel = |m, i| self.relative(r.method, m, i).unwrap_or(f64::NAN);
+            let frames = r.rmse.len();
+            let from = t.min(frames - 1);
+            let avg = |m| (from..frames).map(|i| rel(m, i)).sum::<f64>() / (frames - from) as f64;
+            s += &format!(
+                "{:<14} {:>8.3} {:>8.3} {:>8.3} {:>8.3} {:>8.3} {:>8.3}",
+                r.method.name(),
+                rel(Metric::LowFrequency, t),
+                avg(Metric::LowFrequency),
+                rel(Metric::Blur1, t),
+                rel(Metric::Blur2, t),
+                avg(Metric::Blur1),
+                self.pooled(r.method, Metric::Blur1, from).unwrap_or(f64::NAN)
+            );
+            for &n in &points {
+                let i = n as usize - 1;
+                s += &format!(
+                    " {:>13}",
+                    format!(
+                        "{:.3} ({:.3})",
+                        rel(Metric::Accumulated, i),
+                        rel(Metric::AccumulatedRaw, i)
+                    )
+                );
+            }
+            s += "\n";
+        }
+        s += "insets (x0, y0, side, max relative gradient of the reference):";
+        for i in &self.insets {
+            s += &format!(
+                " {} ({}, {}, {}, {:.3});",
+                i.name, i.x0, i.y0, i.side, i.max_gradient
+            );
+        }
+        s += "\n";
+        s
+    }
+}
