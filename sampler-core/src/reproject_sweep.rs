@@ -27,6 +27,7 @@
 //! scattered minimum per pixel and one scattered store per seed.
 
 use crate::layout::FrameParams;
+use crate::permute_cpu::prefetch;
 use crate::reproject::{index_bits, ReprojectStats, CLAIM_NONE};
 use crate::reproject_batch::{claim_batch, Batch, BATCH};
 #[cfg(doc)]
@@ -270,24 +271,12 @@ pub(crate) fn fused_body(
             let final_pixels = if taken == h { h } else { taken.saturating_sub(span) };
             while finished < final_pixels {
                 let row = finished * pw;
-                let mut x = 0;
-                while x < w {
-                    let b = (row + x) & ring_mask;
-                    let off = b & 63;
-                    let lanes = (64 - off).min(w - x);
-                    let mask = (u64::MAX >> (64 - lanes)) << off;
-                    let mut empty = !ring[b >> 6] & mask;
-                    ring[b >> 6] &= !mask;
-                    while empty != 0 {
-                        let p = row + x + empty.trailing_zeros() as usize - off;
-                        empty &= empty - 1;
-                        recycled += 1;
-                        if let Some((p, q)) = queue.offer(claims, p, true, taken * pw) {
-                            out[p] = seeds_in[q];
-                        }
+                for_each_unseeded(ring, ring_mask, row, w, |p| {
+                    recycled += 1;
+                    if let Some((p, q)) = queue.offer(claims, p, true, taken * pw) {
+                        out[p] = seeds_in[q];
                     }
-                    x += lanes;
-                }
+                });
                 finished += 1;
             }
         }
@@ -299,24 +288,30 @@ pub(crate) fn fused_body(
     })
 }
 
-/// Hints that `buffer[at]` will be read, or `write`-ten, soon (x86_64; a
-/// no-op elsewhere). `at` may lie past the end: a prefetch never faults.
+/// Calls `f(p)` for every visible pixel `p` of seed-buffer row `row`
+/// (`row_start = row * padded_width`, `w` visible pixels) whose bit in the
+/// ring of taken pixels is clear (it has no seed yet), in buffer order, and
+/// clears the row's bits for the ring's next lap.
 #[inline(always)]
-fn prefetch<E>(buffer: &[E], at: usize, write: bool) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use core::arch::x86_64::{_mm_prefetch, _MM_HINT_ET0, _MM_HINT_T0};
-        let p = buffer.as_ptr().wrapping_add(at) as *const i8;
-        // SAFETY: prefetches never fault and do not change memory; the
-        // pointer is only formed (`wrapping_add`), never dereferenced.
-        unsafe {
-            if write {
-                _mm_prefetch::<_MM_HINT_ET0>(p)
-            } else {
-                _mm_prefetch::<_MM_HINT_T0>(p)
-            }
-        };
+pub(crate) fn for_each_unseeded(
+    ring: &mut [u64],
+    ring_mask: usize,
+    row_start: usize,
+    w: usize,
+    mut f: impl FnMut(usize),
+) {
+    let mut x = 0;
+    while x < w {
+        let b = (row_start + x) & ring_mask;
+        let off = b & 63;
+        let lanes = (64 - off).min(w - x);
+        let mask = (u64::MAX >> (64 - lanes)) << off;
+        let mut empty = !ring[b >> 6] & mask;
+        ring[b >> 6] &= !mask;
+        while empty != 0 {
+            f(row_start + x + empty.trailing_zeros() as usize - off);
+            empty &= empty - 1;
+        }
+        x += lanes;
     }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = (buffer, at, write);
 }

@@ -8,7 +8,7 @@
 use crate::layout::FrameParams;
 use crate::reproject::{index_bits, take_if_won, ReprojectStats, CLAIM_NONE};
 use crate::reproject_batch::{claim_batch, for_each_batch, Batch};
-use crate::reproject_sweep::{fits_ring, RING_WORDS};
+use crate::reproject_sweep::{fits_ring, for_each_unseeded, RING_WORDS};
 
 /// The reprojection in two sweeps (module docs).
 pub(crate) fn reproject_two_sweeps(
@@ -149,23 +149,10 @@ pub(crate) fn assign_by_sources(
     let mut free = FreeSources::new();
     let mut recycled = 0;
     let mut finish_row = |y: usize, out: &mut [u32], ring: &mut [u64]| {
-        let row = y * pw;
-        let mut x = 0;
-        while x < w {
-            let b = (row + x) & ring_mask;
-            let off = b & 63;
-            let lanes = (64 - off).min(w - x);
-            let mask = (u64::MAX >> (64 - lanes)) << off;
-            let mut empty = !ring[b >> 6] & mask;
-            ring[b >> 6] &= !mask;
-            while empty != 0 {
-                let p = row + x + empty.trailing_zeros() as usize - off;
-                empty &= empty - 1;
-                out[p] = seeds_in[free.next(claims, w, h, pw)];
-                recycled += 1;
-            }
-            x += lanes;
-        }
+        for_each_unseeded(ring, ring_mask, y * pw, w, |p| {
+            out[p] = seeds_in[free.next(claims, w, h, pw)];
+            recycled += 1;
+        });
     };
     for r in 0..h {
         let row = r * pw;

@@ -329,7 +329,7 @@ const LINE_SEEDS: usize = 16;
 /// Hints that `buffer[at]` will be read, or `write`-ten, soon (x86_64; a
 /// no-op elsewhere). `at` may lie past the end: a prefetch never faults.
 #[inline(always)]
-fn prefetch<E>(buffer: &[E], at: usize, write: bool) {
+pub(crate) fn prefetch<E>(buffer: &[E], at: usize, write: bool) {
     #[cfg(target_arch = "x86_64")]
     {
         use core::arch::x86_64::{_mm_prefetch, _MM_HINT_ET0, _MM_HINT_T0};
