@@ -1,13 +1,31 @@
 //! One CPU frame of the seed permutation at 1920x1080 (sort + retarget, 4x4
 //! blocks, 64x64 tile), measured side by side with a plain copy of the same
-//! bytes and with a naive version, on one core, in one run.
+//! bytes and with a naive version, in one run.
 //!
 //! ```text
 //! cargo bench -p conformance --bench permute
 //! ```
 //!
 //! Each workload runs in interleaved rounds; the median of each is reported
-//! with its ratio to the copy. The seed reprojection (`reproject_frame`,
+//! with its ratio to the copy. The permutation's workloads and their copies
+//! each start with cold caches (a 64 MiB sweep before each): what a frame
+//! costs when its buffers come from memory, and the same for every line
+//! whatever else the round runs. The first lines name the CPU (`/proc/cpuinfo`)
+//! and the instruction set `permute_frame` chose (`sampler_core::Isa::best`);
+//! then `permute_frame` with that choice, with AVX2 and AVX-512 forced (where
+//! the CPU has them) and with the baseline instruction set, all on one core
+//! against the one-core copy; then `permute_frame_rows` on two bands of
+//! block rows, one thread each, against a copy of the same bytes split in
+//! two halves, one thread each (the calling thread and one spawned for
+//! each call, the spawn timed in both).
+//! `PERMUTE_ONLY=1` runs only those lines (a few seconds), to iterate on the
+//! CPU permutation:
+//!
+//! ```text
+//! PERMUTE_ONLY=1 cargo bench -p conformance --bench permute
+//! ```
+//!
+//! The seed reprojection (`reproject_frame`,
 //! issue 13) is measured beside its own copy: the motion vectors and seeds
 //! it reads and the seeds it writes (its claims buffer is scratch on top).
 //! `REPROJECT_ONLY=1` runs only those two, to iterate on the reprojection:
@@ -33,11 +51,103 @@ const HEIGHT: u32 = 1080;
 const BLOCK: u32 = 4;
 const TILE: u32 = 64;
 const ROUNDS: usize = 41;
+/// Bytes swept between timed permutation workloads so that each starts
+/// with its buffers out of the caches (twice this VM's 32 MiB L3).
+const EVICT_BYTES: usize = 64 << 20;
+/// Threads of the parallel lines (the permutation's bands and the copy's halves).
+const THREADS: usize = 2;
 
 /// The bytes a frame pass must touch: read intensities and seeds, write seeds.
 fn copy_baseline(intensities: &[f32], seeds_in: &[u32], scratch: &mut [f32], seeds_out: &mut [u32]) {
     scratch.copy_from_slice(intensities);
     seeds_out.copy_from_slice(seeds_in);
+}
+
+/// Runs `work(k)` for `k` in `0..THREADS`: `k = 0` on the calling thread,
+/// the others on threads spawned for the call (so that no more threads are
+/// runnable than there are parts).
+fn on_threads<W: FnOnce() + Send>(parts: impl IntoIterator<Item = W>) {
+    std::thread::scope(|s| {
+        let mut parts = parts.into_iter();
+        let first = parts.next();
+        for part in parts {
+            s.spawn(part);
+        }
+        if let Some(first) = first {
+            first();
+        }
+    });
+}
+
+/// [`copy_baseline`] split in `THREADS` equal parts, one per thread.
+fn copy_baseline_par(intensities: &[f32], seeds_in: &[u32], scratch: &mut [f32], seeds_out: &mut [u32]) {
+    let (ci, cs) = (
+        intensities.len().div_ceil(THREADS),
+        seeds_in.len().div_ceil(THREADS),
+    );
+    let parts = scratch
+        .chunks_mut(ci)
+        .zip(intensities.chunks(ci))
+        .zip(seeds_out.chunks_mut(cs).zip(seeds_in.chunks(cs)));
+    on_threads(parts.map(|((d, src), (d2, src2))| {
+        move || {
+            d.copy_from_slice(src);
+            d2.copy_from_slice(src2);
+        }
+    }));
+}
+
+/// `permute_frame` as `THREADS` bands of block rows (`permute_frame_rows`),
+/// one per thread.
+fn permute_frame_threads(
+    layout: &FrameLayout,
+    frame: u32,
+    intensities: &[f32],
+    tile: &DitherTile<'_>,
+    tables: &RetargetTables<'_>,
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+) {
+    let blocks = layout.params(frame).blocks_y();
+    let mut rest = seeds_out;
+    let mut parts = Vec::with_capacity(THREADS);
+    for k in 0..THREADS as u32 {
+        let rows = blocks * k / THREADS as u32..blocks * (k + 1) / THREADS as u32;
+        let (band, tail) =
+            std::mem::take(&mut rest).split_at_mut(band_seed_range(layout, rows.clone()).len());
+        rest = tail;
+        parts.push(move || {
+            permute_frame_rows(layout, frame, intensities, tile, tables, seeds_in, rows, band).unwrap()
+        });
+    }
+    on_threads(parts);
+}
+
+/// Reads and writes every cache line of `buf`, pushing other data out of
+/// the caches.
+fn evict(buf: &mut [u64]) {
+    for line in buf.chunks_mut(8) {
+        line[0] = line[0].wrapping_add(1);
+    }
+    black_box(buf);
+}
+
+/// Logical CPUs the OS reports.
+fn num_cpus() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// The CPU's model name (`/proc/cpuinfo`, Linux), or "unknown".
+fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|m| m.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown".into())
 }
 
 /// The obvious implementation: per block, collect pixels into fresh vectors,
@@ -166,6 +276,9 @@ fn main() {
 
     let (mut t_copy, mut t_fast, mut t_naive, mut t_shader) = (vec![], vec![], vec![], vec![]);
     let mut t_baseline = vec![];
+    let (mut t_avx2, mut t_avx512, mut t_par, mut t_copy_par) = (vec![], vec![], vec![], vec![]);
+    let permute_only = std::env::var_os("PERMUTE_ONLY").is_some_and(|v| v == "1");
+    let mut evict_buf = vec![0u64; EVICT_BYTES / 8];
     let (mut t_features, mut t_features_one) = (vec![], vec![]);
     let features = banded_features(WIDTH, HEIGHT, 6, true, 0);
     let one_surface = vec![SurfaceFeature::new(1, 2.0, glam::Vec3::Z); features.len()];
@@ -193,9 +306,11 @@ fn main() {
             }));
             continue;
         }
+        evict(&mut evict_buf);
         t_copy.push(time(&mut || {
             copy_baseline(black_box(&intensities), &seeds, &mut scratch, &mut out)
         }));
+        evict(&mut evict_buf);
         t_fast.push(time(&mut || {
             permute_frame(
                 &layout,
@@ -208,6 +323,27 @@ fn main() {
             )
             .unwrap()
         }));
+        for (isa, t) in [(Isa::Avx2, &mut t_avx2), (Isa::Avx512, &mut t_avx512)] {
+            if isa.is_available() {
+                evict(&mut evict_buf);
+                t.push(time(&mut || {
+                    let whole = 0..layout.params(frame).blocks_y();
+                    permute_frame_rows_isa(
+                        isa,
+                        &layout,
+                        frame,
+                        black_box(&intensities),
+                        &tile,
+                        &tables,
+                        &seeds,
+                        whole,
+                        &mut out,
+                    )
+                    .unwrap()
+                }));
+            }
+        }
+        evict(&mut evict_buf);
         t_baseline.push(time(&mut || {
             permute_frame_baseline_isa(
                 &layout,
@@ -220,6 +356,30 @@ fn main() {
             )
             .unwrap()
         }));
+        // The parallel workloads run on threads spawned for the call (the
+        // spawn is timed too, for both): a rayon pool woken for a few
+        // milliseconds may find its threads on one core (the scheduler
+        // places a woken thread near its waker; a renderer whose pool was
+        // busy rendering does not see that), new threads go to idle cores.
+        evict(&mut evict_buf);
+        t_copy_par.push(time(&mut || {
+            copy_baseline_par(black_box(&intensities), &seeds, &mut scratch, &mut out)
+        }));
+        evict(&mut evict_buf);
+        t_par.push(time(&mut || {
+            permute_frame_threads(
+                &layout,
+                frame,
+                black_box(&intensities),
+                &tile,
+                &tables,
+                &seeds,
+                &mut out,
+            )
+        }));
+        if permute_only {
+            continue;
+        }
         t_reproject_copy.push(time(&mut || {
             motion_scratch.copy_from_slice(black_box(&motion));
             out.copy_from_slice(&seeds);
@@ -277,29 +437,93 @@ fn main() {
     }
     let copy = median(&mut t_copy);
     let bytes = intensities.len() * 4 + seeds.len() * 8;
+    let gbs = |t: Duration| bytes as f64 / t.as_secs_f64() / 1e9;
     println!(
-        "permute_frame_1080p: {WIDTH}x{HEIGHT}, {BLOCK}x{BLOCK} blocks, {TILE}x{TILE} tile, one core, median of {rounds}"
+        "CPU: {} ({} cores); permute_frame chose {:?}",
+        cpu_model(),
+        num_cpus(),
+        Isa::best()
     );
-    println!("{:<34} {:>10} {:>12}", "workload", "ms", "x copy");
-    for (name, t) in [
-        ("copy of the same bytes", copy),
-        ("permute_frame (fused, fast path)", median(&mut t_fast)),
-        ("  same, baseline ISA (no AVX2)", median(&mut t_baseline)),
-        ("sort_frame + retarget_frame (GPU path)", median(&mut t_shader)),
-        ("naive (alloc + std sort per block)", median(&mut t_naive)),
-        ("permute_frame_features (7 surfaces)", median(&mut t_features)),
-        ("  same, one surface", median(&mut t_features_one)),
-    ] {
-        println!(
-            "{name:<34} {:>10.3} {:>12.2}",
-            t.as_secs_f64() * 1e3,
-            t.as_secs_f64() / copy.as_secs_f64()
-        );
+    println!(
+        "permute_frame_1080p: {WIDTH}x{HEIGHT}, {BLOCK}x{BLOCK} blocks, {TILE}x{TILE} tile, median of {rounds} interleaved rounds"
+    );
+    println!(
+        "copy of the same bytes ({:.1} MB: intensities and seeds in, seeds out): {:.3} ms, {:.2} GB/s",
+        bytes as f64 / 1e6,
+        copy.as_secs_f64() * 1e3,
+        gbs(copy)
+    );
+    println!("{:<44} {:>10} {:>12}", "workload (one core)", "ms", "x copy");
+    let mut rows = vec![
+        ("copy of the same bytes".to_string(), Some(copy)),
+        (
+            format!("permute_frame ({:?}, chosen at run time)", Isa::best()),
+            Some(median(&mut t_fast)),
+        ),
+    ];
+    for (isa, t) in [(Isa::Avx2, &mut t_avx2), (Isa::Avx512, &mut t_avx512)] {
+        rows.push((
+            format!("  same, {isa:?} forced"),
+            isa.is_available().then(|| median(t)),
+        ));
     }
+    rows.push((
+        "  same, baseline ISA (portable ranker)".to_string(),
+        Some(median(&mut t_baseline)),
+    ));
+    if !permute_only {
+        rows.extend([
+            (
+                "sort_frame + retarget_frame (GPU path)".to_string(),
+                Some(median(&mut t_shader)),
+            ),
+            (
+                "naive (alloc + std sort per block)".to_string(),
+                Some(median(&mut t_naive)),
+            ),
+            (
+                "permute_frame_features (7 surfaces)".to_string(),
+                Some(median(&mut t_features)),
+            ),
+            (
+                "  same, one surface".to_string(),
+                Some(median(&mut t_features_one)),
+            ),
+        ]);
+    }
+    for (name, t) in rows {
+        match t {
+            Some(t) => println!(
+                "{name:<44} {:>10.3} {:>12.2}",
+                t.as_secs_f64() * 1e3,
+                t.as_secs_f64() / copy.as_secs_f64()
+            ),
+            None => println!("{name:<44} {:>10} {:>12}", "n/a", "(CPU lacks it)"),
+        }
+    }
+    let (copy_par, par) = (median(&mut t_copy_par), median(&mut t_par));
     println!(
-        "copy bandwidth: {:.2} GB/s",
-        bytes as f64 / copy.as_secs_f64() / 1e9
+        "{:<44} {:>10} {:>12}",
+        format!("workload ({THREADS} threads)"),
+        "ms",
+        "x copy"
     );
+    println!(
+        "{:<44} {:>10.3} {:>12.2}   ({:.2} GB/s)",
+        format!("copy of the same bytes, {THREADS} halves"),
+        copy_par.as_secs_f64() * 1e3,
+        1.0,
+        gbs(copy_par)
+    );
+    println!(
+        "{:<44} {:>10.3} {:>12.2}",
+        format!("permute_frame_rows, {THREADS} bands ({:?})", Isa::best()),
+        par.as_secs_f64() * 1e3,
+        par.as_secs_f64() / copy_par.as_secs_f64()
+    );
+    if permute_only {
+        return;
+    }
     println!(
         "feature frame: {:.1}% of blocks hold more than one group",
         100.0 * mixed_blocks(&layout, &features)

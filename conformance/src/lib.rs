@@ -35,6 +35,7 @@ pub mod motion_case;
 pub mod motion_insets;
 pub mod motion_study;
 pub mod motion_tables;
+pub mod permute_par;
 pub mod radial;
 pub mod reference;
 pub mod regions;

@@ -116,6 +116,16 @@ pub enum Error {
         /// Number of spp levels.
         levels: u32,
     },
+    /// A band of block rows is not `start <= end <= blocks`
+    /// ([`permute_frame_rows`](crate::permute_frame_rows)).
+    BlockRows {
+        /// First block row of the band.
+        start: u32,
+        /// One past the last block row of the band.
+        end: u32,
+        /// Block rows of the frame, `ceil(padded_height / block)`.
+        blocks: u32,
+    },
 }
 
 impl fmt::Display for Error {
@@ -162,6 +172,9 @@ impl fmt::Display for Error {
                 crate::screen_sobol::MAX_KEY_TILE,
                 crate::screen_sobol::MAX_KEY_LEVELS
             ),
+            Error::BlockRows { start, end, blocks } => {
+                write!(f, "block rows {start}..{end} are not a band of the frame's {blocks} block rows")
+            }
         }
     }
 }

@@ -81,6 +81,8 @@ pub use frame::{
 };
 pub use layout::{FrameLayout, FrameParams};
 pub use owen::{owen_scramble, owen_sobol, owen_sobol_u32, shuffle_index};
+pub use permute_cpu::rows::{band_seed_range, permute_frame_rows, permute_frame_rows_isa};
+pub use permute_cpu::Isa;
 pub use r2::{r1, r2, Rd};
 pub use reproject::{reproject_frame, ReprojectStats, CLAIM_NONE};
 pub use retarget::{

@@ -1,0 +1,147 @@
+//! The AVX-512 ranker for 4x4 blocks: sixteen blocks, one per 32-bit lane
+//! of a 512-bit register. Each pixel pair of the all-pairs ranking is one
+//! compare into a mask register and two masked updates for all sixteen
+//! blocks (twice the blocks per instruction of [`avx2`](super::avx2)), and
+//! each strip row is transposed into lanes with two-source permutes.
+//!
+//! Selected at run time ([`Isa`]: CPUID for AVX-512 F, XGETBV
+//! for the OS saving the mask and ZMM registers; no `std`); the whole frame
+//! loop is compiled with AVX-512 enabled so the key conversion vectorises
+//! sixteen wide too. The output is bit-identical to the portable path
+//! (tested in `rows` and by the conformance property tests on CPUs that
+//! have AVX-512; they report a skip elsewhere).
+//!
+//! The AVX-512 intrinsics and `target_feature(enable = "avx512f")` are
+//! stable since Rust 1.89, above the workspace's declared `rust-version`
+//! (1.85): x86-64 builds of this crate need 1.89.
+// TODO(lead): raise `rust-version` to 1.89 (that turns on clippy's
+// `manual_is_multiple_of` in files outside this module) and drop the allow.
+#![allow(clippy::incompatible_msrv)]
+
+use super::blocks::permute_full_blocks;
+use super::{Band, Isa, LaneRanker, PortableRanker, Strips, MAX_LANES};
+use crate::layout::FrameParams;
+use crate::retarget::RetargetTable;
+use crate::sort::Intensity;
+use core::arch::x86_64::{
+    __m512i, _mm512_add_epi32, _mm512_castsi512_si256, _mm512_cmpgt_epi32_mask, _mm512_inserti64x4,
+    _mm512_loadu_epi32, _mm512_mask_add_epi32, _mm512_mask_sub_epi32, _mm512_permutex2var_epi32,
+    _mm512_set1_epi32, _mm512_setr_epi32, _mm512_storeu_epi32,
+};
+
+/// The fast path for 4x4 blocks with the AVX-512 ranker.
+///
+/// # Panics
+/// If the CPU or OS lacks AVX-512 (the dispatcher checks first).
+pub(super) fn permute_4x4<T: Intensity>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    band: Band,
+    seeds_out: &mut [u32],
+) {
+    assert!(Isa::Avx512.is_available() && params.block == 4);
+    // SAFETY: AVX-512 F is available (checked above).
+    unsafe { permute_4x4_avx512(params, intensities, tile, table, seeds_in, band, seeds_out) }
+}
+
+#[target_feature(enable = "avx2,avx512f")]
+fn permute_4x4_avx512<T: Intensity>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    band: Band,
+    seeds_out: &mut [u32],
+) {
+    permute_full_blocks::<T, Avx512Ranker, 4, 16>(
+        params,
+        intensities,
+        tile,
+        table,
+        seeds_in,
+        band,
+        seeds_out,
+    );
+}
+
+/// Only instantiated inside [`permute_4x4_avx512`], i.e. with AVX-512 present.
+struct Avx512Ranker;
+
+impl LaneRanker for Avx512Ranker {
+    const LANES: usize = 16;
+    #[inline(always)]
+    fn rank_strips<const B: u32, const N: usize>(strips: &Strips, ranks: &mut [[u32; MAX_LANES]; N]) {
+        match <&mut [[u32; MAX_LANES]; 16]>::try_from(&mut ranks[..]) {
+            // SAFETY: this ranker only runs inside the function compiled for
+            // its instruction set, which is only called when the CPU has it.
+            Ok(ranks) if B == 4 => unsafe { rank_4x4(strips, ranks) },
+            _ => PortableRanker::rank_strips::<B, N>(strips, ranks),
+        }
+    }
+}
+
+/// Ranks of sixteen 4x4 blocks; see [`LaneRanker::rank_strips`].
+#[target_feature(enable = "avx512f")]
+#[inline]
+fn rank_4x4(strips: &Strips, out: &mut [[u32; MAX_LANES]; 16]) {
+    // Element `4 l + c` of a pair of registers holding blocks 0..8 (or
+    // 8..16) of a strip row is column `c` of block `l`: gather columns with
+    // indices `c, c + 4, ..., c + 28` (bit 4 picks the second register).
+    let columns = _mm512_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28, 0, 4, 8, 12, 16, 20, 24, 28);
+    let mut keys = [_mm512_set1_epi32(0); 16];
+    for r in 0..4 {
+        let row = strips[r].as_ptr();
+        // SAFETY: offsets up to 48 + 16 = 64 lie inside the 128-entry row.
+        let v: [__m512i; 4] = core::array::from_fn(|q| unsafe { _mm512_loadu_epi32(row.add(q * 16)) });
+        for c in 0..4 {
+            let index = _mm512_add_epi32(columns, _mm512_set1_epi32(c as i32));
+            let low = _mm512_permutex2var_epi32(v[0], index, v[1]); // blocks 0..8 in lanes 0..8
+            let high = _mm512_permutex2var_epi32(v[2], index, v[3]); // blocks 8..16 in lanes 0..8
+            keys[r * 4 + c] = _mm512_inserti64x4::<1>(low, _mm512_castsi512_si256(high));
+        }
+    }
+    // Pixel j starts at rank j (every i < j counted below it) and gives one
+    // back to i when key_i > key_j. Pixels are taken four at a time, their
+    // keys and ranks kept in registers.
+    let mut ranks: [__m512i; 16] = core::array::from_fn(|j| _mm512_set1_epi32(j as i32));
+    rank_quad::<0>(&keys, &mut ranks);
+    rank_quad::<4>(&keys, &mut ranks);
+    rank_quad::<8>(&keys, &mut ranks);
+    rank_quad::<12>(&keys, &mut ranks);
+    for (o, r) in out.iter_mut().zip(&ranks) {
+        // SAFETY: `o` is sixteen u32, 64 writable bytes.
+        unsafe { _mm512_storeu_epi32(o.as_mut_ptr() as *mut i32, *r) };
+    }
+}
+
+/// Pixels `Q..Q + 4` against each other and against every later pixel
+/// (`Q` a constant, so the loop over later pixels unrolls): where
+/// `key_a > key_j` (mask bit set), `a` gains one and `j` gives one back.
+#[target_feature(enable = "avx512f")]
+#[inline]
+fn rank_quad<const Q: usize>(keys: &[__m512i; 16], ranks: &mut [__m512i; 16]) {
+    let one = _mm512_set1_epi32(1);
+    let k: [__m512i; 4] = core::array::from_fn(|a| keys[Q + a]);
+    let mut acc: [__m512i; 4] = core::array::from_fn(|a| ranks[Q + a]);
+    for a in 0..4 {
+        for b in a + 1..4 {
+            let greater = _mm512_cmpgt_epi32_mask(k[a], k[b]);
+            acc[a] = _mm512_mask_add_epi32(acc[a], greater, acc[a], one);
+            acc[b] = _mm512_mask_sub_epi32(acc[b], greater, acc[b], one);
+        }
+    }
+    for j in Q + 4..16 {
+        let mut rank = ranks[j];
+        for a in 0..4 {
+            let greater = _mm512_cmpgt_epi32_mask(k[a], keys[j]);
+            acc[a] = _mm512_mask_add_epi32(acc[a], greater, acc[a], one);
+            rank = _mm512_mask_sub_epi32(rank, greater, rank, one);
+        }
+        ranks[j] = rank;
+    }
+    ranks[Q..Q + 4].copy_from_slice(&acc);
+}
