@@ -110,7 +110,7 @@ pub fn stbn_128() -> SpatiotemporalMask<'static> {
 /// (dimensions 0..8) and 5 spp levels (optimised for 1, 2, 4, 8 and 16 spp),
 /// trained on 128 random Heaviside integrands with energy sigma `sqrt 2`
 /// (blur of 1 pixel) plus line terms of weight 16 for edges along rows,
-/// columns and diagonals ([`bake`](crate::bake) keys docs). 320 KiB.
+/// columns and diagonals (the keys docs of module `bake`, feature `bake`). 320 KiB.
 ///
 /// # Panics
 /// Never (the layout is valid and the length fixed above).

@@ -261,9 +261,9 @@ fn field(kind: usize, x: u32, y: u32, w: u32, h: u32) -> [f32; 2] {
         8 => [(xf - cx) * -0.5, (yf - cy) * -0.5], // zoom in
         9 => [(xf - cx) * 0.7, (yf - cy) * 0.4],   // zoom out
         10 => [cx - xf, cy - yf],                  // all to one source
-        11 if (x / 4 + y / 3) % 3 == 0 => [f32::NAN, f32::NAN], // disoccluded patches
+        11 if (x / 4 + y / 3).is_multiple_of(3) => [f32::NAN, f32::NAN], // disoccluded patches
         11 => [-0.7, 0.4],
-        12 if x % 3 == 0 => [f32::INFINITY, 0.0],
+        12 if x.is_multiple_of(3) => [f32::INFINITY, 0.0],
         12 => [0.4, -0.6],
         13 => [1e30 * (xf - yf), f32::NEG_INFINITY * (xf - 3.0)],
         14 => [rnd() * 6.0 - 3.0, rnd() * 6.0 - 3.0],

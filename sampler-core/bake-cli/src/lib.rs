@@ -131,7 +131,7 @@ pub fn encode_u16(values: &[u32]) -> Result<Vec<u8>> {
 /// If the length is not a multiple of 4.
 pub fn decode_u32(bytes: &[u8]) -> Result<Vec<u32>> {
     ensure!(
-        bytes.len() % 4 == 0,
+        bytes.len().is_multiple_of(4),
         "{} bytes is not a whole number of u32 values",
         bytes.len()
     );

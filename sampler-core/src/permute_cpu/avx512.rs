@@ -12,11 +12,7 @@
 //! have AVX-512; they report a skip elsewhere).
 //!
 //! The AVX-512 intrinsics and `target_feature(enable = "avx512f")` are
-//! stable since Rust 1.89, above the workspace's declared `rust-version`
-//! (1.85): x86-64 builds of this crate need 1.89.
-// TODO(lead): raise `rust-version` to 1.89 (that turns on clippy's
-// `manual_is_multiple_of` in files outside this module) and drop the allow.
-#![allow(clippy::incompatible_msrv)]
+//! stable since Rust 1.89, the crate's `rust-version`.
 
 use super::blocks::permute_full_blocks;
 use super::{Band, Isa, LaneRanker, PortableRanker, Strips, MAX_LANES};

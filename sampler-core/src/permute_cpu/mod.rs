@@ -77,7 +77,7 @@ const MIN_CACHED_TILE: u32 = 16;
 pub(crate) fn applies(params: &FrameParams) -> bool {
     let w = 1u32 << params.tile_log2;
     params.block.is_power_of_two()
-        && w % params.block == 0
+        && w.is_multiple_of(params.block)
         && (MIN_CACHED_TILE..=MAX_CACHED_TILE).contains(&w)
 }
 
