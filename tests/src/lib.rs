@@ -11,27 +11,33 @@ use std::process::{Command, Output};
 /// # Panics
 /// If cargo fails to build it.
 pub fn build_bin(package: &str, bin: &str) -> PathBuf {
+    build_target(package, "--bin", bin, "")
+}
+
+/// `cargo build --profile test -p package <kind> name`; the artifact is in
+/// `target/debug/<subdir>/name`.
+fn build_target(package: &str, kind: &str, name: &str, subdir: &str) -> PathBuf {
     let status = Command::new(env!("CARGO"))
-        .args([
-            "build",
-            "--profile",
-            "test",
-            "-p",
-            package,
-            "--bin",
-            bin,
-            "--quiet",
-        ])
+        .args(["build", "--profile", "test", "-p", package, kind, name, "--quiet"])
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .status()
         .expect("cargo runs");
-    assert!(status.success(), "cargo build -p {package} --bin {bin} failed");
-    // target/debug/deps/<this test> -> target/debug/<bin>
+    assert!(status.success(), "cargo build -p {package} {kind} {name} failed");
+    // target/debug/deps/<this test> -> target/debug/<subdir>/<name>
     let exe = std::env::current_exe().expect("test executable path");
     let dir = exe.parent().and_then(|d| d.parent()).expect("target/<profile>");
-    let path = dir.join(bin);
+    let path = dir.join(subdir).join(name);
     assert!(path.exists(), "{} was not built", path.display());
     path
+}
+
+/// Builds example `example` of package `package` (test profile) and returns
+/// its path.
+///
+/// # Panics
+/// If cargo fails to build it.
+pub fn build_example(package: &str, example: &str) -> PathBuf {
+    build_target(package, "--example", example, "examples")
 }
 
 /// Runs `exe` with `args`; returns its output (stdout, stderr, status).

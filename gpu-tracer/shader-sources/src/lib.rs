@@ -31,9 +31,9 @@
 //! assert_eq!(sort.spirv, kernels::permute_entry::SORT_ENTRY);
 //! ```
 //!
-//! Examples: `cargo run -p shader-sources --example wgsl_integration` (a
-//! small wgpu renderer calling the generated WGSL between frames) and
-//! `--example cpu_permute` (the same loop with `sampler_core::permute_frame`).
+//! Example: `cargo run -p shader-sources --example integration` (a small
+//! wgpu renderer calling the generated WGSL between frames; `-- --cpu`, or no
+//! adapter, runs the same loop with `sampler_core::permute_frame`).
 //!
 //! The bindings, dispatch sizes and pass order are documented in
 //! `sampler-core/shaders/README.md`; conformance's `generated_shaders` test
