@@ -1,7 +1,10 @@
 //! The entry points kept in the generated sources ([`ENTRIES`]) and the
 //! paths of the files generated for them.
 
-use kernels::permute_entry::{INTENSITY_ENTRY, RETARGET_ENTRY, SEED_INIT_ENTRY, SORT_ENTRY};
+use kernels::permute_entry::{
+    INTENSITY_ENTRY, RECORD_SOURCE_ENTRY, RETARGET_ENTRY, RETARGET_FEATURES_ENTRY, SEED_INIT_ENTRY,
+    SORT_ENTRY, SORT_FEATURES_ENTRY,
+};
 use kernels::reproject_entry::{
     CLAIM_ENTRY, CLEAR_CLAIMS_ENTRY, LIST_FREE_ENTRY, RECYCLE_ENTRY, SCAN_ENTRY, TAKE_ENTRY,
 };
@@ -22,9 +25,9 @@ pub struct Entry {
 }
 
 /// The entry points kept, in the order a frame dispatches them within each
-/// group (permutation, then reprojection). All have 64-wide workgroups
-/// (`kernels::permute_entry::PERMUTE_WORKGROUP`).
-pub const ENTRIES: [Entry; 10] = [
+/// group (permutation, feature-aware permutation, then reprojection). All
+/// have 64-wide workgroups (`kernels::permute_entry::PERMUTE_WORKGROUP`).
+pub const ENTRIES: [Entry; 13] = [
     Entry {
         spirv: SEED_INIT_ENTRY,
         name: "permute_entry_seed_init_cs",
@@ -44,6 +47,37 @@ pub const ENTRIES: [Entry; 10] = [
         spirv: RETARGET_ENTRY,
         name: "permute_entry_retarget_cs",
         bindings: &["params", "table", "seeds_in", "seeds_out"],
+    },
+    Entry {
+        spirv: SORT_FEATURES_ENTRY,
+        name: "permute_entry_sort_features_cs",
+        bindings: &[
+            "params",
+            "intensity",
+            "features",
+            "thresholds",
+            "tile",
+            "seeds_in",
+            "seeds_out",
+        ],
+    },
+    Entry {
+        spirv: RECORD_SOURCE_ENTRY,
+        name: "permute_entry_record_source_cs",
+        bindings: &["params", "table", "sources"],
+    },
+    Entry {
+        spirv: RETARGET_FEATURES_ENTRY,
+        name: "permute_entry_retarget_features_cs",
+        bindings: &[
+            "params",
+            "table",
+            "sources",
+            "features",
+            "thresholds",
+            "seeds_in",
+            "seeds_out",
+        ],
     },
     Entry {
         spirv: CLEAR_CLAIMS_ENTRY,

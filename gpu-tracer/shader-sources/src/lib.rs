@@ -8,12 +8,12 @@
 //! cargo run -p shader-sources -- --check  # exit 1 when a committed file is stale
 //! ```
 //!
-//! Only the ten entry points of [`ENTRIES`] are kept (the permutation and the
-//! reprojection passes); the path tracer's entry points are removed from the
+//! Only the thirteen entry points of [`ENTRIES`] are kept (the permutation,
+//! its feature-aware form and the reprojection passes); the path tracer's entry points are removed from the
 //! naga module and everything only they used is compacted away, so a renderer
 //! that includes a generated file does not carry the tracer.
 //!
-//! WGSL gets one module with all ten entry points; GLSL, HLSL and MSL one
+//! WGSL gets one module with all thirteen entry points; GLSL, HLSL and MSL one
 //! file per entry point, each compacted to what that pass uses (GLSL needs
 //! one `main` per shader; in HLSL and MSL this keeps registers and the MSL
 //! buffer-size struct specific to one pass). rust-gpu's SPIR-V carries no

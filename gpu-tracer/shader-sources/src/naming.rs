@@ -75,11 +75,61 @@ pub const FRAME_PARAMS_FIELDS: [(&str, usize); 8] = {
 };
 const _: () = assert!(core::mem::size_of::<sampler_core::FrameParams>() == 32);
 
+/// `(name, size in bytes, [(field, byte offset, is f32)])`.
+type ElementStruct = (&'static str, usize, &'static [(&'static str, usize, bool)]);
+
+/// The buffer element structs of the feature-aware passes, as
+/// `(name, size in bytes, [(field, byte offset, is f32)])`, from
+/// `sampler_core::features`: a struct of the SPIR-V with exactly these
+/// members gets these names.
+const ELEMENT_STRUCTS: [ElementStruct; 2] = {
+    use core::mem::{offset_of, size_of};
+    use sampler_core::{FeatureThresholds as T, SurfaceFeature as F};
+    [
+        (
+            "SurfaceFeature",
+            size_of::<F>(),
+            &[
+                ("id", offset_of!(F, id), false),
+                ("depth", offset_of!(F, depth), true),
+                ("normal", offset_of!(F, normal), false),
+                ("reserved", offset_of!(F, reserved), false),
+            ],
+        ),
+        (
+            "FeatureThresholds",
+            size_of::<T>(),
+            &[
+                ("depth_relative", offset_of!(T, depth_relative), true),
+                ("normal_cos", offset_of!(T, normal_cos), true),
+            ],
+        ),
+    ]
+};
+
+/// The entry of [`ELEMENT_STRUCTS`] whose layout `ty` has, if any.
+fn element_struct(module: &Module, ty: &naga::TypeInner) -> Option<usize> {
+    use naga::{Scalar, TypeInner};
+    let TypeInner::Struct { members, span } = ty else {
+        return None;
+    };
+    ELEMENT_STRUCTS.iter().position(|(_, size, fields)| {
+        *span as usize == *size
+            && members.len() == fields.len()
+            && members.iter().zip(fields.iter()).all(|(m, (_, offset, is_f32))| {
+                let scalar = if *is_f32 { Scalar::F32 } else { Scalar::U32 };
+                m.offset as usize == *offset && module.types[m.ty].inner == TypeInner::Scalar(scalar)
+            })
+    })
+}
+
 /// Gives the anonymous types of rust-gpu's SPIR-V names a reader can follow:
 /// the uniform's `FrameParamsBlock { value: FrameParams }` with
 /// [`FRAME_PARAMS_FIELDS`], and each storage buffer's
 /// `<Element>Array { values: array<Element> }` (`U32Array`, `F32Array`,
-/// `Vec2Array`, `Vec4Array`, `AtomicU32Array`).
+/// `Vec2Array`, `Vec4Array`, `AtomicU32Array`, `SurfaceFeatureArray`,
+/// `FeatureThresholdsArray`), with the element structs of
+/// [`ELEMENT_STRUCTS`] named field by field.
 ///
 /// # Errors
 /// [`Error::Validation`] if the uniform is not the 32-byte `FrameParams`.
@@ -116,6 +166,16 @@ pub(crate) fn name_types(module: &mut Module) -> Result<(), Error> {
         other => return Err(bad(format!("not sampler_core::FrameParams: {other:?}"))),
     }
     for (handle, ty) in module.types.iter() {
+        if let Some(i) = element_struct(module, &ty.inner) {
+            let (name, _, fields) = ELEMENT_STRUCTS[i];
+            renames.push((
+                handle,
+                name.to_string(),
+                fields.iter().map(|f| f.0.to_string()).collect(),
+            ));
+        }
+    }
+    for (handle, ty) in module.types.iter() {
         let TypeInner::Struct { members, .. } = &ty.inner else {
             continue;
         };
@@ -145,7 +205,10 @@ pub(crate) fn name_types(module: &mut Module) -> Result<(), Error> {
                 size: VectorSize::Quad,
                 scalar: Scalar::F32,
             } => "Vec4",
-            _ => continue,
+            ref inner => match element_struct(module, inner) {
+                Some(i) => ELEMENT_STRUCTS[i].0,
+                None => continue,
+            },
         };
         renames.push((handle, format!("{element}Array"), vec!["values".to_string()]));
     }

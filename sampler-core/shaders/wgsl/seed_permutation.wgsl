@@ -4,7 +4,7 @@
 // reproject_entry.rs, sampler-core), rebuild the SPIR-V with
 // gpu-tracer/build-shaders.sh, then rerun `cargo run -p shader-sources`.
 // Bindings, buffer sizes, dispatch sizes and pass order: sampler-core/shaders/README.md.
-// WGSL, one module with the entry points permute_entry_seed_init_cs, permute_entry_intensity_cs, permute_entry_sort_cs, permute_entry_retarget_cs, reproject_entry_clear_claims_cs, reproject_entry_claim_cs, reproject_entry_take_cs, reproject_entry_scan_cs, reproject_entry_list_free_cs, reproject_entry_recycle_cs.
+// WGSL, one module with the entry points permute_entry_seed_init_cs, permute_entry_intensity_cs, permute_entry_sort_cs, permute_entry_retarget_cs, permute_entry_sort_features_cs, permute_entry_record_source_cs, permute_entry_retarget_features_cs, reproject_entry_clear_claims_cs, reproject_entry_claim_cs, reproject_entry_take_cs, reproject_entry_scan_cs, reproject_entry_list_free_cs, reproject_entry_recycle_cs.
 
 struct FrameParams {
     width: u32,
@@ -33,7 +33,27 @@ struct F32Array {
     values: array<f32>,
 }
 
-struct type_10 {
+struct SurfaceFeature {
+    id: u32,
+    depth: f32,
+    normal: u32,
+    reserved: u32,
+}
+
+struct SurfaceFeatureArray {
+    values: array<SurfaceFeature>,
+}
+
+struct FeatureThresholds {
+    depth_relative: f32,
+    normal_cos: f32,
+}
+
+struct FeatureThresholdsArray {
+    values: array<FeatureThresholds>,
+}
+
+struct type_13 {
     member: u32,
     member_1: u32,
 }
@@ -50,7 +70,7 @@ var<private> global: vec3<u32>;
 @group(0) @binding(0) 
 var<uniform> params: FrameParamsBlock;
 @group(0) @binding(1) 
-var<storage> retarget_table: U32Array;
+var<storage> retarget_table_or_record_source_table_or_retarget_features_table: U32Array;
 @group(0) @binding(2) 
 var<storage> retarget_seeds_in: U32Array;
 @group(0) @binding(3) 
@@ -61,12 +81,26 @@ var<storage> intensity_color: Vec4Array;
 var<storage, read_write> intensity_intensity: F32Array;
 @group(0) @binding(1) 
 var<storage, read_write> seed_init_seeds_out: U32Array;
+@group(0) @binding(2) 
+var<storage, read_write> record_source_sources: U32Array;
 @group(0) @binding(1) 
-var<storage> sort_intensity: F32Array;
+var<storage> sort_features_intensity_or_sort_intensity: F32Array;
+@group(0) @binding(2) 
+var<storage> sort_features_features: SurfaceFeatureArray;
+@group(0) @binding(3) 
+var<storage> sort_features_thresholds: FeatureThresholdsArray;
+@group(0) @binding(4) 
+var<storage> sort_features_tile: U32Array;
 @group(0) @binding(5) 
-var<storage> recycle_seeds_in: U32Array;
+var<storage> sort_features_seeds_in_or_retarget_features_seeds_in_or_recycle_seeds_in: U32Array;
 @group(0) @binding(6) 
-var<storage, read_write> recycle_seeds_out: U32Array;
+var<storage, read_write> sort_features_seeds_out_or_retarget_features_seeds_out_or_recycle_seeds_out: U32Array;
+@group(0) @binding(2) 
+var<storage> retarget_features_sources: U32Array;
+@group(0) @binding(3) 
+var<storage> retarget_features_features: SurfaceFeatureArray;
+@group(0) @binding(4) 
+var<storage> retarget_features_thresholds: FeatureThresholdsArray;
 @group(0) @binding(2) 
 var<storage> sort_tile: U32Array;
 @group(0) @binding(3) 
@@ -122,11 +156,11 @@ fn function_() {
                 let _e56 = (_e43 & 31u);
                 let _e59 = ((1u << bitcast<u32>(_e56)) - 1u);
                 let _e66 = ((((_e55 + ((_e40 * 2447445414u) >> bitcast<u32>(_e47))) & _e59) << bitcast<u32>(_e56)) | ((_e54 + ((_e40 * 3242174889u) >> bitcast<u32>(_e47))) & _e59));
-                if (_e66 < arrayLength((&retarget_table.values))) {
+                if (_e66 < arrayLength((&retarget_table_or_record_source_table_or_retarget_features_table.values))) {
                 } else {
                     break;
                 }
-                let _e70 = retarget_table.values[_e66];
+                let _e70 = retarget_table_or_record_source_table_or_retarget_features_table.values[_e66];
                 let _e80 = (bitcast<i32>(_e54) + (bitcast<i32>((_e70 & 255u)) - 128i));
                 let _e81 = bitcast<i32>(_e32);
                 if (_e81 == 0i) {
@@ -233,23 +267,2276 @@ fn function_2() {
 }
 
 fn function_3() {
+    var phi_864_: i32;
+    var phi_885_: i32;
+
+    switch bitcast<i32>(0u) {
+        default: {
+            let _e18 = global;
+            let _e26 = ((_e18.y * 4194240u) + _e18.x);
+            let _e29 = params.value.padded_width;
+            let _e32 = params.value.padded_height;
+            if (_e26 < (_e29 * _e32)) {
+                let _e37 = params.value.frame;
+                let _e40 = params.value.tile_log2_;
+                let _e44 = (((32u - _e40) & 31u) & 31u);
+                let _e50 = (_e29 == 0u);
+                if _e50 {
+                    break;
+                }
+                let _e51 = (_e26 % _e29);
+                if _e50 {
+                    break;
+                }
+                let _e52 = (_e26 / _e29);
+                let _e53 = (_e40 & 31u);
+                let _e56 = ((1u << bitcast<u32>(_e53)) - 1u);
+                let _e63 = ((((_e52 + ((_e37 * 2447445414u) >> bitcast<u32>(_e44))) & _e56) << bitcast<u32>(_e53)) | ((_e51 + ((_e37 * 3242174889u) >> bitcast<u32>(_e44))) & _e56));
+                if (_e63 < arrayLength((&retarget_table_or_record_source_table_or_retarget_features_table.values))) {
+                } else {
+                    break;
+                }
+                let _e67 = retarget_table_or_record_source_table_or_retarget_features_table.values[_e63];
+                let _e77 = (bitcast<i32>(_e51) + (bitcast<i32>((_e67 & 255u)) - 128i));
+                let _e78 = bitcast<i32>(_e29);
+                if (_e78 == 0i) {
+                    break;
+                }
+                if ((_e78 == -1i) && (_e77 == i32(-2147483648))) {
+                    break;
+                }
+                let _e83 = (_e77 % _e78);
+                if (_e83 < 0i) {
+                    phi_864_ = (_e83 + _e78);
+                } else {
+                    phi_864_ = _e83;
+                }
+                let _e87 = phi_864_;
+                let _e90 = (bitcast<i32>(_e52) + (bitcast<i32>(((_e67 >> bitcast<u32>(8i)) & 255u)) - 128i));
+                let _e91 = bitcast<i32>(_e32);
+                if (_e91 == 0i) {
+                    break;
+                }
+                if ((_e91 == -1i) && (_e90 == i32(-2147483648))) {
+                    break;
+                }
+                let _e96 = (_e90 % _e91);
+                if (_e96 < 0i) {
+                    phi_885_ = (_e96 + _e91);
+                } else {
+                    phi_885_ = _e96;
+                }
+                let _e100 = phi_885_;
+                let _e103 = ((bitcast<u32>(_e100) * _e29) + bitcast<u32>(_e87));
+                if (_e103 < arrayLength((&record_source_sources.values))) {
+                } else {
+                    break;
+                }
+                record_source_sources.values[_e103] = _e26;
+            }
+            break;
+        }
+    }
+    return;
+}
+
+fn function_4() {
     var local: array<u32, 64>;
     var local_1: array<u32, 64>;
     var local_2: array<u32, 64>;
     var local_3: array<u32, 64>;
     var local_4: array<u32, 64>;
     var local_5: array<u32, 64>;
+    var local_6: array<SurfaceFeature, 64>;
+    var local_7: array<u32, 64>;
+    var local_8: array<u32, 64>;
+    var phi_938_: u32;
+    var phi_962_: u32;
+    var phi_21901_: bool;
+    var phi_1390_: type_13;
+    var phi_1393_: u32;
+    var phi_1391_: type_13;
+    var phi_1416_: type_13;
+    var phi_1428_: type_13;
+    var phi_1431_: u32;
+    var phi_1429_: type_13;
+    var phi_1454_: type_13;
+    var phi_1511_: u32;
+    var phi_1581_: u32;
+    var phi_1583_: u32;
+    var phi_1584_: bool;
+    var phi_1602_: u32;
+    var phi_1603_: u32;
+    var phi_1432_: u32;
+    var phi_21896_: bool;
+    var phi_21911_: bool;
+    var phi_1394_: u32;
+    var phi_21910_: bool;
+    var local_9: u32;
+    var local_10: u32;
+    var phi_1611_: type_13;
+    var phi_1612_: type_13;
+    var phi_1635_: type_13;
+    var phi_21912_: bool;
+    var phi_1651_: type_13;
+    var phi_1654_: bool;
+    var phi_1652_: type_13;
+    var phi_1677_: type_13;
+    var phi_1718_: f32;
+    var phi_1788_: f32;
+    var phi_1789_: f32;
+    var phi_1804_: vec3<f32>;
+    var phi_1853_: f32;
+    var phi_1854_: f32;
+    var phi_1869_: vec3<f32>;
+    var phi_1884_: bool;
+    var phi_1885_: bool;
+    var phi_1886_: bool;
+    var phi_1887_: bool;
+    var phi_1655_: bool;
+    var phi_21917_: bool;
+    var local_11: bool;
+    var phi_1897_: type_13;
+    var phi_1898_: type_13;
+    var phi_1921_: type_13;
+    var phi_21939_: bool;
+    var phi_21953_: bool;
+    var phi_1937_: type_13;
+    var phi_1938_: type_13;
+    var phi_1961_: type_13;
+    var phi_21951_: bool;
+    var phi_1971_: type_13;
+    var phi_1972_: type_13;
+    var phi_1995_: type_13;
+    var phi_2041_: f32;
+    var phi_2111_: f32;
+    var phi_2112_: f32;
+    var phi_2127_: vec3<f32>;
+    var phi_2176_: f32;
+    var phi_2177_: f32;
+    var phi_2192_: vec3<f32>;
+    var phi_2207_: bool;
+    var phi_2208_: bool;
+    var phi_2209_: bool;
+    var phi_2210_: bool;
+    var phi_2215_: u32;
+    var phi_2216_: u32;
+    var phi_21943_: bool;
+    var phi_2239_: u32;
+    var phi_2240_: u32;
+    var phi_21967_: bool;
+    var local_12: u32;
+    var local_13: u32;
+    var local_14: u32;
+    var local_15: u32;
+    var local_16: bool;
+    var local_17: u32;
+    var local_18: u32;
+    var local_19: bool;
+    var local_20: u32;
+    var local_21: u32;
+    var phi_21972_: bool;
+    var phi_21971_: bool;
+    var phi_21970_: bool;
+    var phi_21976_: bool;
+    var phi_21975_: bool;
+    var phi_21981_: bool;
+    var phi_2284_: type_13;
+    var phi_2285_: type_13;
+    var phi_2308_: type_13;
+    var phi_2317_: u32;
+    var phi_2318_: u32;
+    var phi_21977_: bool;
+    var local_22: u32;
+    var phi_21983_: bool;
+    var phi_21982_: bool;
+    var phi_21988_: bool;
+    var local_23: u32;
+    var phi_2348_: type_13;
+    var phi_2351_: bool;
+    var phi_2349_: type_13;
+    var phi_2374_: type_13;
+    var phi_2352_: bool;
+    var phi_21984_: bool;
+    var local_24: bool;
+    var phi_21995_: bool;
+    var phi_2641_: type_13;
+    var phi_2642_: type_13;
+    var phi_2665_: type_13;
+    var phi_2689_: type_13;
+    var phi_2692_: u32;
+    var phi_2690_: type_13;
+    var phi_2715_: type_13;
+    var phi_2757_: bool;
+    var phi_2758_: bool;
+    var phi_2759_: bool;
+    var phi_2760_: bool;
+    var phi_2765_: u32;
+    var phi_2693_: u32;
+    var phi_21990_: bool;
+    var local_25: u32;
+    var local_26: u32;
+    var phi_22003_: bool;
+    var phi_22002_: bool;
+    var phi_22009_: bool;
+    var phi_2774_: type_13;
+    var phi_2775_: type_13;
+    var phi_2798_: type_13;
+    var phi_2822_: type_13;
+    var phi_2825_: u32;
+    var phi_2823_: type_13;
+    var phi_2848_: type_13;
+    var phi_2890_: bool;
+    var phi_2891_: bool;
+    var phi_2892_: bool;
+    var phi_2893_: bool;
+    var phi_2898_: u32;
+    var phi_2826_: u32;
+    var phi_22004_: bool;
+    var local_27: u32;
+    var local_28: u32;
+    var phi_22016_: bool;
+    var phi_22015_: bool;
+    var phi_22022_: bool;
+    var phi_2404_: type_13;
+    var phi_2405_: type_13;
+    var phi_2428_: type_13;
+    var phi_2445_: type_13;
+    var phi_2448_: u32;
+    var phi_2446_: type_13;
+    var phi_2471_: type_13;
+    var phi_2498_: bool;
+    var phi_2499_: bool;
+    var phi_2504_: u32;
+    var phi_2449_: u32;
+    var phi_22017_: bool;
+    var local_29: u32;
+    var local_30: u32;
+    var phi_22028_: bool;
+    var phi_22027_: bool;
+    var phi_22034_: bool;
+    var phi_2513_: type_13;
+    var phi_2514_: type_13;
+    var phi_2537_: type_13;
+    var phi_2554_: type_13;
+    var phi_2557_: u32;
+    var phi_2555_: type_13;
+    var phi_2580_: type_13;
+    var phi_2607_: bool;
+    var phi_2608_: bool;
+    var phi_2613_: u32;
+    var phi_2558_: u32;
+    var phi_22029_: bool;
+    var local_31: u32;
+    var local_32: u32;
+    var phi_22039_: bool;
+    var phi_22038_: bool;
+    var phi_22044_: bool;
+    var phi_2921_: type_13;
+    var phi_2922_: type_13;
+    var phi_2945_: type_13;
+    var phi_22040_: bool;
+    var local_33: u32;
+    var break_condition: bool;
+    var break_condition_1: bool;
+    var break_condition_2: bool;
+    var break_condition_3: bool;
+    var break_condition_4: bool;
+    var break_condition_5: bool;
+    var break_condition_6: bool;
+    var break_condition_7: bool;
+    var break_condition_8: bool;
+    var break_condition_9: bool;
+    var break_condition_10: bool;
+    var break_condition_11: bool;
+    var break_condition_12: bool;
+    var break_condition_13: bool;
+    var break_condition_14: bool;
+    var break_condition_15: bool;
+    var break_condition_16: bool;
+    var break_condition_17: bool;
+    var break_condition_18: bool;
+    var break_condition_19: bool;
+    var break_condition_20: bool;
+
+    switch bitcast<i32>(0u) {
+        default: {
+            let _e103 = global;
+            let _e113 = arrayLength((&sort_features_seeds_in_or_retarget_features_seeds_in_or_recycle_seeds_in.values));
+            let _e115 = arrayLength((&sort_features_seeds_out_or_retarget_features_seeds_out_or_recycle_seeds_out.values));
+            let _e118 = params.value.padded_width;
+            let _e121 = params.value.block;
+            let _e122 = (_e121 == 0u);
+            if _e122 {
+                break;
+            }
+            let _e123 = (_e118 / _e121);
+            if _e122 {
+                break;
+            }
+            if ((_e118 % _e121) > 0u) {
+                phi_938_ = (_e123 + 1u);
+            } else {
+                phi_938_ = _e123;
+            }
+            let _e128 = phi_938_;
+            let _e132 = ((_e103.y * 4194240u) + _e103.x);
+            let _e135 = params.value.padded_height;
+            if _e122 {
+                break;
+            }
+            let _e136 = (_e135 / _e121);
+            if _e122 {
+                break;
+            }
+            if ((_e135 % _e121) > 0u) {
+                phi_962_ = (_e136 + 1u);
+            } else {
+                phi_962_ = _e136;
+            }
+            let _e141 = phi_962_;
+            if (_e132 < (_e128 * _e141)) {
+                let _e146 = params.value.frame;
+                let _e149 = params.value.tile_log2_;
+                let _e153 = (((32u - _e149) & 31u) & 31u);
+                let _e159 = (_e128 == 0u);
+                if _e159 {
+                    break;
+                }
+                if _e159 {
+                    break;
+                }
+                if (0u < arrayLength((&sort_features_thresholds.values))) {
+                } else {
+                    break;
+                }
+                local_2 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                local_3 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                local_4 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                local_5 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                local_6[0u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[1u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[2u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[3u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[4u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[5u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[6u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[7u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[8u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[9u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[10u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[11u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[12u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[13u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[14u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[15u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[16u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[17u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[18u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[19u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[20u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[21u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[22u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[23u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[24u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[25u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[26u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[27u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[28u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[29u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[30u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[31u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[32u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[33u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[34u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[35u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[36u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[37u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[38u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[39u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[40u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[41u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[42u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[43u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[44u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[45u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[46u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[47u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[48u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[49u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[50u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[51u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[52u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[53u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[54u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[55u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[56u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[57u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[58u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[59u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[60u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[61u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[62u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                local_6[63u] = SurfaceFeature(0u, 0f, 0u, 0u);
+                let _e229 = type_13(0u, _e121);
+                phi_21901_ = false;
+                phi_1390_ = _e229;
+                phi_1393_ = 0u;
+                loop {
+                    let _e231 = phi_21901_;
+                    let _e233 = phi_1390_;
+                    let _e235 = phi_1393_;
+                    local_9 = _e235;
+                    local_10 = _e235;
+                    local_23 = _e235;
+                    if (_e233.member < _e233.member_1) {
+                        phi_1391_ = type_13((_e233.member + 1u), _e233.member_1);
+                        phi_1416_ = type_13(1u, _e233.member);
+                    } else {
+                        phi_1391_ = _e233;
+                        phi_1416_ = type_13(0u, type_13().member_1);
+                    }
+                    let _e246 = phi_1391_;
+                    let _e248 = phi_1416_;
+                    let _e252 = (bitcast<i32>(_e248.member) != 0i);
+                    break_condition_1 = _e252;
+                    if _e252 {
+                        phi_1428_ = _e229;
+                        phi_1431_ = _e235;
+                        loop {
+                            let _e254 = phi_1428_;
+                            let _e256 = phi_1431_;
+                            local_33 = _e256;
+                            if (_e254.member < _e254.member_1) {
+                                phi_1429_ = type_13((_e254.member + 1u), _e254.member_1);
+                                phi_1454_ = type_13(1u, _e254.member);
+                            } else {
+                                phi_1429_ = _e254;
+                                phi_1454_ = type_13(0u, type_13().member_1);
+                            }
+                            let _e267 = phi_1429_;
+                            let _e269 = phi_1454_;
+                            let _e273 = (bitcast<i32>(_e269.member) != 0i);
+                            break_condition = _e273;
+                            if _e273 {
+                                let _e274 = (((_e132 % _e128) * _e121) + _e269.member_1);
+                                let _e275 = (((_e132 / _e128) * _e121) + _e248.member_1);
+                                if (_e274 < _e118) {
+                                    if (_e275 < _e135) {
+                                        let _e279 = ((_e275 * _e118) + _e274);
+                                        let _e282 = params.value.width;
+                                        if (_e274 < _e282) {
+                                            let _e286 = params.value.height;
+                                            let _e287 = (_e275 < _e286);
+                                            if _e287 {
+                                                let _e289 = ((_e275 * _e282) + _e274);
+                                                if (_e289 < arrayLength((&sort_features_intensity_or_sort_intensity.values))) {
+                                                } else {
+                                                    phi_21896_ = true;
+                                                    break;
+                                                }
+                                                let _e293 = sort_features_intensity_or_sort_intensity.values[_e289];
+                                                let _e294 = bitcast<u32>(_e293);
+                                                if ((_e294 & 2147483648u) == 0u) {
+                                                    phi_1511_ = (_e294 | 2147483648u);
+                                                } else {
+                                                    phi_1511_ = ~(_e294);
+                                                }
+                                                let _e300 = phi_1511_;
+                                                let _e301 = (_e256 < 64u);
+                                                if _e301 {
+                                                } else {
+                                                    phi_21896_ = true;
+                                                    break;
+                                                }
+                                                local_2[_e256] = _e300;
+                                                let _e303 = (_e149 & 31u);
+                                                let _e306 = ((1u << bitcast<u32>(_e303)) - 1u);
+                                                let _e313 = ((((_e275 + ((_e146 * 2447445414u) >> bitcast<u32>(_e153))) & _e306) << bitcast<u32>(_e303)) | ((_e274 + ((_e146 * 3242174889u) >> bitcast<u32>(_e153))) & _e306));
+                                                if (_e313 < arrayLength((&sort_features_tile.values))) {
+                                                } else {
+                                                    phi_21896_ = true;
+                                                    break;
+                                                }
+                                                let _e317 = sort_features_tile.values[_e313];
+                                                if _e301 {
+                                                } else {
+                                                    phi_21896_ = true;
+                                                    break;
+                                                }
+                                                local_3[_e256] = _e317;
+                                                if (_e279 < _e113) {
+                                                } else {
+                                                    phi_21896_ = true;
+                                                    break;
+                                                }
+                                                let _e322 = sort_features_seeds_in_or_retarget_features_seeds_in_or_recycle_seeds_in.values[_e279];
+                                                if _e301 {
+                                                } else {
+                                                    phi_21896_ = true;
+                                                    break;
+                                                }
+                                                local_4[_e256] = _e322;
+                                                if (_e289 < arrayLength((&sort_features_features.values))) {
+                                                } else {
+                                                    phi_21896_ = true;
+                                                    break;
+                                                }
+                                                let _e327 = sort_features_features.values[_e289];
+                                                if _e301 {
+                                                } else {
+                                                    phi_21896_ = true;
+                                                    break;
+                                                }
+                                                local_6[_e256] = SurfaceFeature(_e327.id, _e327.depth, _e327.normal, _e327.reserved);
+                                                if _e301 {
+                                                } else {
+                                                    phi_21896_ = true;
+                                                    break;
+                                                }
+                                                local_5[_e256] = _e279;
+                                                phi_1581_ = (_e256 + 1u);
+                                            } else {
+                                                phi_1581_ = u32();
+                                            }
+                                            let _e337 = phi_1581_;
+                                            phi_1583_ = _e337;
+                                            phi_1584_ = select(true, false, _e287);
+                                        } else {
+                                            phi_1583_ = u32();
+                                            phi_1584_ = true;
+                                        }
+                                        let _e340 = phi_1583_;
+                                        let _e342 = phi_1584_;
+                                        if _e342 {
+                                            if (_e279 < _e113) {
+                                            } else {
+                                                phi_21896_ = true;
+                                                break;
+                                            }
+                                            let _e346 = sort_features_seeds_in_or_retarget_features_seeds_in_or_recycle_seeds_in.values[_e279];
+                                            if (_e279 < _e115) {
+                                            } else {
+                                                phi_21896_ = true;
+                                                break;
+                                            }
+                                            sort_features_seeds_out_or_retarget_features_seeds_out_or_recycle_seeds_out.values[_e279] = _e346;
+                                        }
+                                        phi_1602_ = select(_e340, _e256, _e342);
+                                    } else {
+                                        phi_1602_ = _e256;
+                                    }
+                                    let _e352 = phi_1602_;
+                                    phi_1603_ = _e352;
+                                } else {
+                                    phi_1603_ = _e256;
+                                }
+                                let _e354 = phi_1603_;
+                                phi_1432_ = _e354;
+                            } else {
+                                phi_1432_ = u32();
+                            }
+                            let _e356 = phi_1432_;
+                            continue;
+                            continuing {
+                                phi_1428_ = _e267;
+                                phi_1431_ = _e356;
+                                phi_21896_ = _e231;
+                                let _e1511 = break_condition;
+                                break if !(_e1511);
+                            }
+                        }
+                        let _e359 = phi_21896_;
+                        phi_21910_ = _e359;
+                        if _e359 {
+                            break;
+                        }
+                        phi_21911_ = _e359;
+                        let _e1344 = local_33;
+                        phi_1394_ = _e1344;
+                    } else {
+                        phi_21911_ = _e231;
+                        phi_1394_ = u32();
+                    }
+                    let _e361 = phi_21911_;
+                    let _e363 = phi_1394_;
+                    continue;
+                    continuing {
+                        phi_21901_ = _e361;
+                        phi_1390_ = _e246;
+                        phi_1393_ = _e363;
+                        phi_21910_ = _e361;
+                        let _e1514 = break_condition_1;
+                        break if !(_e1514);
+                    }
+                }
+                let _e366 = phi_21910_;
+                if _e366 {
+                    break;
+                }
+                local_7 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                let _e368 = local_9;
+                let _e371 = local_10;
+                let _e372 = select(_e371, 64u, (_e368 > 64u));
+                let _e373 = type_13(0u, _e372);
+                phi_1611_ = _e373;
+                loop {
+                    let _e375 = phi_1611_;
+                    if (_e375.member < _e375.member_1) {
+                        phi_1612_ = type_13((_e375.member + 1u), _e375.member_1);
+                        phi_1635_ = type_13(1u, _e375.member);
+                    } else {
+                        phi_1612_ = _e375;
+                        phi_1635_ = type_13(0u, type_13().member_1);
+                    }
+                    let _e386 = phi_1612_;
+                    let _e388 = phi_1635_;
+                    let _e392 = (bitcast<i32>(_e388.member) != 0i);
+                    break_condition_2 = _e392;
+                    if _e392 {
+                        if (_e388.member_1 < 64u) {
+                        } else {
+                            phi_21912_ = true;
+                            break;
+                        }
+                        local_7[_e388.member_1] = 0u;
+                    }
+                    continue;
+                    continuing {
+                        phi_1611_ = _e386;
+                        phi_21912_ = _e366;
+                        let _e1517 = break_condition_2;
+                        break if !(_e1517);
+                    }
+                }
+                let _e397 = phi_21912_;
+                if _e397 {
+                    break;
+                }
+                let _e398 = type_13(1u, _e372);
+                phi_1651_ = _e398;
+                phi_1654_ = true;
+                loop {
+                    let _e400 = phi_1651_;
+                    let _e402 = phi_1654_;
+                    local_11 = _e402;
+                    if (_e400.member < _e400.member_1) {
+                        phi_1652_ = type_13((_e400.member + 1u), _e400.member_1);
+                        phi_1677_ = type_13(1u, _e400.member);
+                    } else {
+                        phi_1652_ = _e400;
+                        phi_1677_ = type_13(0u, type_13().member_1);
+                    }
+                    let _e413 = phi_1652_;
+                    let _e415 = phi_1677_;
+                    let _e419 = (bitcast<i32>(_e415.member) != 0i);
+                    break_condition_3 = _e419;
+                    if _e419 {
+                        if (_e415.member_1 < 64u) {
+                        } else {
+                            phi_21917_ = true;
+                            break;
+                        }
+                        let _e423 = local_6[_e415.member_1].id;
+                        let _e426 = local_6[0u].id;
+                        if (_e423 != _e426) {
+                            phi_1887_ = false;
+                        } else {
+                            let _e428 = local_6[_e415.member_1].id;
+                            if (_e428 == 4294967295u) {
+                                phi_1886_ = true;
+                            } else {
+                                let _e432 = local_6[_e415.member_1].depth;
+                                let _e435 = local_6[0u].depth;
+                                if (_e432 > _e435) {
+                                    let _e438 = local_6[_e415.member_1].depth;
+                                    phi_1718_ = _e438;
+                                } else {
+                                    let _e437 = local_6[0u].depth;
+                                    phi_1718_ = _e437;
+                                }
+                                let _e440 = phi_1718_;
+                                let _e441 = local_6[_e415.member_1].depth;
+                                let _e442 = local_6[0u].depth;
+                                let _e448 = sort_features_thresholds.values[0u].depth_relative;
+                                if (abs((_e441 - _e442)) <= (_e448 * _e440)) {
+                                    let _e453 = local_6[_e415.member_1].normal;
+                                    let _e456 = local_6[0u].normal;
+                                    if (_e453 == _e456) {
+                                        phi_1884_ = true;
+                                    } else {
+                                        let _e458 = local_6[_e415.member_1].normal;
+                                        let _e466 = (f32((bitcast<i32>(((_e458 & 65535u) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                        let _e468 = select(_e466, -1f, (_e466 < -1f));
+                                        let _e477 = (f32((bitcast<i32>(((_e458 >> bitcast<u32>(16i)) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                        let _e479 = select(_e477, -1f, (_e477 < -1f));
+                                        let _e481 = (1f - abs(_e468));
+                                        let _e482 = abs(_e479);
+                                        let _e483 = (_e481 - _e482);
+                                        if (_e483 < 0f) {
+                                            phi_1788_ = ((1f - _e482) * select(1f, -1f, (_e468 < 0f)));
+                                            phi_1789_ = (_e481 * select(1f, -1f, (_e479 < 0f)));
+                                        } else {
+                                            phi_1788_ = _e468;
+                                            phi_1789_ = _e479;
+                                        }
+                                        let _e493 = phi_1788_;
+                                        let _e495 = phi_1789_;
+                                        let _e501 = sqrt((((_e493 * _e493) + (_e495 * _e495)) + (_e483 * _e483)));
+                                        if (_e501 > 0f) {
+                                            phi_1804_ = vec3<f32>((_e493 / _e501), (_e495 / _e501), (_e483 / _e501));
+                                        } else {
+                                            phi_1804_ = vec3<f32>(0f, 0f, 1f);
+                                        }
+                                        let _e508 = phi_1804_;
+                                        let _e509 = local_6[0u].normal;
+                                        let _e517 = (f32((bitcast<i32>(((_e509 & 65535u) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                        let _e519 = select(_e517, -1f, (_e517 < -1f));
+                                        let _e528 = (f32((bitcast<i32>(((_e509 >> bitcast<u32>(16i)) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                        let _e530 = select(_e528, -1f, (_e528 < -1f));
+                                        let _e532 = (1f - abs(_e519));
+                                        let _e533 = abs(_e530);
+                                        let _e534 = (_e532 - _e533);
+                                        if (_e534 < 0f) {
+                                            phi_1853_ = ((1f - _e533) * select(1f, -1f, (_e519 < 0f)));
+                                            phi_1854_ = (_e532 * select(1f, -1f, (_e530 < 0f)));
+                                        } else {
+                                            phi_1853_ = _e519;
+                                            phi_1854_ = _e530;
+                                        }
+                                        let _e544 = phi_1853_;
+                                        let _e546 = phi_1854_;
+                                        let _e552 = sqrt((((_e544 * _e544) + (_e546 * _e546)) + (_e534 * _e534)));
+                                        if (_e552 > 0f) {
+                                            phi_1869_ = vec3<f32>((_e544 / _e552), (_e546 / _e552), (_e534 / _e552));
+                                        } else {
+                                            phi_1869_ = vec3<f32>(0f, 0f, 1f);
+                                        }
+                                        let _e559 = phi_1869_;
+                                        let _e574 = sort_features_thresholds.values[0u].normal_cos;
+                                        phi_1884_ = ((((_e508.x * _e559.x) + (_e508.y * _e559.y)) + (_e508.z * _e559.z)) >= _e574);
+                                    }
+                                    let _e577 = phi_1884_;
+                                    phi_1885_ = _e577;
+                                } else {
+                                    phi_1885_ = false;
+                                }
+                                let _e579 = phi_1885_;
+                                phi_1886_ = _e579;
+                            }
+                            let _e581 = phi_1886_;
+                            phi_1887_ = _e581;
+                        }
+                        let _e583 = phi_1887_;
+                        phi_1655_ = select(false, _e402, _e583);
+                    } else {
+                        phi_1655_ = bool();
+                    }
+                    let _e586 = phi_1655_;
+                    continue;
+                    continuing {
+                        phi_1651_ = _e413;
+                        phi_1654_ = _e586;
+                        phi_21917_ = _e397;
+                        let _e1520 = break_condition_3;
+                        break if !(_e1520);
+                    }
+                }
+                let _e589 = phi_21917_;
+                if _e589 {
+                    break;
+                }
+                let _e591 = local_11;
+                if _e591 {
+                    phi_21988_ = _e589;
+                } else {
+                    phi_1897_ = _e373;
+                    loop {
+                        let _e593 = phi_1897_;
+                        if (_e593.member < _e593.member_1) {
+                            phi_1898_ = type_13((_e593.member + 1u), _e593.member_1);
+                            phi_1921_ = type_13(1u, _e593.member);
+                        } else {
+                            phi_1898_ = _e593;
+                            phi_1921_ = type_13(0u, type_13().member_1);
+                        }
+                        let _e604 = phi_1898_;
+                        let _e606 = phi_1921_;
+                        let _e610 = (bitcast<i32>(_e606.member) != 0i);
+                        break_condition_4 = _e610;
+                        if _e610 {
+                            if (_e606.member_1 < 64u) {
+                            } else {
+                                phi_21939_ = true;
+                                break;
+                            }
+                            local_7[_e606.member_1] = _e606.member_1;
+                        }
+                        continue;
+                        continuing {
+                            phi_1897_ = _e604;
+                            phi_21939_ = _e589;
+                            let _e1523 = break_condition_4;
+                            break if !(_e1523);
+                        }
+                    }
+                    let _e615 = phi_21939_;
+                    if _e615 {
+                        break;
+                    }
+                    phi_21953_ = _e615;
+                    phi_1937_ = _e398;
+                    loop {
+                        let _e617 = phi_21953_;
+                        let _e619 = phi_1937_;
+                        if (_e619.member < _e619.member_1) {
+                            phi_1938_ = type_13((_e619.member + 1u), _e619.member_1);
+                            phi_1961_ = type_13(1u, _e619.member);
+                        } else {
+                            phi_1938_ = _e619;
+                            phi_1961_ = type_13(0u, type_13().member_1);
+                        }
+                        let _e630 = phi_1938_;
+                        let _e632 = phi_1961_;
+                        let _e636 = (bitcast<i32>(_e632.member) != 0i);
+                        break_condition_8 = _e636;
+                        if _e636 {
+                            phi_21951_ = _e617;
+                            phi_1971_ = type_13(0u, _e632.member_1);
+                            loop {
+                                let _e639 = phi_21951_;
+                                let _e641 = phi_1971_;
+                                if (_e641.member < _e641.member_1) {
+                                    phi_1972_ = type_13((_e641.member + 1u), _e641.member_1);
+                                    phi_1995_ = type_13(1u, _e641.member);
+                                } else {
+                                    phi_1972_ = _e641;
+                                    phi_1995_ = type_13(0u, type_13().member_1);
+                                }
+                                let _e652 = phi_1972_;
+                                let _e654 = phi_1995_;
+                                let _e658 = (bitcast<i32>(_e654.member) != 0i);
+                                break_condition_7 = _e658;
+                                if _e658 {
+                                    if (_e632.member_1 < 64u) {
+                                    } else {
+                                        phi_21970_ = true;
+                                        break;
+                                    }
+                                    if (_e654.member_1 < 64u) {
+                                    } else {
+                                        phi_21970_ = true;
+                                        break;
+                                    }
+                                    let _e663 = local_6[_e632.member_1].id;
+                                    let _e666 = local_6[_e654.member_1].id;
+                                    if (_e663 != _e666) {
+                                        phi_2210_ = false;
+                                    } else {
+                                        let _e668 = local_6[_e632.member_1].id;
+                                        if (_e668 == 4294967295u) {
+                                            phi_2209_ = true;
+                                        } else {
+                                            let _e672 = local_6[_e632.member_1].depth;
+                                            let _e675 = local_6[_e654.member_1].depth;
+                                            if (_e672 > _e675) {
+                                                let _e678 = local_6[_e632.member_1].depth;
+                                                phi_2041_ = _e678;
+                                            } else {
+                                                let _e677 = local_6[_e654.member_1].depth;
+                                                phi_2041_ = _e677;
+                                            }
+                                            let _e680 = phi_2041_;
+                                            let _e681 = local_6[_e632.member_1].depth;
+                                            let _e682 = local_6[_e654.member_1].depth;
+                                            let _e688 = sort_features_thresholds.values[0u].depth_relative;
+                                            if (abs((_e681 - _e682)) <= (_e688 * _e680)) {
+                                                let _e693 = local_6[_e632.member_1].normal;
+                                                let _e696 = local_6[_e654.member_1].normal;
+                                                if (_e693 == _e696) {
+                                                    phi_2207_ = true;
+                                                } else {
+                                                    let _e698 = local_6[_e632.member_1].normal;
+                                                    let _e706 = (f32((bitcast<i32>(((_e698 & 65535u) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                                    let _e708 = select(_e706, -1f, (_e706 < -1f));
+                                                    let _e717 = (f32((bitcast<i32>(((_e698 >> bitcast<u32>(16i)) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                                    let _e719 = select(_e717, -1f, (_e717 < -1f));
+                                                    let _e721 = (1f - abs(_e708));
+                                                    let _e722 = abs(_e719);
+                                                    let _e723 = (_e721 - _e722);
+                                                    if (_e723 < 0f) {
+                                                        phi_2111_ = ((1f - _e722) * select(1f, -1f, (_e708 < 0f)));
+                                                        phi_2112_ = (_e721 * select(1f, -1f, (_e719 < 0f)));
+                                                    } else {
+                                                        phi_2111_ = _e708;
+                                                        phi_2112_ = _e719;
+                                                    }
+                                                    let _e733 = phi_2111_;
+                                                    let _e735 = phi_2112_;
+                                                    let _e741 = sqrt((((_e733 * _e733) + (_e735 * _e735)) + (_e723 * _e723)));
+                                                    if (_e741 > 0f) {
+                                                        phi_2127_ = vec3<f32>((_e733 / _e741), (_e735 / _e741), (_e723 / _e741));
+                                                    } else {
+                                                        phi_2127_ = vec3<f32>(0f, 0f, 1f);
+                                                    }
+                                                    let _e748 = phi_2127_;
+                                                    let _e749 = local_6[_e654.member_1].normal;
+                                                    let _e757 = (f32((bitcast<i32>(((_e749 & 65535u) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                                    let _e759 = select(_e757, -1f, (_e757 < -1f));
+                                                    let _e768 = (f32((bitcast<i32>(((_e749 >> bitcast<u32>(16i)) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                                    let _e770 = select(_e768, -1f, (_e768 < -1f));
+                                                    let _e772 = (1f - abs(_e759));
+                                                    let _e773 = abs(_e770);
+                                                    let _e774 = (_e772 - _e773);
+                                                    if (_e774 < 0f) {
+                                                        phi_2176_ = ((1f - _e773) * select(1f, -1f, (_e759 < 0f)));
+                                                        phi_2177_ = (_e772 * select(1f, -1f, (_e770 < 0f)));
+                                                    } else {
+                                                        phi_2176_ = _e759;
+                                                        phi_2177_ = _e770;
+                                                    }
+                                                    let _e784 = phi_2176_;
+                                                    let _e786 = phi_2177_;
+                                                    let _e792 = sqrt((((_e784 * _e784) + (_e786 * _e786)) + (_e774 * _e774)));
+                                                    if (_e792 > 0f) {
+                                                        phi_2192_ = vec3<f32>((_e784 / _e792), (_e786 / _e792), (_e774 / _e792));
+                                                    } else {
+                                                        phi_2192_ = vec3<f32>(0f, 0f, 1f);
+                                                    }
+                                                    let _e799 = phi_2192_;
+                                                    let _e814 = sort_features_thresholds.values[0u].normal_cos;
+                                                    phi_2207_ = ((((_e748.x * _e799.x) + (_e748.y * _e799.y)) + (_e748.z * _e799.z)) >= _e814);
+                                                }
+                                                let _e817 = phi_2207_;
+                                                phi_2208_ = _e817;
+                                            } else {
+                                                phi_2208_ = false;
+                                            }
+                                            let _e819 = phi_2208_;
+                                            phi_2209_ = _e819;
+                                        }
+                                        let _e821 = phi_2209_;
+                                        phi_2210_ = _e821;
+                                    }
+                                    let _e823 = phi_2210_;
+                                    if _e823 {
+                                        phi_2215_ = _e632.member_1;
+                                        loop {
+                                            let _e825 = phi_2215_;
+                                            local_12 = _e825;
+                                            local_15 = _e825;
+                                            local_17 = _e825;
+                                            local_21 = _e825;
+                                            let _e826 = (_e825 < 64u);
+                                            local_16 = _e826;
+                                            if _e826 {
+                                            } else {
+                                                phi_21943_ = true;
+                                                break;
+                                            }
+                                            let _e828 = local_7[_e825];
+                                            let _e829 = (_e828 != _e825);
+                                            break_condition_5 = _e829;
+                                            if _e829 {
+                                                if _e826 {
+                                                } else {
+                                                    phi_21943_ = true;
+                                                    break;
+                                                }
+                                                let _e830 = local_7[_e825];
+                                                phi_2216_ = _e830;
+                                            } else {
+                                                phi_2216_ = u32();
+                                            }
+                                            let _e832 = phi_2216_;
+                                            continue;
+                                            continuing {
+                                                phi_2215_ = _e832;
+                                                phi_21943_ = _e639;
+                                                let _e1526 = break_condition_5;
+                                                break if !(_e1526);
+                                            }
+                                        }
+                                        let _e835 = phi_21943_;
+                                        phi_21970_ = _e835;
+                                        if _e835 {
+                                            break;
+                                        }
+                                        phi_2239_ = _e654.member_1;
+                                        loop {
+                                            let _e837 = phi_2239_;
+                                            local_13 = _e837;
+                                            local_14 = _e837;
+                                            local_18 = _e837;
+                                            local_20 = _e837;
+                                            let _e838 = (_e837 < 64u);
+                                            local_19 = _e838;
+                                            if _e838 {
+                                            } else {
+                                                phi_21967_ = true;
+                                                break;
+                                            }
+                                            let _e840 = local_7[_e837];
+                                            let _e841 = (_e840 != _e837);
+                                            break_condition_6 = _e841;
+                                            if _e841 {
+                                                if _e838 {
+                                                } else {
+                                                    phi_21967_ = true;
+                                                    break;
+                                                }
+                                                let _e842 = local_7[_e837];
+                                                phi_2240_ = _e842;
+                                            } else {
+                                                phi_2240_ = u32();
+                                            }
+                                            let _e844 = phi_2240_;
+                                            continue;
+                                            continuing {
+                                                phi_2239_ = _e844;
+                                                phi_21967_ = _e835;
+                                                let _e1529 = break_condition_6;
+                                                break if !(_e1529);
+                                            }
+                                        }
+                                        let _e847 = phi_21967_;
+                                        phi_21970_ = _e847;
+                                        if _e847 {
+                                            break;
+                                        }
+                                        let _e849 = local_12;
+                                        let _e851 = local_13;
+                                        if (_e849 < _e851) {
+                                            let _e866 = local_19;
+                                            if _e866 {
+                                            } else {
+                                                phi_21970_ = true;
+                                                break;
+                                            }
+                                            let _e868 = local_20;
+                                            let _e871 = local_21;
+                                            local_7[_e868] = _e871;
+                                        } else {
+                                            let _e854 = local_14;
+                                            let _e856 = local_15;
+                                            if (_e854 < _e856) {
+                                                let _e859 = local_16;
+                                                if _e859 {
+                                                } else {
+                                                    phi_21970_ = true;
+                                                    break;
+                                                }
+                                                let _e861 = local_17;
+                                                let _e864 = local_18;
+                                                local_7[_e861] = _e864;
+                                            }
+                                        }
+                                        phi_21972_ = _e847;
+                                    } else {
+                                        phi_21972_ = _e639;
+                                    }
+                                    let _e873 = phi_21972_;
+                                    phi_21971_ = _e873;
+                                } else {
+                                    phi_21971_ = _e639;
+                                }
+                                let _e875 = phi_21971_;
+                                continue;
+                                continuing {
+                                    phi_21951_ = _e875;
+                                    phi_1971_ = _e652;
+                                    phi_21970_ = _e875;
+                                    let _e1532 = break_condition_7;
+                                    break if !(_e1532);
+                                }
+                            }
+                            let _e878 = phi_21970_;
+                            phi_21975_ = _e878;
+                            if _e878 {
+                                break;
+                            }
+                            phi_21976_ = _e878;
+                        } else {
+                            phi_21976_ = _e617;
+                        }
+                        let _e880 = phi_21976_;
+                        continue;
+                        continuing {
+                            phi_21953_ = _e880;
+                            phi_1937_ = _e630;
+                            phi_21975_ = _e880;
+                            let _e1535 = break_condition_8;
+                            break if !(_e1535);
+                        }
+                    }
+                    let _e883 = phi_21975_;
+                    if _e883 {
+                        break;
+                    }
+                    phi_21981_ = _e883;
+                    phi_2284_ = _e373;
+                    loop {
+                        let _e885 = phi_21981_;
+                        let _e887 = phi_2284_;
+                        if (_e887.member < _e887.member_1) {
+                            phi_2285_ = type_13((_e887.member + 1u), _e887.member_1);
+                            phi_2308_ = type_13(1u, _e887.member);
+                        } else {
+                            phi_2285_ = _e887;
+                            phi_2308_ = type_13(0u, type_13().member_1);
+                        }
+                        let _e898 = phi_2285_;
+                        let _e900 = phi_2308_;
+                        let _e904 = (bitcast<i32>(_e900.member) != 0i);
+                        break_condition_10 = _e904;
+                        if _e904 {
+                            phi_2317_ = _e900.member_1;
+                            loop {
+                                let _e906 = phi_2317_;
+                                local_22 = _e906;
+                                let _e907 = (_e906 < 64u);
+                                if _e907 {
+                                } else {
+                                    phi_21977_ = true;
+                                    break;
+                                }
+                                let _e909 = local_7[_e906];
+                                let _e910 = (_e909 != _e906);
+                                break_condition_9 = _e910;
+                                if _e910 {
+                                    if _e907 {
+                                    } else {
+                                        phi_21977_ = true;
+                                        break;
+                                    }
+                                    let _e911 = local_7[_e906];
+                                    phi_2318_ = _e911;
+                                } else {
+                                    phi_2318_ = u32();
+                                }
+                                let _e913 = phi_2318_;
+                                continue;
+                                continuing {
+                                    phi_2317_ = _e913;
+                                    phi_21977_ = _e885;
+                                    let _e1538 = break_condition_9;
+                                    break if !(_e1538);
+                                }
+                            }
+                            let _e916 = phi_21977_;
+                            phi_21982_ = _e916;
+                            if _e916 {
+                                break;
+                            }
+                            if (_e900.member_1 < 64u) {
+                            } else {
+                                phi_21982_ = true;
+                                break;
+                            }
+                            let _e920 = local_22;
+                            local_7[_e900.member_1] = _e920;
+                            phi_21983_ = _e916;
+                        } else {
+                            phi_21983_ = _e885;
+                        }
+                        let _e922 = phi_21983_;
+                        continue;
+                        continuing {
+                            phi_21981_ = _e922;
+                            phi_2284_ = _e898;
+                            phi_21982_ = _e922;
+                            let _e1541 = break_condition_10;
+                            break if !(_e1541);
+                        }
+                    }
+                    let _e925 = phi_21982_;
+                    if _e925 {
+                        break;
+                    }
+                    phi_21988_ = _e925;
+                }
+                let _e927 = phi_21988_;
+                let _e929 = local_23;
+                let _e930 = type_13(0u, _e929);
+                phi_2348_ = _e930;
+                phi_2351_ = true;
+                loop {
+                    let _e932 = phi_2348_;
+                    let _e934 = phi_2351_;
+                    local_24 = _e934;
+                    if (_e932.member < _e932.member_1) {
+                        phi_2349_ = type_13((_e932.member + 1u), _e932.member_1);
+                        phi_2374_ = type_13(1u, _e932.member);
+                    } else {
+                        phi_2349_ = _e932;
+                        phi_2374_ = type_13(0u, type_13().member_1);
+                    }
+                    let _e945 = phi_2349_;
+                    let _e947 = phi_2374_;
+                    let _e951 = (bitcast<i32>(_e947.member) != 0i);
+                    break_condition_11 = _e951;
+                    if _e951 {
+                        if (_e947.member_1 < 64u) {
+                        } else {
+                            phi_21984_ = true;
+                            break;
+                        }
+                        let _e954 = local_7[_e947.member_1];
+                        phi_2352_ = select(false, _e934, (_e954 == 0u));
+                    } else {
+                        phi_2352_ = bool();
+                    }
+                    let _e958 = phi_2352_;
+                    continue;
+                    continuing {
+                        phi_2348_ = _e945;
+                        phi_2351_ = _e958;
+                        phi_21984_ = _e927;
+                        let _e1544 = break_condition_11;
+                        break if !(_e1544);
+                    }
+                }
+                let _e961 = phi_21984_;
+                if _e961 {
+                    break;
+                }
+                local_8 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                let _e963 = local_24;
+                if _e963 {
+                    local_1 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                    phi_22022_ = _e961;
+                    phi_2404_ = _e373;
+                    loop {
+                        let _e1138 = phi_22022_;
+                        let _e1140 = phi_2404_;
+                        if (_e1140.member < _e1140.member_1) {
+                            phi_2405_ = type_13((_e1140.member + 1u), _e1140.member_1);
+                            phi_2428_ = type_13(1u, _e1140.member);
+                        } else {
+                            phi_2405_ = _e1140;
+                            phi_2428_ = type_13(0u, type_13().member_1);
+                        }
+                        let _e1151 = phi_2405_;
+                        let _e1153 = phi_2428_;
+                        let _e1157 = (bitcast<i32>(_e1153.member) != 0i);
+                        break_condition_13 = _e1157;
+                        if _e1157 {
+                            if (_e1153.member_1 < 64u) {
+                            } else {
+                                phi_22027_ = true;
+                                break;
+                            }
+                            let _e1160 = local_3[_e1153.member_1];
+                            phi_2445_ = _e373;
+                            phi_2448_ = 0u;
+                            loop {
+                                let _e1162 = phi_2445_;
+                                let _e1164 = phi_2448_;
+                                local_29 = _e1164;
+                                local_30 = _e1164;
+                                if (_e1162.member < _e1162.member_1) {
+                                    phi_2446_ = type_13((_e1162.member + 1u), _e1162.member_1);
+                                    phi_2471_ = type_13(1u, _e1162.member);
+                                } else {
+                                    phi_2446_ = _e1162;
+                                    phi_2471_ = type_13(0u, type_13().member_1);
+                                }
+                                let _e1175 = phi_2446_;
+                                let _e1177 = phi_2471_;
+                                let _e1181 = (bitcast<i32>(_e1177.member) != 0i);
+                                break_condition_12 = _e1181;
+                                if _e1181 {
+                                    if (_e1177.member_1 < 64u) {
+                                    } else {
+                                        phi_22017_ = true;
+                                        break;
+                                    }
+                                    let _e1184 = local_3[_e1177.member_1];
+                                    if (_e1184 < _e1160) {
+                                        phi_2499_ = true;
+                                    } else {
+                                        if (_e1184 == _e1160) {
+                                            phi_2498_ = (_e1177.member_1 < _e1153.member_1);
+                                        } else {
+                                            phi_2498_ = false;
+                                        }
+                                        let _e1189 = phi_2498_;
+                                        phi_2499_ = _e1189;
+                                    }
+                                    let _e1191 = phi_2499_;
+                                    if _e1191 {
+                                        phi_2504_ = (_e1164 + 1u);
+                                    } else {
+                                        phi_2504_ = _e1164;
+                                    }
+                                    let _e1194 = phi_2504_;
+                                    phi_2449_ = _e1194;
+                                } else {
+                                    phi_2449_ = u32();
+                                }
+                                let _e1196 = phi_2449_;
+                                continue;
+                                continuing {
+                                    phi_2445_ = _e1175;
+                                    phi_2448_ = _e1196;
+                                    phi_22017_ = _e1138;
+                                    let _e1547 = break_condition_12;
+                                    break if !(_e1547);
+                                }
+                            }
+                            let _e1199 = phi_22017_;
+                            phi_22027_ = _e1199;
+                            if _e1199 {
+                                break;
+                            }
+                            let _e1201 = local_29;
+                            if (_e1201 < 64u) {
+                            } else {
+                                phi_22027_ = true;
+                                break;
+                            }
+                            let _e1204 = local_30;
+                            local_1[_e1204] = _e1153.member_1;
+                            phi_22028_ = _e1199;
+                        } else {
+                            phi_22028_ = _e1138;
+                        }
+                        let _e1207 = phi_22028_;
+                        continue;
+                        continuing {
+                            phi_22022_ = _e1207;
+                            phi_2404_ = _e1151;
+                            phi_22027_ = _e1207;
+                            let _e1550 = break_condition_13;
+                            break if !(_e1550);
+                        }
+                    }
+                    let _e1210 = phi_22027_;
+                    if _e1210 {
+                        break;
+                    }
+                    phi_22034_ = _e1210;
+                    phi_2513_ = _e373;
+                    loop {
+                        let _e1212 = phi_22034_;
+                        let _e1214 = phi_2513_;
+                        if (_e1214.member < _e1214.member_1) {
+                            phi_2514_ = type_13((_e1214.member + 1u), _e1214.member_1);
+                            phi_2537_ = type_13(1u, _e1214.member);
+                        } else {
+                            phi_2514_ = _e1214;
+                            phi_2537_ = type_13(0u, type_13().member_1);
+                        }
+                        let _e1225 = phi_2514_;
+                        let _e1227 = phi_2537_;
+                        let _e1231 = (bitcast<i32>(_e1227.member) != 0i);
+                        break_condition_15 = _e1231;
+                        if _e1231 {
+                            let _e1232 = (_e1227.member_1 < 64u);
+                            if _e1232 {
+                            } else {
+                                phi_22038_ = true;
+                                break;
+                            }
+                            let _e1234 = local_2[_e1227.member_1];
+                            phi_2554_ = _e373;
+                            phi_2557_ = 0u;
+                            loop {
+                                let _e1236 = phi_2554_;
+                                let _e1238 = phi_2557_;
+                                local_31 = _e1238;
+                                local_32 = _e1238;
+                                if (_e1236.member < _e1236.member_1) {
+                                    phi_2555_ = type_13((_e1236.member + 1u), _e1236.member_1);
+                                    phi_2580_ = type_13(1u, _e1236.member);
+                                } else {
+                                    phi_2555_ = _e1236;
+                                    phi_2580_ = type_13(0u, type_13().member_1);
+                                }
+                                let _e1249 = phi_2555_;
+                                let _e1251 = phi_2580_;
+                                let _e1255 = (bitcast<i32>(_e1251.member) != 0i);
+                                break_condition_14 = _e1255;
+                                if _e1255 {
+                                    if (_e1251.member_1 < 64u) {
+                                    } else {
+                                        phi_22029_ = true;
+                                        break;
+                                    }
+                                    let _e1258 = local_2[_e1251.member_1];
+                                    if (_e1258 < _e1234) {
+                                        phi_2608_ = true;
+                                    } else {
+                                        if (_e1258 == _e1234) {
+                                            phi_2607_ = (_e1251.member_1 < _e1227.member_1);
+                                        } else {
+                                            phi_2607_ = false;
+                                        }
+                                        let _e1263 = phi_2607_;
+                                        phi_2608_ = _e1263;
+                                    }
+                                    let _e1265 = phi_2608_;
+                                    if _e1265 {
+                                        phi_2613_ = (_e1238 + 1u);
+                                    } else {
+                                        phi_2613_ = _e1238;
+                                    }
+                                    let _e1268 = phi_2613_;
+                                    phi_2558_ = _e1268;
+                                } else {
+                                    phi_2558_ = u32();
+                                }
+                                let _e1270 = phi_2558_;
+                                continue;
+                                continuing {
+                                    phi_2554_ = _e1249;
+                                    phi_2557_ = _e1270;
+                                    phi_22029_ = _e1212;
+                                    let _e1553 = break_condition_14;
+                                    break if !(_e1553);
+                                }
+                            }
+                            let _e1273 = phi_22029_;
+                            phi_22038_ = _e1273;
+                            if _e1273 {
+                                break;
+                            }
+                            if _e1232 {
+                            } else {
+                                phi_22038_ = true;
+                                break;
+                            }
+                            let _e1275 = local_4[_e1227.member_1];
+                            let _e1277 = local_31;
+                            if (_e1277 < 64u) {
+                            } else {
+                                phi_22038_ = true;
+                                break;
+                            }
+                            let _e1280 = local_32;
+                            let _e1282 = local_1[_e1280];
+                            if (_e1282 < 64u) {
+                            } else {
+                                phi_22038_ = true;
+                                break;
+                            }
+                            local_8[_e1282] = _e1275;
+                            phi_22039_ = _e1273;
+                        } else {
+                            phi_22039_ = _e1212;
+                        }
+                        let _e1286 = phi_22039_;
+                        continue;
+                        continuing {
+                            phi_22034_ = _e1286;
+                            phi_2513_ = _e1225;
+                            phi_22038_ = _e1286;
+                            let _e1556 = break_condition_15;
+                            break if !(_e1556);
+                        }
+                    }
+                    let _e1289 = phi_22038_;
+                    if _e1289 {
+                        break;
+                    }
+                    phi_22044_ = _e1289;
+                } else {
+                    local = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                    phi_21995_ = _e961;
+                    phi_2641_ = _e373;
+                    loop {
+                        let _e965 = phi_21995_;
+                        let _e967 = phi_2641_;
+                        if (_e967.member < _e967.member_1) {
+                            phi_2642_ = type_13((_e967.member + 1u), _e967.member_1);
+                            phi_2665_ = type_13(1u, _e967.member);
+                        } else {
+                            phi_2642_ = _e967;
+                            phi_2665_ = type_13(0u, type_13().member_1);
+                        }
+                        let _e978 = phi_2642_;
+                        let _e980 = phi_2665_;
+                        let _e984 = (bitcast<i32>(_e980.member) != 0i);
+                        break_condition_17 = _e984;
+                        if _e984 {
+                            let _e985 = (_e980.member_1 < 64u);
+                            if _e985 {
+                            } else {
+                                phi_22002_ = true;
+                                break;
+                            }
+                            let _e987 = local_7[_e980.member_1];
+                            if _e985 {
+                            } else {
+                                phi_22002_ = true;
+                                break;
+                            }
+                            let _e989 = local_3[_e980.member_1];
+                            phi_2689_ = _e373;
+                            phi_2692_ = 0u;
+                            loop {
+                                let _e991 = phi_2689_;
+                                let _e993 = phi_2692_;
+                                local_25 = _e993;
+                                local_26 = _e993;
+                                if (_e991.member < _e991.member_1) {
+                                    phi_2690_ = type_13((_e991.member + 1u), _e991.member_1);
+                                    phi_2715_ = type_13(1u, _e991.member);
+                                } else {
+                                    phi_2690_ = _e991;
+                                    phi_2715_ = type_13(0u, type_13().member_1);
+                                }
+                                let _e1004 = phi_2690_;
+                                let _e1006 = phi_2715_;
+                                let _e1010 = (bitcast<i32>(_e1006.member) != 0i);
+                                break_condition_16 = _e1010;
+                                if _e1010 {
+                                    let _e1011 = (_e1006.member_1 < 64u);
+                                    if _e1011 {
+                                    } else {
+                                        phi_21990_ = true;
+                                        break;
+                                    }
+                                    let _e1013 = local_7[_e1006.member_1];
+                                    if _e1011 {
+                                    } else {
+                                        phi_21990_ = true;
+                                        break;
+                                    }
+                                    let _e1015 = local_3[_e1006.member_1];
+                                    if (_e1013 < _e987) {
+                                        phi_2760_ = true;
+                                    } else {
+                                        if (_e1013 == _e987) {
+                                            if (_e1015 < _e989) {
+                                                phi_2758_ = true;
+                                            } else {
+                                                if (_e1015 == _e989) {
+                                                    phi_2757_ = (_e1006.member_1 < _e980.member_1);
+                                                } else {
+                                                    phi_2757_ = false;
+                                                }
+                                                let _e1022 = phi_2757_;
+                                                phi_2758_ = _e1022;
+                                            }
+                                            let _e1024 = phi_2758_;
+                                            phi_2759_ = _e1024;
+                                        } else {
+                                            phi_2759_ = false;
+                                        }
+                                        let _e1026 = phi_2759_;
+                                        phi_2760_ = _e1026;
+                                    }
+                                    let _e1028 = phi_2760_;
+                                    if _e1028 {
+                                        phi_2765_ = (_e993 + 1u);
+                                    } else {
+                                        phi_2765_ = _e993;
+                                    }
+                                    let _e1031 = phi_2765_;
+                                    phi_2693_ = _e1031;
+                                } else {
+                                    phi_2693_ = u32();
+                                }
+                                let _e1033 = phi_2693_;
+                                continue;
+                                continuing {
+                                    phi_2689_ = _e1004;
+                                    phi_2692_ = _e1033;
+                                    phi_21990_ = _e965;
+                                    let _e1559 = break_condition_16;
+                                    break if !(_e1559);
+                                }
+                            }
+                            let _e1036 = phi_21990_;
+                            phi_22002_ = _e1036;
+                            if _e1036 {
+                                break;
+                            }
+                            let _e1038 = local_25;
+                            if (_e1038 < 64u) {
+                            } else {
+                                phi_22002_ = true;
+                                break;
+                            }
+                            let _e1041 = local_26;
+                            local[_e1041] = _e980.member_1;
+                            phi_22003_ = _e1036;
+                        } else {
+                            phi_22003_ = _e965;
+                        }
+                        let _e1044 = phi_22003_;
+                        continue;
+                        continuing {
+                            phi_21995_ = _e1044;
+                            phi_2641_ = _e978;
+                            phi_22002_ = _e1044;
+                            let _e1562 = break_condition_17;
+                            break if !(_e1562);
+                        }
+                    }
+                    let _e1047 = phi_22002_;
+                    if _e1047 {
+                        break;
+                    }
+                    phi_22009_ = _e1047;
+                    phi_2774_ = _e373;
+                    loop {
+                        let _e1049 = phi_22009_;
+                        let _e1051 = phi_2774_;
+                        if (_e1051.member < _e1051.member_1) {
+                            phi_2775_ = type_13((_e1051.member + 1u), _e1051.member_1);
+                            phi_2798_ = type_13(1u, _e1051.member);
+                        } else {
+                            phi_2775_ = _e1051;
+                            phi_2798_ = type_13(0u, type_13().member_1);
+                        }
+                        let _e1062 = phi_2775_;
+                        let _e1064 = phi_2798_;
+                        let _e1068 = (bitcast<i32>(_e1064.member) != 0i);
+                        break_condition_19 = _e1068;
+                        if _e1068 {
+                            let _e1069 = (_e1064.member_1 < 64u);
+                            if _e1069 {
+                            } else {
+                                phi_22015_ = true;
+                                break;
+                            }
+                            let _e1071 = local_7[_e1064.member_1];
+                            if _e1069 {
+                            } else {
+                                phi_22015_ = true;
+                                break;
+                            }
+                            let _e1073 = local_2[_e1064.member_1];
+                            phi_2822_ = _e373;
+                            phi_2825_ = 0u;
+                            loop {
+                                let _e1075 = phi_2822_;
+                                let _e1077 = phi_2825_;
+                                local_27 = _e1077;
+                                local_28 = _e1077;
+                                if (_e1075.member < _e1075.member_1) {
+                                    phi_2823_ = type_13((_e1075.member + 1u), _e1075.member_1);
+                                    phi_2848_ = type_13(1u, _e1075.member);
+                                } else {
+                                    phi_2823_ = _e1075;
+                                    phi_2848_ = type_13(0u, type_13().member_1);
+                                }
+                                let _e1088 = phi_2823_;
+                                let _e1090 = phi_2848_;
+                                let _e1094 = (bitcast<i32>(_e1090.member) != 0i);
+                                break_condition_18 = _e1094;
+                                if _e1094 {
+                                    let _e1095 = (_e1090.member_1 < 64u);
+                                    if _e1095 {
+                                    } else {
+                                        phi_22004_ = true;
+                                        break;
+                                    }
+                                    let _e1097 = local_7[_e1090.member_1];
+                                    if _e1095 {
+                                    } else {
+                                        phi_22004_ = true;
+                                        break;
+                                    }
+                                    let _e1099 = local_2[_e1090.member_1];
+                                    if (_e1097 < _e1071) {
+                                        phi_2893_ = true;
+                                    } else {
+                                        if (_e1097 == _e1071) {
+                                            if (_e1099 < _e1073) {
+                                                phi_2891_ = true;
+                                            } else {
+                                                if (_e1099 == _e1073) {
+                                                    phi_2890_ = (_e1090.member_1 < _e1064.member_1);
+                                                } else {
+                                                    phi_2890_ = false;
+                                                }
+                                                let _e1106 = phi_2890_;
+                                                phi_2891_ = _e1106;
+                                            }
+                                            let _e1108 = phi_2891_;
+                                            phi_2892_ = _e1108;
+                                        } else {
+                                            phi_2892_ = false;
+                                        }
+                                        let _e1110 = phi_2892_;
+                                        phi_2893_ = _e1110;
+                                    }
+                                    let _e1112 = phi_2893_;
+                                    if _e1112 {
+                                        phi_2898_ = (_e1077 + 1u);
+                                    } else {
+                                        phi_2898_ = _e1077;
+                                    }
+                                    let _e1115 = phi_2898_;
+                                    phi_2826_ = _e1115;
+                                } else {
+                                    phi_2826_ = u32();
+                                }
+                                let _e1117 = phi_2826_;
+                                continue;
+                                continuing {
+                                    phi_2822_ = _e1088;
+                                    phi_2825_ = _e1117;
+                                    phi_22004_ = _e1049;
+                                    let _e1565 = break_condition_18;
+                                    break if !(_e1565);
+                                }
+                            }
+                            let _e1120 = phi_22004_;
+                            phi_22015_ = _e1120;
+                            if _e1120 {
+                                break;
+                            }
+                            if _e1069 {
+                            } else {
+                                phi_22015_ = true;
+                                break;
+                            }
+                            let _e1122 = local_4[_e1064.member_1];
+                            let _e1124 = local_27;
+                            if (_e1124 < 64u) {
+                            } else {
+                                phi_22015_ = true;
+                                break;
+                            }
+                            let _e1127 = local_28;
+                            let _e1129 = local[_e1127];
+                            if (_e1129 < 64u) {
+                            } else {
+                                phi_22015_ = true;
+                                break;
+                            }
+                            local_8[_e1129] = _e1122;
+                            phi_22016_ = _e1120;
+                        } else {
+                            phi_22016_ = _e1049;
+                        }
+                        let _e1133 = phi_22016_;
+                        continue;
+                        continuing {
+                            phi_22009_ = _e1133;
+                            phi_2774_ = _e1062;
+                            phi_22015_ = _e1133;
+                            let _e1568 = break_condition_19;
+                            break if !(_e1568);
+                        }
+                    }
+                    let _e1136 = phi_22015_;
+                    if _e1136 {
+                        break;
+                    }
+                    phi_22044_ = _e1136;
+                }
+                let _e1291 = phi_22044_;
+                phi_2921_ = _e930;
+                loop {
+                    let _e1293 = phi_2921_;
+                    if (_e1293.member < _e1293.member_1) {
+                        phi_2922_ = type_13((_e1293.member + 1u), _e1293.member_1);
+                        phi_2945_ = type_13(1u, _e1293.member);
+                    } else {
+                        phi_2922_ = _e1293;
+                        phi_2945_ = type_13(0u, type_13().member_1);
+                    }
+                    let _e1304 = phi_2922_;
+                    let _e1306 = phi_2945_;
+                    let _e1310 = (bitcast<i32>(_e1306.member) != 0i);
+                    break_condition_20 = _e1310;
+                    if _e1310 {
+                        let _e1311 = (_e1306.member_1 < 64u);
+                        if _e1311 {
+                        } else {
+                            phi_22040_ = true;
+                            break;
+                        }
+                        let _e1313 = local_8[_e1306.member_1];
+                        if _e1311 {
+                        } else {
+                            phi_22040_ = true;
+                            break;
+                        }
+                        let _e1315 = local_5[_e1306.member_1];
+                        if (_e1315 < _e115) {
+                        } else {
+                            phi_22040_ = true;
+                            break;
+                        }
+                        sort_features_seeds_out_or_retarget_features_seeds_out_or_recycle_seeds_out.values[_e1315] = _e1313;
+                    }
+                    continue;
+                    continuing {
+                        phi_2921_ = _e1304;
+                        phi_22040_ = _e1291;
+                        let _e1571 = break_condition_20;
+                        break if !(_e1571);
+                    }
+                }
+                let _e1321 = phi_22040_;
+                if _e1321 {
+                    break;
+                }
+            }
+            break;
+        }
+    }
+    return;
+}
+
+fn function_5() {
+    var phi_3077_: i32;
+    var phi_3098_: i32;
+    var phi_3133_: bool;
+    var phi_3143_: bool;
+    var phi_3267_: f32;
+    var phi_3268_: f32;
+    var phi_3283_: vec3<f32>;
+    var phi_3332_: f32;
+    var phi_3333_: f32;
+    var phi_3348_: vec3<f32>;
+    var phi_3363_: bool;
+    var phi_3364_: bool;
+    var phi_3365_: bool;
+    var phi_3366_: bool;
+    var phi_3368_: bool;
+    var phi_3371_: bool;
+    var phi_3372_: bool;
+    var phi_3381_: u32;
+    var phi_3423_: bool;
+    var phi_3433_: bool;
+    var phi_3557_: f32;
+    var phi_3558_: f32;
+    var phi_3573_: vec3<f32>;
+    var phi_3622_: f32;
+    var phi_3623_: f32;
+    var phi_3638_: vec3<f32>;
+    var phi_3653_: bool;
+    var phi_3654_: bool;
+    var phi_3655_: bool;
+    var phi_3656_: bool;
+    var phi_3658_: bool;
+    var phi_3661_: bool;
+    var phi_3662_: bool;
+    var phi_22045_: bool;
+    var local_34: u32;
+    var local_35: u32;
+    var break_condition_21: bool;
+
+    switch bitcast<i32>(0u) {
+        default: {
+            let _e33 = global;
+            let _e39 = arrayLength((&retarget_features_features.values));
+            let _e43 = arrayLength((&sort_features_seeds_in_or_retarget_features_seeds_in_or_recycle_seeds_in.values));
+            let _e45 = arrayLength((&sort_features_seeds_out_or_retarget_features_seeds_out_or_recycle_seeds_out.values));
+            let _e49 = ((_e33.y * 4194240u) + _e33.x);
+            let _e52 = params.value.padded_width;
+            let _e55 = params.value.padded_height;
+            if (_e49 < (_e52 * _e55)) {
+                let _e60 = params.value.frame;
+                let _e63 = params.value.tile_log2_;
+                let _e67 = (((32u - _e63) & 31u) & 31u);
+                if (0u < arrayLength((&retarget_features_thresholds.values))) {
+                } else {
+                    break;
+                }
+                let _e74 = (_e52 == 0u);
+                if _e74 {
+                    break;
+                }
+                let _e75 = (_e49 % _e52);
+                if _e74 {
+                    break;
+                }
+                let _e76 = (_e49 / _e52);
+                let _e77 = (_e63 & 31u);
+                let _e80 = ((1u << bitcast<u32>(_e77)) - 1u);
+                let _e87 = ((((_e76 + ((_e60 * 2447445414u) >> bitcast<u32>(_e67))) & _e80) << bitcast<u32>(_e77)) | ((_e75 + ((_e60 * 3242174889u) >> bitcast<u32>(_e67))) & _e80));
+                if (_e87 < arrayLength((&retarget_table_or_record_source_table_or_retarget_features_table.values))) {
+                } else {
+                    break;
+                }
+                let _e91 = retarget_table_or_record_source_table_or_retarget_features_table.values[_e87];
+                let _e101 = (bitcast<i32>(_e75) + (bitcast<i32>((_e91 & 255u)) - 128i));
+                let _e102 = bitcast<i32>(_e52);
+                if (_e102 == 0i) {
+                    break;
+                }
+                if ((_e102 == -1i) && (_e101 == i32(-2147483648))) {
+                    break;
+                }
+                let _e107 = (_e101 % _e102);
+                if (_e107 < 0i) {
+                    phi_3077_ = (_e107 + _e102);
+                } else {
+                    phi_3077_ = _e107;
+                }
+                let _e111 = phi_3077_;
+                let _e114 = (bitcast<i32>(_e76) + (bitcast<i32>(((_e91 >> bitcast<u32>(8i)) & 255u)) - 128i));
+                let _e115 = bitcast<i32>(_e55);
+                if (_e115 == 0i) {
+                    break;
+                }
+                if ((_e115 == -1i) && (_e114 == i32(-2147483648))) {
+                    break;
+                }
+                let _e120 = (_e114 % _e115);
+                if (_e120 < 0i) {
+                    phi_3098_ = (_e120 + _e115);
+                } else {
+                    phi_3098_ = _e120;
+                }
+                let _e124 = phi_3098_;
+                let _e127 = ((bitcast<u32>(_e124) * _e52) + bitcast<u32>(_e111));
+                if _e74 {
+                    break;
+                }
+                if _e74 {
+                    break;
+                }
+                if _e74 {
+                    break;
+                }
+                let _e128 = (_e127 % _e52);
+                if _e74 {
+                    break;
+                }
+                let _e129 = (_e127 / _e52);
+                let _e132 = params.value.width;
+                if (_e75 < _e132) {
+                    let _e136 = params.value.height;
+                    phi_3133_ = (_e76 < _e136);
+                } else {
+                    phi_3133_ = false;
+                }
+                let _e139 = phi_3133_;
+                if (_e128 < _e132) {
+                    let _e143 = params.value.height;
+                    phi_3143_ = (_e129 < _e143);
+                } else {
+                    phi_3143_ = false;
+                }
+                let _e146 = phi_3143_;
+                let _e147 = (_e139 != _e146);
+                if _e147 {
+                    phi_3371_ = bool();
+                    phi_3372_ = true;
+                } else {
+                    if _e139 {
+                        let _e149 = ((_e76 * _e132) + _e75);
+                        if (_e149 < _e39) {
+                        } else {
+                            break;
+                        }
+                        let _e152 = ((_e129 * _e132) + _e128);
+                        if (_e152 < _e39) {
+                        } else {
+                            break;
+                        }
+                        let _e157 = retarget_features_features.values[_e149].id;
+                        let _e161 = retarget_features_features.values[_e152].id;
+                        if (_e157 != _e161) {
+                            phi_3366_ = false;
+                        } else {
+                            if (_e157 == 4294967295u) {
+                                phi_3365_ = true;
+                            } else {
+                                let _e167 = retarget_features_features.values[_e149].depth;
+                                let _e171 = retarget_features_features.values[_e152].depth;
+                                let _e179 = retarget_features_thresholds.values[0u].depth_relative;
+                                if (abs((_e167 - _e171)) <= (_e179 * select(_e171, _e167, (_e167 > _e171)))) {
+                                    let _e185 = retarget_features_features.values[_e149].normal;
+                                    let _e189 = retarget_features_features.values[_e152].normal;
+                                    if (_e185 == _e189) {
+                                        phi_3363_ = true;
+                                    } else {
+                                        let _e198 = (f32((bitcast<i32>(((_e185 & 65535u) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                        let _e200 = select(_e198, -1f, (_e198 < -1f));
+                                        let _e209 = (f32((bitcast<i32>(((_e185 >> bitcast<u32>(16i)) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                        let _e211 = select(_e209, -1f, (_e209 < -1f));
+                                        let _e213 = (1f - abs(_e200));
+                                        let _e214 = abs(_e211);
+                                        let _e215 = (_e213 - _e214);
+                                        if (_e215 < 0f) {
+                                            phi_3267_ = ((1f - _e214) * select(1f, -1f, (_e200 < 0f)));
+                                            phi_3268_ = (_e213 * select(1f, -1f, (_e211 < 0f)));
+                                        } else {
+                                            phi_3267_ = _e200;
+                                            phi_3268_ = _e211;
+                                        }
+                                        let _e225 = phi_3267_;
+                                        let _e227 = phi_3268_;
+                                        let _e233 = sqrt((((_e225 * _e225) + (_e227 * _e227)) + (_e215 * _e215)));
+                                        if (_e233 > 0f) {
+                                            phi_3283_ = vec3<f32>((_e225 / _e233), (_e227 / _e233), (_e215 / _e233));
+                                        } else {
+                                            phi_3283_ = vec3<f32>(0f, 0f, 1f);
+                                        }
+                                        let _e240 = phi_3283_;
+                                        let _e248 = (f32((bitcast<i32>(((_e189 & 65535u) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                        let _e250 = select(_e248, -1f, (_e248 < -1f));
+                                        let _e259 = (f32((bitcast<i32>(((_e189 >> bitcast<u32>(16i)) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                        let _e261 = select(_e259, -1f, (_e259 < -1f));
+                                        let _e263 = (1f - abs(_e250));
+                                        let _e264 = abs(_e261);
+                                        let _e265 = (_e263 - _e264);
+                                        if (_e265 < 0f) {
+                                            phi_3332_ = ((1f - _e264) * select(1f, -1f, (_e250 < 0f)));
+                                            phi_3333_ = (_e263 * select(1f, -1f, (_e261 < 0f)));
+                                        } else {
+                                            phi_3332_ = _e250;
+                                            phi_3333_ = _e261;
+                                        }
+                                        let _e275 = phi_3332_;
+                                        let _e277 = phi_3333_;
+                                        let _e283 = sqrt((((_e275 * _e275) + (_e277 * _e277)) + (_e265 * _e265)));
+                                        if (_e283 > 0f) {
+                                            phi_3348_ = vec3<f32>((_e275 / _e283), (_e277 / _e283), (_e265 / _e283));
+                                        } else {
+                                            phi_3348_ = vec3<f32>(0f, 0f, 1f);
+                                        }
+                                        let _e290 = phi_3348_;
+                                        let _e305 = retarget_features_thresholds.values[0u].normal_cos;
+                                        phi_3363_ = ((((_e240.x * _e290.x) + (_e240.y * _e290.y)) + (_e240.z * _e290.z)) >= _e305);
+                                    }
+                                    let _e308 = phi_3363_;
+                                    phi_3364_ = _e308;
+                                } else {
+                                    phi_3364_ = false;
+                                }
+                                let _e310 = phi_3364_;
+                                phi_3365_ = _e310;
+                            }
+                            let _e312 = phi_3365_;
+                            phi_3366_ = _e312;
+                        }
+                        let _e314 = phi_3366_;
+                        phi_3368_ = !(_e314);
+                    } else {
+                        phi_3368_ = bool();
+                    }
+                    let _e317 = phi_3368_;
+                    phi_3371_ = _e317;
+                    phi_3372_ = select(true, false, _e139);
+                }
+                let _e320 = phi_3371_;
+                let _e322 = phi_3372_;
+                if select(_e320, select(false, true, _e147), _e322) {
+                    phi_3381_ = _e49;
+                    loop {
+                        let _e333 = phi_3381_;
+                        local_34 = _e333;
+                        local_35 = _e333;
+                        if (_e333 < arrayLength((&retarget_features_sources.values))) {
+                        } else {
+                            phi_22045_ = true;
+                            break;
+                        }
+                        let _e337 = retarget_features_sources.values[_e333];
+                        if _e74 {
+                            phi_22045_ = true;
+                            break;
+                        }
+                        let _e338 = (_e337 % _e52);
+                        if _e74 {
+                            phi_22045_ = true;
+                            break;
+                        }
+                        let _e339 = (_e337 / _e52);
+                        if _e74 {
+                            phi_22045_ = true;
+                            break;
+                        }
+                        let _e340 = (_e333 % _e52);
+                        if _e74 {
+                            phi_22045_ = true;
+                            break;
+                        }
+                        let _e341 = (_e333 / _e52);
+                        if (_e338 < _e132) {
+                            let _e345 = params.value.height;
+                            phi_3423_ = (_e339 < _e345);
+                        } else {
+                            phi_3423_ = false;
+                        }
+                        let _e348 = phi_3423_;
+                        if (_e340 < _e132) {
+                            let _e352 = params.value.height;
+                            phi_3433_ = (_e341 < _e352);
+                        } else {
+                            phi_3433_ = false;
+                        }
+                        let _e355 = phi_3433_;
+                        let _e356 = (_e348 != _e355);
+                        if _e356 {
+                            phi_3661_ = bool();
+                            phi_3662_ = true;
+                        } else {
+                            if _e348 {
+                                let _e358 = ((_e339 * _e132) + _e338);
+                                if (_e358 < _e39) {
+                                } else {
+                                    phi_22045_ = true;
+                                    break;
+                                }
+                                let _e361 = ((_e341 * _e132) + _e340);
+                                if (_e361 < _e39) {
+                                } else {
+                                    phi_22045_ = true;
+                                    break;
+                                }
+                                let _e366 = retarget_features_features.values[_e358].id;
+                                let _e370 = retarget_features_features.values[_e361].id;
+                                if (_e366 != _e370) {
+                                    phi_3656_ = false;
+                                } else {
+                                    if (_e366 == 4294967295u) {
+                                        phi_3655_ = true;
+                                    } else {
+                                        let _e376 = retarget_features_features.values[_e358].depth;
+                                        let _e380 = retarget_features_features.values[_e361].depth;
+                                        let _e388 = retarget_features_thresholds.values[0u].depth_relative;
+                                        if (abs((_e376 - _e380)) <= (_e388 * select(_e380, _e376, (_e376 > _e380)))) {
+                                            let _e394 = retarget_features_features.values[_e358].normal;
+                                            let _e398 = retarget_features_features.values[_e361].normal;
+                                            if (_e394 == _e398) {
+                                                phi_3653_ = true;
+                                            } else {
+                                                let _e407 = (f32((bitcast<i32>(((_e394 & 65535u) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                                let _e409 = select(_e407, -1f, (_e407 < -1f));
+                                                let _e418 = (f32((bitcast<i32>(((_e394 >> bitcast<u32>(16i)) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                                let _e420 = select(_e418, -1f, (_e418 < -1f));
+                                                let _e422 = (1f - abs(_e409));
+                                                let _e423 = abs(_e420);
+                                                let _e424 = (_e422 - _e423);
+                                                if (_e424 < 0f) {
+                                                    phi_3557_ = ((1f - _e423) * select(1f, -1f, (_e409 < 0f)));
+                                                    phi_3558_ = (_e422 * select(1f, -1f, (_e420 < 0f)));
+                                                } else {
+                                                    phi_3557_ = _e409;
+                                                    phi_3558_ = _e420;
+                                                }
+                                                let _e434 = phi_3557_;
+                                                let _e436 = phi_3558_;
+                                                let _e442 = sqrt((((_e434 * _e434) + (_e436 * _e436)) + (_e424 * _e424)));
+                                                if (_e442 > 0f) {
+                                                    phi_3573_ = vec3<f32>((_e434 / _e442), (_e436 / _e442), (_e424 / _e442));
+                                                } else {
+                                                    phi_3573_ = vec3<f32>(0f, 0f, 1f);
+                                                }
+                                                let _e449 = phi_3573_;
+                                                let _e457 = (f32((bitcast<i32>(((_e398 & 65535u) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                                let _e459 = select(_e457, -1f, (_e457 < -1f));
+                                                let _e468 = (f32((bitcast<i32>(((_e398 >> bitcast<u32>(16i)) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                                let _e470 = select(_e468, -1f, (_e468 < -1f));
+                                                let _e472 = (1f - abs(_e459));
+                                                let _e473 = abs(_e470);
+                                                let _e474 = (_e472 - _e473);
+                                                if (_e474 < 0f) {
+                                                    phi_3622_ = ((1f - _e473) * select(1f, -1f, (_e459 < 0f)));
+                                                    phi_3623_ = (_e472 * select(1f, -1f, (_e470 < 0f)));
+                                                } else {
+                                                    phi_3622_ = _e459;
+                                                    phi_3623_ = _e470;
+                                                }
+                                                let _e484 = phi_3622_;
+                                                let _e486 = phi_3623_;
+                                                let _e492 = sqrt((((_e484 * _e484) + (_e486 * _e486)) + (_e474 * _e474)));
+                                                if (_e492 > 0f) {
+                                                    phi_3638_ = vec3<f32>((_e484 / _e492), (_e486 / _e492), (_e474 / _e492));
+                                                } else {
+                                                    phi_3638_ = vec3<f32>(0f, 0f, 1f);
+                                                }
+                                                let _e499 = phi_3638_;
+                                                let _e514 = retarget_features_thresholds.values[0u].normal_cos;
+                                                phi_3653_ = ((((_e449.x * _e499.x) + (_e449.y * _e499.y)) + (_e449.z * _e499.z)) >= _e514);
+                                            }
+                                            let _e517 = phi_3653_;
+                                            phi_3654_ = _e517;
+                                        } else {
+                                            phi_3654_ = false;
+                                        }
+                                        let _e519 = phi_3654_;
+                                        phi_3655_ = _e519;
+                                    }
+                                    let _e521 = phi_3655_;
+                                    phi_3656_ = _e521;
+                                }
+                                let _e523 = phi_3656_;
+                                phi_3658_ = !(_e523);
+                            } else {
+                                phi_3658_ = bool();
+                            }
+                            let _e526 = phi_3658_;
+                            phi_3661_ = _e526;
+                            phi_3662_ = select(true, false, _e348);
+                        }
+                        let _e529 = phi_3661_;
+                        let _e531 = phi_3662_;
+                        let _e534 = select(true, false, select(_e529, select(false, true, _e356), _e531));
+                        break_condition_21 = _e534;
+                        continue;
+                        continuing {
+                            phi_3381_ = _e337;
+                            phi_22045_ = false;
+                            let _e586 = break_condition_21;
+                            break if !(_e586);
+                        }
+                    }
+                    let _e537 = phi_22045_;
+                    if _e537 {
+                        break;
+                    }
+                    if (_e49 < _e43) {
+                    } else {
+                        break;
+                    }
+                    let _e541 = sort_features_seeds_in_or_retarget_features_seeds_in_or_recycle_seeds_in.values[_e49];
+                    let _e543 = local_34;
+                    if (_e543 < _e45) {
+                    } else {
+                        break;
+                    }
+                    let _e547 = local_35;
+                    sort_features_seeds_out_or_retarget_features_seeds_out_or_recycle_seeds_out.values[_e547] = _e541;
+                } else {
+                    if (_e49 < _e43) {
+                    } else {
+                        break;
+                    }
+                    let _e328 = sort_features_seeds_in_or_retarget_features_seeds_in_or_recycle_seeds_in.values[_e49];
+                    if (_e127 < _e45) {
+                    } else {
+                        break;
+                    }
+                    sort_features_seeds_out_or_retarget_features_seeds_out_or_recycle_seeds_out.values[_e127] = _e328;
+                }
+            }
+            break;
+        }
+    }
+    return;
+}
+
+fn function_6() {
+    var local_36: array<u32, 64>;
+    var local_37: array<u32, 64>;
+    var local_38: array<u32, 64>;
+    var local_39: array<u32, 64>;
+    var local_40: array<u32, 64>;
+    var local_41: array<u32, 64>;
     var phi_3733_: u32;
     var phi_3757_: u32;
     var phi_22099_: bool;
-    var phi_3795_: type_10;
+    var phi_3795_: type_13;
     var phi_3798_: u32;
-    var phi_3796_: type_10;
-    var phi_3821_: type_10;
-    var phi_3833_: type_10;
+    var phi_3796_: type_13;
+    var phi_3821_: type_13;
+    var phi_3833_: type_13;
     var phi_3836_: u32;
-    var phi_3834_: type_10;
-    var phi_3859_: type_10;
+    var phi_3834_: type_13;
+    var phi_3859_: type_13;
     var phi_3916_: u32;
     var phi_3968_: u32;
     var phi_3970_: u32;
@@ -261,55 +2548,55 @@ fn function_3() {
     var phi_22109_: bool;
     var phi_3799_: u32;
     var phi_22108_: bool;
-    var local_6: u32;
-    var local_7: u32;
+    var local_42: u32;
+    var local_43: u32;
     var phi_22115_: bool;
-    var phi_3998_: type_10;
-    var phi_3999_: type_10;
-    var phi_4022_: type_10;
-    var phi_4039_: type_10;
+    var phi_3998_: type_13;
+    var phi_3999_: type_13;
+    var phi_4022_: type_13;
+    var phi_4039_: type_13;
     var phi_4042_: u32;
-    var phi_4040_: type_10;
-    var phi_4065_: type_10;
+    var phi_4040_: type_13;
+    var phi_4065_: type_13;
     var phi_4092_: bool;
     var phi_4093_: bool;
     var phi_4098_: u32;
     var phi_4043_: u32;
     var phi_22110_: bool;
-    var local_8: u32;
-    var local_9: u32;
+    var local_44: u32;
+    var local_45: u32;
     var phi_22121_: bool;
     var phi_22120_: bool;
     var phi_22127_: bool;
-    var phi_4107_: type_10;
-    var phi_4108_: type_10;
-    var phi_4131_: type_10;
-    var phi_4148_: type_10;
+    var phi_4107_: type_13;
+    var phi_4108_: type_13;
+    var phi_4131_: type_13;
+    var phi_4148_: type_13;
     var phi_4151_: u32;
-    var phi_4149_: type_10;
-    var phi_4174_: type_10;
+    var phi_4149_: type_13;
+    var phi_4174_: type_13;
     var phi_4201_: bool;
     var phi_4202_: bool;
     var phi_4207_: u32;
     var phi_4152_: u32;
     var phi_22122_: bool;
-    var local_10: u32;
-    var local_11: u32;
+    var local_46: u32;
+    var local_47: u32;
     var phi_22132_: bool;
     var phi_22131_: bool;
-    var local_12: u32;
-    var phi_4230_: type_10;
-    var phi_4231_: type_10;
-    var phi_4254_: type_10;
+    var local_48: u32;
+    var phi_4230_: type_13;
+    var phi_4231_: type_13;
+    var phi_4254_: type_13;
     var phi_22133_: bool;
-    var local_13: u32;
-    var break_condition: bool;
-    var break_condition_1: bool;
-    var break_condition_2: bool;
-    var break_condition_3: bool;
-    var break_condition_4: bool;
-    var break_condition_5: bool;
-    var break_condition_6: bool;
+    var local_49: u32;
+    var break_condition_22: bool;
+    var break_condition_23: bool;
+    var break_condition_24: bool;
+    var break_condition_25: bool;
+    var break_condition_26: bool;
+    var break_condition_27: bool;
+    var break_condition_28: bool;
 
     switch bitcast<i32>(0u) {
         default: {
@@ -358,11 +2645,11 @@ fn function_3() {
                 let _e70 = params.value.frame;
                 let _e73 = params.value.tile_log2_;
                 let _e77 = (((32u - _e73) & 31u) & 31u);
-                local_1 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-                local_2 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-                local_3 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-                local_4 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-                let _e85 = type_10(0u, _e42);
+                local_37 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                local_38 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                local_39 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                local_40 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                let _e85 = type_13(0u, _e42);
                 phi_22099_ = false;
                 phi_3795_ = _e85;
                 phi_3798_ = 0u;
@@ -370,38 +2657,38 @@ fn function_3() {
                     let _e87 = phi_22099_;
                     let _e89 = phi_3795_;
                     let _e91 = phi_3798_;
-                    local_6 = _e91;
-                    local_7 = _e91;
-                    local_12 = _e91;
+                    local_42 = _e91;
+                    local_43 = _e91;
+                    local_48 = _e91;
                     if (_e89.member < _e89.member_1) {
-                        phi_3796_ = type_10((_e89.member + 1u), _e89.member_1);
-                        phi_3821_ = type_10(1u, _e89.member);
+                        phi_3796_ = type_13((_e89.member + 1u), _e89.member_1);
+                        phi_3821_ = type_13(1u, _e89.member);
                     } else {
                         phi_3796_ = _e89;
-                        phi_3821_ = type_10(0u, type_10().member_1);
+                        phi_3821_ = type_13(0u, type_13().member_1);
                     }
                     let _e102 = phi_3796_;
                     let _e104 = phi_3821_;
                     let _e108 = (bitcast<i32>(_e104.member) != 0i);
-                    break_condition_1 = _e108;
+                    break_condition_23 = _e108;
                     if _e108 {
                         phi_3833_ = _e85;
                         phi_3836_ = _e91;
                         loop {
                             let _e110 = phi_3833_;
                             let _e112 = phi_3836_;
-                            local_13 = _e112;
+                            local_49 = _e112;
                             if (_e110.member < _e110.member_1) {
-                                phi_3834_ = type_10((_e110.member + 1u), _e110.member_1);
-                                phi_3859_ = type_10(1u, _e110.member);
+                                phi_3834_ = type_13((_e110.member + 1u), _e110.member_1);
+                                phi_3859_ = type_13(1u, _e110.member);
                             } else {
                                 phi_3834_ = _e110;
-                                phi_3859_ = type_10(0u, type_10().member_1);
+                                phi_3859_ = type_13(0u, type_13().member_1);
                             }
                             let _e123 = phi_3834_;
                             let _e125 = phi_3859_;
                             let _e129 = (bitcast<i32>(_e125.member) != 0i);
-                            break_condition = _e129;
+                            break_condition_22 = _e129;
                             if _e129 {
                                 let _e130 = (((_e53 % _e49) * _e42) + _e125.member_1);
                                 let _e131 = (((_e53 / _e49) * _e42) + _e104.member_1);
@@ -414,12 +2701,12 @@ fn function_3() {
                                             let _e143 = (_e131 < _e142);
                                             if _e143 {
                                                 let _e145 = ((_e131 * _e138) + _e130);
-                                                if (_e145 < arrayLength((&sort_intensity.values))) {
+                                                if (_e145 < arrayLength((&sort_features_intensity_or_sort_intensity.values))) {
                                                 } else {
                                                     phi_22094_ = true;
                                                     break;
                                                 }
-                                                let _e149 = sort_intensity.values[_e145];
+                                                let _e149 = sort_features_intensity_or_sort_intensity.values[_e145];
                                                 let _e150 = bitcast<u32>(_e149);
                                                 if ((_e150 & 2147483648u) == 0u) {
                                                     phi_3916_ = (_e150 | 2147483648u);
@@ -433,7 +2720,7 @@ fn function_3() {
                                                     phi_22094_ = true;
                                                     break;
                                                 }
-                                                local_1[_e112] = _e156;
+                                                local_37[_e112] = _e156;
                                                 let _e159 = (_e73 & 31u);
                                                 let _e162 = ((1u << bitcast<u32>(_e159)) - 1u);
                                                 let _e169 = ((((_e131 + ((_e70 * 2447445414u) >> bitcast<u32>(_e77))) & _e162) << bitcast<u32>(_e159)) | ((_e130 + ((_e70 * 3242174889u) >> bitcast<u32>(_e77))) & _e162));
@@ -448,7 +2735,7 @@ fn function_3() {
                                                     phi_22094_ = true;
                                                     break;
                                                 }
-                                                local_2[_e112] = _e173;
+                                                local_38[_e112] = _e173;
                                                 if (_e135 < _e34) {
                                                 } else {
                                                     phi_22094_ = true;
@@ -460,13 +2747,13 @@ fn function_3() {
                                                     phi_22094_ = true;
                                                     break;
                                                 }
-                                                local_3[_e112] = _e178;
+                                                local_39[_e112] = _e178;
                                                 if _e157 {
                                                 } else {
                                                     phi_22094_ = true;
                                                     break;
                                                 }
-                                                local_4[_e112] = _e135;
+                                                local_40[_e112] = _e135;
                                                 phi_3968_ = (_e112 + 1u);
                                             } else {
                                                 phi_3968_ = u32();
@@ -514,7 +2801,7 @@ fn function_3() {
                                 phi_3833_ = _e123;
                                 phi_3836_ = _e202;
                                 phi_22094_ = _e87;
-                                let _e472 = break_condition;
+                                let _e472 = break_condition_22;
                                 break if !(_e472);
                             }
                         }
@@ -524,7 +2811,7 @@ fn function_3() {
                             break;
                         }
                         phi_22109_ = _e205;
-                        let _e428 = local_13;
+                        let _e428 = local_49;
                         phi_3799_ = _e428;
                     } else {
                         phi_22109_ = _e87;
@@ -538,7 +2825,7 @@ fn function_3() {
                         phi_3795_ = _e102;
                         phi_3798_ = _e209;
                         phi_22108_ = _e207;
-                        let _e475 = break_condition_1;
+                        let _e475 = break_condition_23;
                         break if !(_e475);
                     }
                 }
@@ -546,59 +2833,59 @@ fn function_3() {
                 if _e212 {
                     break;
                 }
-                local_5 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-                let _e214 = local_6;
-                let _e217 = local_7;
-                local = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-                let _e219 = type_10(0u, select(_e217, 64u, (_e214 > 64u)));
+                local_41 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                let _e214 = local_42;
+                let _e217 = local_43;
+                local_36 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                let _e219 = type_13(0u, select(_e217, 64u, (_e214 > 64u)));
                 phi_22115_ = _e212;
                 phi_3998_ = _e219;
                 loop {
                     let _e221 = phi_22115_;
                     let _e223 = phi_3998_;
                     if (_e223.member < _e223.member_1) {
-                        phi_3999_ = type_10((_e223.member + 1u), _e223.member_1);
-                        phi_4022_ = type_10(1u, _e223.member);
+                        phi_3999_ = type_13((_e223.member + 1u), _e223.member_1);
+                        phi_4022_ = type_13(1u, _e223.member);
                     } else {
                         phi_3999_ = _e223;
-                        phi_4022_ = type_10(0u, type_10().member_1);
+                        phi_4022_ = type_13(0u, type_13().member_1);
                     }
                     let _e234 = phi_3999_;
                     let _e236 = phi_4022_;
                     let _e240 = (bitcast<i32>(_e236.member) != 0i);
-                    break_condition_3 = _e240;
+                    break_condition_25 = _e240;
                     if _e240 {
                         if (_e236.member_1 < 64u) {
                         } else {
                             phi_22120_ = true;
                             break;
                         }
-                        let _e243 = local_2[_e236.member_1];
+                        let _e243 = local_38[_e236.member_1];
                         phi_4039_ = _e219;
                         phi_4042_ = 0u;
                         loop {
                             let _e245 = phi_4039_;
                             let _e247 = phi_4042_;
-                            local_8 = _e247;
-                            local_9 = _e247;
+                            local_44 = _e247;
+                            local_45 = _e247;
                             if (_e245.member < _e245.member_1) {
-                                phi_4040_ = type_10((_e245.member + 1u), _e245.member_1);
-                                phi_4065_ = type_10(1u, _e245.member);
+                                phi_4040_ = type_13((_e245.member + 1u), _e245.member_1);
+                                phi_4065_ = type_13(1u, _e245.member);
                             } else {
                                 phi_4040_ = _e245;
-                                phi_4065_ = type_10(0u, type_10().member_1);
+                                phi_4065_ = type_13(0u, type_13().member_1);
                             }
                             let _e258 = phi_4040_;
                             let _e260 = phi_4065_;
                             let _e264 = (bitcast<i32>(_e260.member) != 0i);
-                            break_condition_2 = _e264;
+                            break_condition_24 = _e264;
                             if _e264 {
                                 if (_e260.member_1 < 64u) {
                                 } else {
                                     phi_22110_ = true;
                                     break;
                                 }
-                                let _e267 = local_2[_e260.member_1];
+                                let _e267 = local_38[_e260.member_1];
                                 if (_e267 < _e243) {
                                     phi_4093_ = true;
                                 } else {
@@ -627,7 +2914,7 @@ fn function_3() {
                                 phi_4039_ = _e258;
                                 phi_4042_ = _e279;
                                 phi_22110_ = _e221;
-                                let _e478 = break_condition_2;
+                                let _e478 = break_condition_24;
                                 break if !(_e478);
                             }
                         }
@@ -636,14 +2923,14 @@ fn function_3() {
                         if _e282 {
                             break;
                         }
-                        let _e284 = local_8;
+                        let _e284 = local_44;
                         if (_e284 < 64u) {
                         } else {
                             phi_22120_ = true;
                             break;
                         }
-                        let _e287 = local_9;
-                        local[_e287] = _e236.member_1;
+                        let _e287 = local_45;
+                        local_36[_e287] = _e236.member_1;
                         phi_22121_ = _e282;
                     } else {
                         phi_22121_ = _e221;
@@ -654,7 +2941,7 @@ fn function_3() {
                         phi_22115_ = _e290;
                         phi_3998_ = _e234;
                         phi_22120_ = _e290;
-                        let _e481 = break_condition_3;
+                        let _e481 = break_condition_25;
                         break if !(_e481);
                     }
                 }
@@ -668,16 +2955,16 @@ fn function_3() {
                     let _e295 = phi_22127_;
                     let _e297 = phi_4107_;
                     if (_e297.member < _e297.member_1) {
-                        phi_4108_ = type_10((_e297.member + 1u), _e297.member_1);
-                        phi_4131_ = type_10(1u, _e297.member);
+                        phi_4108_ = type_13((_e297.member + 1u), _e297.member_1);
+                        phi_4131_ = type_13(1u, _e297.member);
                     } else {
                         phi_4108_ = _e297;
-                        phi_4131_ = type_10(0u, type_10().member_1);
+                        phi_4131_ = type_13(0u, type_13().member_1);
                     }
                     let _e308 = phi_4108_;
                     let _e310 = phi_4131_;
                     let _e314 = (bitcast<i32>(_e310.member) != 0i);
-                    break_condition_5 = _e314;
+                    break_condition_27 = _e314;
                     if _e314 {
                         let _e315 = (_e310.member_1 < 64u);
                         if _e315 {
@@ -685,32 +2972,32 @@ fn function_3() {
                             phi_22131_ = true;
                             break;
                         }
-                        let _e317 = local_1[_e310.member_1];
+                        let _e317 = local_37[_e310.member_1];
                         phi_4148_ = _e219;
                         phi_4151_ = 0u;
                         loop {
                             let _e319 = phi_4148_;
                             let _e321 = phi_4151_;
-                            local_10 = _e321;
-                            local_11 = _e321;
+                            local_46 = _e321;
+                            local_47 = _e321;
                             if (_e319.member < _e319.member_1) {
-                                phi_4149_ = type_10((_e319.member + 1u), _e319.member_1);
-                                phi_4174_ = type_10(1u, _e319.member);
+                                phi_4149_ = type_13((_e319.member + 1u), _e319.member_1);
+                                phi_4174_ = type_13(1u, _e319.member);
                             } else {
                                 phi_4149_ = _e319;
-                                phi_4174_ = type_10(0u, type_10().member_1);
+                                phi_4174_ = type_13(0u, type_13().member_1);
                             }
                             let _e332 = phi_4149_;
                             let _e334 = phi_4174_;
                             let _e338 = (bitcast<i32>(_e334.member) != 0i);
-                            break_condition_4 = _e338;
+                            break_condition_26 = _e338;
                             if _e338 {
                                 if (_e334.member_1 < 64u) {
                                 } else {
                                     phi_22122_ = true;
                                     break;
                                 }
-                                let _e341 = local_1[_e334.member_1];
+                                let _e341 = local_37[_e334.member_1];
                                 if (_e341 < _e317) {
                                     phi_4202_ = true;
                                 } else {
@@ -739,7 +3026,7 @@ fn function_3() {
                                 phi_4148_ = _e332;
                                 phi_4151_ = _e353;
                                 phi_22122_ = _e295;
-                                let _e484 = break_condition_4;
+                                let _e484 = break_condition_26;
                                 break if !(_e484);
                             }
                         }
@@ -753,21 +3040,21 @@ fn function_3() {
                             phi_22131_ = true;
                             break;
                         }
-                        let _e358 = local_3[_e310.member_1];
-                        let _e360 = local_10;
+                        let _e358 = local_39[_e310.member_1];
+                        let _e360 = local_46;
                         if (_e360 < 64u) {
                         } else {
                             phi_22131_ = true;
                             break;
                         }
-                        let _e363 = local_11;
-                        let _e365 = local[_e363];
+                        let _e363 = local_47;
+                        let _e365 = local_36[_e363];
                         if (_e365 < 64u) {
                         } else {
                             phi_22131_ = true;
                             break;
                         }
-                        local_5[_e365] = _e358;
+                        local_41[_e365] = _e358;
                         phi_22132_ = _e356;
                     } else {
                         phi_22132_ = _e295;
@@ -778,7 +3065,7 @@ fn function_3() {
                         phi_22127_ = _e369;
                         phi_4107_ = _e308;
                         phi_22131_ = _e369;
-                        let _e487 = break_condition_5;
+                        let _e487 = break_condition_27;
                         break if !(_e487);
                     }
                 }
@@ -786,21 +3073,21 @@ fn function_3() {
                 if _e372 {
                     break;
                 }
-                let _e374 = local_12;
-                phi_4230_ = type_10(0u, _e374);
+                let _e374 = local_48;
+                phi_4230_ = type_13(0u, _e374);
                 loop {
                     let _e377 = phi_4230_;
                     if (_e377.member < _e377.member_1) {
-                        phi_4231_ = type_10((_e377.member + 1u), _e377.member_1);
-                        phi_4254_ = type_10(1u, _e377.member);
+                        phi_4231_ = type_13((_e377.member + 1u), _e377.member_1);
+                        phi_4254_ = type_13(1u, _e377.member);
                     } else {
                         phi_4231_ = _e377;
-                        phi_4254_ = type_10(0u, type_10().member_1);
+                        phi_4254_ = type_13(0u, type_13().member_1);
                     }
                     let _e388 = phi_4231_;
                     let _e390 = phi_4254_;
                     let _e394 = (bitcast<i32>(_e390.member) != 0i);
-                    break_condition_6 = _e394;
+                    break_condition_28 = _e394;
                     if _e394 {
                         let _e395 = (_e390.member_1 < 64u);
                         if _e395 {
@@ -808,13 +3095,13 @@ fn function_3() {
                             phi_22133_ = true;
                             break;
                         }
-                        let _e397 = local_5[_e390.member_1];
+                        let _e397 = local_41[_e390.member_1];
                         if _e395 {
                         } else {
                             phi_22133_ = true;
                             break;
                         }
-                        let _e399 = local_4[_e390.member_1];
+                        let _e399 = local_40[_e390.member_1];
                         if (_e399 < _e36) {
                         } else {
                             phi_22133_ = true;
@@ -826,7 +3113,7 @@ fn function_3() {
                     continuing {
                         phi_4230_ = _e388;
                         phi_22133_ = _e372;
-                        let _e490 = break_condition_6;
+                        let _e490 = break_condition_28;
                         break if !(_e490);
                     }
                 }
@@ -841,37 +3128,37 @@ fn function_3() {
     return;
 }
 
-fn function_4() {
+fn function_7() {
     var phi_4321_: u32;
     var phi_4363_: u32;
     var phi_4366_: u32;
     var phi_4397_: bool;
-    var phi_4539_: type_10;
-    var phi_4541_: type_10;
+    var phi_4539_: type_13;
+    var phi_4541_: type_13;
     var phi_4543_: bool;
-    var phi_4544_: type_10;
+    var phi_4544_: type_13;
     var phi_4545_: bool;
     var phi_4546_: bool;
-    var phi_4547_: type_10;
+    var phi_4547_: type_13;
     var phi_4548_: bool;
     var phi_4549_: bool;
-    var phi_4558_: type_10;
-    var phi_4559_: type_10;
-    var phi_4560_: type_10;
+    var phi_4558_: type_13;
+    var phi_4559_: type_13;
+    var phi_4560_: type_13;
     var phi_4561_: bool;
-    var phi_4562_: type_10;
-    var phi_4563_: type_10;
+    var phi_4562_: type_13;
+    var phi_4563_: type_13;
     var phi_4564_: bool;
     var phi_4565_: bool;
-    var phi_4570_: type_10;
-    var phi_4575_: type_10;
+    var phi_4570_: type_13;
+    var phi_4575_: type_13;
     var phi_4593_: bool;
     var phi_4618_: u32;
     var phi_4619_: u32;
     var phi_4364_: u32;
     var phi_4367_: u32;
     var phi_22137_: bool;
-    var break_condition_7: bool;
+    var break_condition_29: bool;
 
     switch bitcast<i32>(0u) {
         default: {
@@ -904,7 +3191,7 @@ fn function_4() {
                     let _e77 = phi_4363_;
                     let _e79 = phi_4366_;
                     let _e80 = (_e79 < select(_e68, _e50, (_e50 < _e68)));
-                    break_condition_7 = _e80;
+                    break_condition_29 = _e80;
                     if _e80 {
                         let _e81 = (_e46 == 0u);
                         if _e81 {
@@ -944,16 +3231,16 @@ fn function_4() {
                             let _e105 = recycle_motion_or_take_motion_or_claim_motion.values[_e96][1u];
                             let _e107 = ((_e94 * _e46) + _e82);
                             if (_e82 >= _e85) {
-                                phi_4562_ = type_10();
-                                phi_4563_ = type_10();
+                                phi_4562_ = type_13();
+                                phi_4563_ = type_13();
                                 phi_4564_ = true;
                                 phi_4565_ = false;
                             } else {
                                 let _e111 = params.value.height;
                                 let _e112 = (_e94 >= _e111);
                                 if _e112 {
-                                    phi_4559_ = type_10();
-                                    phi_4560_ = type_10();
+                                    phi_4559_ = type_13();
+                                    phi_4560_ = type_13();
                                     phi_4561_ = false;
                                 } else {
                                     let _e115 = ((f32(_e82) + 0.5f) + _e101);
@@ -975,15 +3262,15 @@ fn function_4() {
                                                     let _e150 = ((1u << bitcast<u32>((_e65 & 31u))) - 2u);
                                                     let _e156 = ((((_e143 * _e143) + (_e146 * _e146)) * 2f) * f32(_e150));
                                                     let _e161 = select(select(u32(_e156), 0u, (_e156 < 0f)), 4294967295u, (_e156 > 4294967000f));
-                                                    phi_4539_ = type_10(((_e140 * _e46) + _e132), ((select(_e161, _e150, (_e150 < _e161)) << bitcast<u32>(((32u - _e65) & 31u))) | _e107));
+                                                    phi_4539_ = type_13(((_e140 * _e46) + _e132), ((select(_e161, _e150, (_e150 < _e161)) << bitcast<u32>(((32u - _e65) & 31u))) | _e107));
                                                 } else {
-                                                    phi_4539_ = type_10();
+                                                    phi_4539_ = type_13();
                                                 }
                                                 let _e172 = phi_4539_;
                                                 phi_4541_ = _e172;
                                                 phi_4543_ = select(true, false, _e124);
                                             } else {
-                                                phi_4541_ = type_10();
+                                                phi_4541_ = type_13();
                                                 phi_4543_ = false;
                                             }
                                             let _e175 = phi_4541_;
@@ -992,7 +3279,7 @@ fn function_4() {
                                             phi_4545_ = select(true, false, _e122);
                                             phi_4546_ = _e177;
                                         } else {
-                                            phi_4544_ = type_10();
+                                            phi_4544_ = type_13();
                                             phi_4545_ = true;
                                             phi_4546_ = false;
                                         }
@@ -1003,7 +3290,7 @@ fn function_4() {
                                         phi_4548_ = _e182;
                                         phi_4549_ = _e184;
                                     } else {
-                                        phi_4547_ = type_10();
+                                        phi_4547_ = type_13();
                                         phi_4548_ = true;
                                         phi_4549_ = false;
                                     }
@@ -1012,9 +3299,9 @@ fn function_4() {
                                     let _e190 = phi_4549_;
                                     let _e191 = select(_e190, true, _e188);
                                     if _e191 {
-                                        phi_4558_ = type_10(4294967295u, 4294967295u);
+                                        phi_4558_ = type_13(4294967295u, 4294967295u);
                                     } else {
-                                        phi_4558_ = type_10();
+                                        phi_4558_ = type_13();
                                     }
                                     let _e193 = phi_4558_;
                                     phi_4559_ = _e193;
@@ -1034,7 +3321,7 @@ fn function_4() {
                             let _e205 = phi_4564_;
                             let _e207 = phi_4565_;
                             if _e205 {
-                                phi_4570_ = type_10(_e107, _e107);
+                                phi_4570_ = type_13(_e107, _e107);
                             } else {
                                 phi_4570_ = _e201;
                             }
@@ -1064,18 +3351,18 @@ fn function_4() {
                                     break;
                                 }
                                 let _e227 = recycle_free.values[_e77];
-                                if (_e227 < arrayLength((&recycle_seeds_in.values))) {
+                                if (_e227 < arrayLength((&sort_features_seeds_in_or_retarget_features_seeds_in_or_recycle_seeds_in.values))) {
                                 } else {
                                     phi_22137_ = true;
                                     break;
                                 }
-                                let _e231 = recycle_seeds_in.values[_e227];
-                                if (_e79 < arrayLength((&recycle_seeds_out.values))) {
+                                let _e231 = sort_features_seeds_in_or_retarget_features_seeds_in_or_recycle_seeds_in.values[_e227];
+                                if (_e79 < arrayLength((&sort_features_seeds_out_or_retarget_features_seeds_out_or_recycle_seeds_out.values))) {
                                 } else {
                                     phi_22137_ = true;
                                     break;
                                 }
-                                recycle_seeds_out.values[_e79] = _e231;
+                                sort_features_seeds_out_or_retarget_features_seeds_out_or_recycle_seeds_out.values[_e79] = _e231;
                                 phi_4618_ = (_e77 + 1u);
                             } else {
                                 phi_4618_ = _e77;
@@ -1099,7 +3386,7 @@ fn function_4() {
                         phi_4363_ = _e242;
                         phi_4366_ = _e244;
                         phi_22137_ = false;
-                        let _e278 = break_condition_7;
+                        let _e278 = break_condition_29;
                         break if !(_e278);
                     }
                 }
@@ -1114,7 +3401,7 @@ fn function_4() {
     return;
 }
 
-fn function_5() {
+fn function_8() {
     var phi_4654_: u32;
     var phi_4681_: u32;
     var phi_4684_: u32;
@@ -1124,7 +3411,7 @@ fn function_5() {
     var phi_4682_: u32;
     var phi_4685_: u32;
     var phi_22160_: bool;
-    var break_condition_8: bool;
+    var break_condition_30: bool;
 
     switch bitcast<i32>(0u) {
         default: {
@@ -1155,7 +3442,7 @@ fn function_5() {
                     let _e51 = phi_4681_;
                     let _e53 = phi_4684_;
                     let _e54 = (_e53 < select(_e41, _e32, (_e32 < _e41)));
-                    break_condition_8 = _e54;
+                    break_condition_30 = _e54;
                     if _e54 {
                         let _e55 = (_e28 == 0u);
                         if _e55 {
@@ -1211,7 +3498,7 @@ fn function_5() {
                         phi_4681_ = _e83;
                         phi_4684_ = _e85;
                         phi_22160_ = false;
-                        let _e99 = break_condition_8;
+                        let _e99 = break_condition_30;
                         break if !(_e99);
                     }
                 }
@@ -1226,7 +3513,7 @@ fn function_5() {
     return;
 }
 
-fn function_6() {
+fn function_9() {
     switch bitcast<i32>(0u) {
         default: {
             let _e7 = global;
@@ -1246,7 +3533,7 @@ fn function_6() {
     return;
 }
 
-fn function_7() {
+fn function_10() {
     var phi_4797_: u32;
     var phi_4799_: u32;
     var phi_4802_: u32;
@@ -1255,7 +3542,7 @@ fn function_7() {
     var phi_4803_: u32;
     var phi_4805_: u32;
     var phi_22168_: bool;
-    var break_condition_9: bool;
+    var break_condition_31: bool;
 
     switch bitcast<i32>(0u) {
         default: {
@@ -1280,7 +3567,7 @@ fn function_7() {
                     let _e36 = phi_4802_;
                     let _e38 = phi_4804_;
                     let _e39 = (_e34 < _e32);
-                    break_condition_9 = _e39;
+                    break_condition_31 = _e39;
                     if _e39 {
                         let _e40 = (_e34 * 2u);
                         let _e41 = (_e40 < _e14);
@@ -1327,7 +3614,7 @@ fn function_7() {
                         phi_4802_ = _e56;
                         phi_4804_ = _e58;
                         phi_22168_ = false;
-                        let _e71 = break_condition_9;
+                        let _e71 = break_condition_31;
                         break if !(_e71);
                     }
                 }
@@ -1342,31 +3629,31 @@ fn function_7() {
     return;
 }
 
-fn function_8() {
+fn function_11() {
     var phi_4884_: u32;
     var phi_4918_: u32;
     var phi_4921_: u32;
     var phi_4923_: u32;
     var phi_4954_: bool;
-    var phi_5096_: type_10;
-    var phi_5098_: type_10;
+    var phi_5096_: type_13;
+    var phi_5098_: type_13;
     var phi_5100_: bool;
-    var phi_5101_: type_10;
+    var phi_5101_: type_13;
     var phi_5102_: bool;
     var phi_5103_: bool;
-    var phi_5104_: type_10;
+    var phi_5104_: type_13;
     var phi_5105_: bool;
     var phi_5106_: bool;
-    var phi_5115_: type_10;
-    var phi_5116_: type_10;
-    var phi_5117_: type_10;
+    var phi_5115_: type_13;
+    var phi_5116_: type_13;
+    var phi_5117_: type_13;
     var phi_5118_: bool;
-    var phi_5119_: type_10;
-    var phi_5120_: type_10;
+    var phi_5119_: type_13;
+    var phi_5120_: type_13;
     var phi_5121_: bool;
     var phi_5122_: bool;
-    var phi_5127_: type_10;
-    var phi_5132_: type_10;
+    var phi_5127_: type_13;
+    var phi_5132_: type_13;
     var phi_5164_: bool;
     var phi_5169_: u32;
     var phi_5182_: u32;
@@ -1376,9 +3663,9 @@ fn function_8() {
     var phi_4922_: u32;
     var phi_4924_: u32;
     var phi_22172_: bool;
-    var local_14: u32;
-    var local_15: u32;
-    var break_condition_10: bool;
+    var local_50: u32;
+    var local_51: u32;
+    var break_condition_32: bool;
 
     switch bitcast<i32>(0u) {
         default: {
@@ -1410,10 +3697,10 @@ fn function_8() {
                     let _e69 = phi_4918_;
                     let _e71 = phi_4921_;
                     let _e73 = phi_4923_;
-                    local_14 = _e71;
-                    local_15 = _e69;
+                    local_50 = _e71;
+                    local_51 = _e69;
                     let _e74 = (_e73 < select(_e65, _e47, (_e47 < _e65)));
-                    break_condition_10 = _e74;
+                    break_condition_32 = _e74;
                     if _e74 {
                         let _e75 = (_e43 == 0u);
                         if _e75 {
@@ -1453,16 +3740,16 @@ fn function_8() {
                             let _e106 = recycle_motion_or_take_motion_or_claim_motion.values[_e97][1u];
                             let _e108 = ((_e95 * _e43) + _e76);
                             if (_e76 >= _e79) {
-                                phi_5119_ = type_10();
-                                phi_5120_ = type_10();
+                                phi_5119_ = type_13();
+                                phi_5120_ = type_13();
                                 phi_5121_ = true;
                                 phi_5122_ = false;
                             } else {
                                 let _e112 = params.value.height;
                                 let _e113 = (_e95 >= _e112);
                                 if _e113 {
-                                    phi_5116_ = type_10();
-                                    phi_5117_ = type_10();
+                                    phi_5116_ = type_13();
+                                    phi_5117_ = type_13();
                                     phi_5118_ = false;
                                 } else {
                                     let _e116 = ((f32(_e76) + 0.5f) + _e102);
@@ -1484,15 +3771,15 @@ fn function_8() {
                                                     let _e151 = ((1u << bitcast<u32>((_e62 & 31u))) - 2u);
                                                     let _e157 = ((((_e144 * _e144) + (_e147 * _e147)) * 2f) * f32(_e151));
                                                     let _e162 = select(select(u32(_e157), 0u, (_e157 < 0f)), 4294967295u, (_e157 > 4294967000f));
-                                                    phi_5096_ = type_10(((_e141 * _e43) + _e133), ((select(_e162, _e151, (_e151 < _e162)) << bitcast<u32>(((32u - _e62) & 31u))) | _e108));
+                                                    phi_5096_ = type_13(((_e141 * _e43) + _e133), ((select(_e162, _e151, (_e151 < _e162)) << bitcast<u32>(((32u - _e62) & 31u))) | _e108));
                                                 } else {
-                                                    phi_5096_ = type_10();
+                                                    phi_5096_ = type_13();
                                                 }
                                                 let _e173 = phi_5096_;
                                                 phi_5098_ = _e173;
                                                 phi_5100_ = select(true, false, _e125);
                                             } else {
-                                                phi_5098_ = type_10();
+                                                phi_5098_ = type_13();
                                                 phi_5100_ = false;
                                             }
                                             let _e176 = phi_5098_;
@@ -1501,7 +3788,7 @@ fn function_8() {
                                             phi_5102_ = select(true, false, _e123);
                                             phi_5103_ = _e178;
                                         } else {
-                                            phi_5101_ = type_10();
+                                            phi_5101_ = type_13();
                                             phi_5102_ = true;
                                             phi_5103_ = false;
                                         }
@@ -1512,7 +3799,7 @@ fn function_8() {
                                         phi_5105_ = _e183;
                                         phi_5106_ = _e185;
                                     } else {
-                                        phi_5104_ = type_10();
+                                        phi_5104_ = type_13();
                                         phi_5105_ = true;
                                         phi_5106_ = false;
                                     }
@@ -1521,9 +3808,9 @@ fn function_8() {
                                     let _e191 = phi_5106_;
                                     let _e192 = select(_e191, true, _e189);
                                     if _e192 {
-                                        phi_5115_ = type_10(4294967295u, 4294967295u);
+                                        phi_5115_ = type_13(4294967295u, 4294967295u);
                                     } else {
-                                        phi_5115_ = type_10();
+                                        phi_5115_ = type_13();
                                     }
                                     let _e194 = phi_5115_;
                                     phi_5116_ = _e194;
@@ -1543,7 +3830,7 @@ fn function_8() {
                             let _e206 = phi_5121_;
                             let _e208 = phi_5122_;
                             if _e206 {
-                                phi_5127_ = type_10(_e108, _e108);
+                                phi_5127_ = type_13(_e108, _e108);
                             } else {
                                 phi_5127_ = _e202;
                             }
@@ -1636,7 +3923,7 @@ fn function_8() {
                         phi_4921_ = _e252;
                         phi_4923_ = _e254;
                         phi_22172_ = false;
-                        let _e306 = break_condition_10;
+                        let _e306 = break_condition_32;
                         break if !(_e306);
                     }
                 }
@@ -1649,14 +3936,14 @@ fn function_8() {
                 } else {
                     break;
                 }
-                let _e263 = local_14;
+                let _e263 = local_50;
                 take_counts.values[_e258] = _e263;
                 let _e264 = (_e258 + 1u);
                 if (_e264 < _e36) {
                 } else {
                     break;
                 }
-                let _e269 = local_15;
+                let _e269 = local_51;
                 take_counts.values[_e264] = _e269;
             }
             break;
@@ -1665,26 +3952,26 @@ fn function_8() {
     return;
 }
 
-fn function_9() {
-    var phi_5388_: type_10;
-    var phi_5390_: type_10;
+fn function_12() {
+    var phi_5388_: type_13;
+    var phi_5390_: type_13;
     var phi_5392_: bool;
-    var phi_5393_: type_10;
+    var phi_5393_: type_13;
     var phi_5394_: bool;
     var phi_5395_: bool;
-    var phi_5396_: type_10;
+    var phi_5396_: type_13;
     var phi_5397_: bool;
     var phi_5398_: bool;
-    var phi_5407_: type_10;
-    var phi_5408_: type_10;
-    var phi_5409_: type_10;
+    var phi_5407_: type_13;
+    var phi_5408_: type_13;
+    var phi_5409_: type_13;
     var phi_5410_: bool;
-    var phi_5411_: type_10;
-    var phi_5412_: type_10;
+    var phi_5411_: type_13;
+    var phi_5412_: type_13;
     var phi_5413_: bool;
     var phi_5414_: bool;
-    var phi_5419_: type_10;
-    var phi_5424_: type_10;
+    var phi_5419_: type_13;
+    var phi_5424_: type_13;
 
     switch bitcast<i32>(0u) {
         default: {
@@ -1716,15 +4003,15 @@ fn function_9() {
                 let _e67 = recycle_motion_or_take_motion_or_claim_motion.values[_e58][1u];
                 let _e69 = ((_e40 * _e43) + _e39);
                 if (_e39 >= _e32) {
-                    phi_5411_ = type_10();
-                    phi_5412_ = type_10();
+                    phi_5411_ = type_13();
+                    phi_5412_ = type_13();
                     phi_5413_ = true;
                     phi_5414_ = false;
                 } else {
                     let _e71 = (_e40 >= _e35);
                     if _e71 {
-                        phi_5408_ = type_10();
-                        phi_5409_ = type_10();
+                        phi_5408_ = type_13();
+                        phi_5409_ = type_13();
                         phi_5410_ = false;
                     } else {
                         let _e74 = ((f32(_e39) + 0.5f) + _e63);
@@ -1746,15 +4033,15 @@ fn function_9() {
                                         let _e109 = ((1u << bitcast<u32>((_e55 & 31u))) - 2u);
                                         let _e115 = ((((_e102 * _e102) + (_e105 * _e105)) * 2f) * f32(_e109));
                                         let _e120 = select(select(u32(_e115), 0u, (_e115 < 0f)), 4294967295u, (_e115 > 4294967000f));
-                                        phi_5388_ = type_10(((_e99 * _e43) + _e91), ((select(_e120, _e109, (_e109 < _e120)) << bitcast<u32>(((32u - _e55) & 31u))) | _e69));
+                                        phi_5388_ = type_13(((_e99 * _e43) + _e91), ((select(_e120, _e109, (_e109 < _e120)) << bitcast<u32>(((32u - _e55) & 31u))) | _e69));
                                     } else {
-                                        phi_5388_ = type_10();
+                                        phi_5388_ = type_13();
                                     }
                                     let _e131 = phi_5388_;
                                     phi_5390_ = _e131;
                                     phi_5392_ = select(true, false, _e83);
                                 } else {
-                                    phi_5390_ = type_10();
+                                    phi_5390_ = type_13();
                                     phi_5392_ = false;
                                 }
                                 let _e134 = phi_5390_;
@@ -1763,7 +4050,7 @@ fn function_9() {
                                 phi_5394_ = select(true, false, _e81);
                                 phi_5395_ = _e136;
                             } else {
-                                phi_5393_ = type_10();
+                                phi_5393_ = type_13();
                                 phi_5394_ = true;
                                 phi_5395_ = false;
                             }
@@ -1774,7 +4061,7 @@ fn function_9() {
                             phi_5397_ = _e141;
                             phi_5398_ = _e143;
                         } else {
-                            phi_5396_ = type_10();
+                            phi_5396_ = type_13();
                             phi_5397_ = true;
                             phi_5398_ = false;
                         }
@@ -1783,9 +4070,9 @@ fn function_9() {
                         let _e149 = phi_5398_;
                         let _e150 = select(_e149, true, _e147);
                         if _e150 {
-                            phi_5407_ = type_10(4294967295u, 4294967295u);
+                            phi_5407_ = type_13(4294967295u, 4294967295u);
                         } else {
-                            phi_5407_ = type_10();
+                            phi_5407_ = type_13();
                         }
                         let _e152 = phi_5407_;
                         phi_5408_ = _e152;
@@ -1805,7 +4092,7 @@ fn function_9() {
                 let _e164 = phi_5413_;
                 let _e166 = phi_5414_;
                 if _e164 {
-                    phi_5419_ = type_10(_e69, _e69);
+                    phi_5419_ = type_13(_e69, _e69);
                 } else {
                     phi_5419_ = _e160;
                 }
@@ -1849,43 +4136,61 @@ fn permute_entry_seed_init_cs(@builtin(global_invocation_id) param_2: vec3<u32>)
 }
 
 @compute @workgroup_size(64, 1, 1) 
-fn permute_entry_sort_cs(@builtin(global_invocation_id) param_3: vec3<u32>) {
+fn permute_entry_record_source_cs(@builtin(global_invocation_id) param_3: vec3<u32>) {
     global = param_3;
     function_3();
 }
 
 @compute @workgroup_size(64, 1, 1) 
-fn reproject_entry_recycle_cs(@builtin(global_invocation_id) param_4: vec3<u32>) {
+fn permute_entry_sort_features_cs(@builtin(global_invocation_id) param_4: vec3<u32>) {
     global = param_4;
     function_4();
 }
 
 @compute @workgroup_size(64, 1, 1) 
-fn reproject_entry_list_free_cs(@builtin(global_invocation_id) param_5: vec3<u32>) {
+fn permute_entry_retarget_features_cs(@builtin(global_invocation_id) param_5: vec3<u32>) {
     global = param_5;
     function_5();
 }
 
 @compute @workgroup_size(64, 1, 1) 
-fn reproject_entry_clear_claims_cs(@builtin(global_invocation_id) param_6: vec3<u32>) {
+fn permute_entry_sort_cs(@builtin(global_invocation_id) param_6: vec3<u32>) {
     global = param_6;
     function_6();
 }
 
 @compute @workgroup_size(64, 1, 1) 
-fn reproject_entry_scan_cs(@builtin(global_invocation_id) param_7: vec3<u32>) {
+fn reproject_entry_recycle_cs(@builtin(global_invocation_id) param_7: vec3<u32>) {
     global = param_7;
     function_7();
 }
 
 @compute @workgroup_size(64, 1, 1) 
-fn reproject_entry_take_cs(@builtin(global_invocation_id) param_8: vec3<u32>) {
+fn reproject_entry_list_free_cs(@builtin(global_invocation_id) param_8: vec3<u32>) {
     global = param_8;
     function_8();
 }
 
 @compute @workgroup_size(64, 1, 1) 
-fn reproject_entry_claim_cs(@builtin(global_invocation_id) param_9: vec3<u32>) {
+fn reproject_entry_clear_claims_cs(@builtin(global_invocation_id) param_9: vec3<u32>) {
     global = param_9;
     function_9();
+}
+
+@compute @workgroup_size(64, 1, 1) 
+fn reproject_entry_scan_cs(@builtin(global_invocation_id) param_10: vec3<u32>) {
+    global = param_10;
+    function_10();
+}
+
+@compute @workgroup_size(64, 1, 1) 
+fn reproject_entry_take_cs(@builtin(global_invocation_id) param_11: vec3<u32>) {
+    global = param_11;
+    function_11();
+}
+
+@compute @workgroup_size(64, 1, 1) 
+fn reproject_entry_claim_cs(@builtin(global_invocation_id) param_12: vec3<u32>) {
+    global = param_12;
+    function_12();
 }
