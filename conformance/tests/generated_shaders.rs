@@ -8,6 +8,8 @@
 //!   record-source and retarget, and the six reprojection passes) and
 //!   matches `sampler_core` on the CPU bit for bit over chained frames,
 //!   several surfaces with creases and background, and adversarial motion;
+//! - the a-priori samplers' entry points (screen-space Sobol, ZSobol) give
+//!   every pixel's pair bit for bit as `kernels::sampler_entry` on the CPU;
 //! - the **GLSL** files, compiled by `glslangValidator` to SPIR-V and loaded
 //!   through wgpu, do the same;
 //! - the **HLSL** files compile with glslang's HLSL front end to SPIR-V (not
@@ -103,7 +105,7 @@ fn pipeline(gpu: &Gpu, module: &wgpu::ShaderModule, label: &str, entry_point: &s
 }
 
 impl Passes {
-    /// All thirteen pipelines from the one WGSL module, created from source.
+    /// All fifteen pipelines from the one WGSL module, created from source.
     fn from_wgsl(gpu: &Gpu) -> Self {
         let text = read_generated(WGSL_FILE);
         let module = module(gpu, WGSL_FILE, wgpu::ShaderSource::Wgsl(text.into()));
@@ -460,6 +462,83 @@ fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
     }
 }
 
+/// The a-priori samplers' entry points against `kernels::sampler_entry`'s
+/// functions on the CPU (which the tracer uses too): every pixel's pair,
+/// bit for bit, for several sample indices, pairs, spp and frames, with the
+/// default screen-space Sobol keys.
+fn check_samplers(gpu: &Gpu, passes: &Passes, language: &str) {
+    use glam::{UVec2, Vec2};
+    use kernels::sampler_entry::{key_layout, screen_sobol_pair, zsobol_pair, SamplerParams};
+    let keys = defaults::screen_sobol_keys();
+    let key_buf = gpu.storage("keys", keys.keys());
+    for (width, height, spp, sample_index, pair, frame) in [
+        (37u32, 23u32, 1u32, 0u32, 0u32, 0u32),
+        (64, 9, 4, 3, 1, 17),
+        (130, 5, 16, 15, 5, 12345),
+        (7, 3, 300, 299, 2, 3),
+    ] {
+        let layout = keys.layout();
+        let params = SamplerParams {
+            width,
+            height,
+            spp,
+            sample_index,
+            pair,
+            frame,
+            key_side_log2: layout.side_log2,
+            key_pairs: layout.pairs,
+            key_levels: layout.levels,
+            ..Default::default()
+        };
+        let n = (width * height) as usize;
+        let uniform = gpu.uniform("sampler params", &params);
+        let samples = gpu.storage_zeroed::<Vec2>("samples", n);
+        let pixel = |i: usize| UVec2::new(i as u32 % width, i as u32 / width);
+        let what = format!(
+            "{language}: {width}x{height}, spp {spp}, sample {sample_index}, pair {pair}, frame {frame}"
+        );
+
+        passes.run(gpu, "screen_sobol", &[&uniform, &key_buf, &samples], n as u32);
+        let cpu: Vec<[u32; 2]> = (0..n)
+            .map(|i| {
+                let v = screen_sobol_pair(
+                    keys.keys(),
+                    key_layout(&params),
+                    spp,
+                    frame,
+                    pixel(i),
+                    sample_index,
+                    pair,
+                );
+                [v.x.to_bits(), v.y.to_bits()]
+            })
+            .collect();
+        let got: Vec<[u32; 2]> = gpu
+            .read::<Vec2>(&samples, n)
+            .unwrap()
+            .iter()
+            .map(|v| [v.x.to_bits(), v.y.to_bits()])
+            .collect();
+        assert_eq!(got, cpu, "screen_sobol, {what}");
+
+        passes.run(gpu, "zsobol", &[&uniform, &samples], n as u32);
+        let cpu: Vec<[u32; 2]> = (0..n)
+            .map(|i| {
+                let v = zsobol_pair(spp, frame, pixel(i), sample_index, pair);
+                [v.x.to_bits(), v.y.to_bits()]
+            })
+            .collect();
+        let got: Vec<[u32; 2]> = gpu
+            .read::<Vec2>(&samples, n)
+            .unwrap()
+            .iter()
+            .map(|v| [v.x.to_bits(), v.y.to_bits()])
+            .collect();
+        assert_eq!(got, cpu, "zsobol, {what}");
+        assert!(cpu.iter().any(|v| v != &cpu[0]), "{what}: constant samples");
+    }
+}
+
 #[test]
 fn wgsl_passes_match_the_cpu_bit_for_bit() {
     let test = "wgsl_passes_match_the_cpu_bit_for_bit";
@@ -468,6 +547,7 @@ fn wgsl_passes_match_the_cpu_bit_for_bit() {
     };
     let passes = Passes::from_wgsl(&gpu);
     check_frame_loop(&gpu, &passes, "WGSL");
+    check_samplers(&gpu, &passes, "WGSL");
 }
 
 /// `glslangValidator` on PATH, or why not (a skip, or a failure in CI).
@@ -501,23 +581,28 @@ enum Front {
 }
 
 /// glslang's HLSL front end rejects the zero-cast of an array that naga
-/// writes and DXC accepts (`uint local[64] = (uint[64])0;`): spell it as an
-/// initialiser list of zeros. Nothing else of the file is touched.
+/// writes and DXC accepts (`uint local[4][32] = (uint[4][32])0;`): spell it
+/// as a (nested) initialiser list of zeros. Nothing else is touched.
 fn hlsl_for_glslang(text: &str) -> String {
+    /// `{0, ...}` for dimensions `dims` (outermost first).
+    fn zeros(dims: &[usize]) -> String {
+        match dims {
+            [] => "0".to_string(),
+            [n, inner @ ..] => format!("{{{}}}", vec![zeros(inner); *n].join(", ")),
+        }
+    }
     let mut out = String::with_capacity(text.len());
     let mut rest = text;
     while let Some(at) = rest.find("])0;") {
         let open = rest[..at].rfind('(').expect("a cast");
-        let len: usize = rest[..at]
-            .rsplit('[')
-            .next()
-            .unwrap()
-            .parse()
-            .expect("array length");
+        let dims: Vec<usize> = rest[open..=at]
+            .split('[')
+            .skip(1)
+            .map(|d| d.trim_end_matches(']').parse().expect("array length"))
+            .collect();
         out.push_str(&rest[..open]);
-        out.push('{');
-        out.push_str(&vec!["0"; len].join(", "));
-        out.push_str("};");
+        out.push_str(&zeros(&dims));
+        out.push(';');
         rest = &rest[at + 4..];
     }
     out.push_str(rest);
@@ -573,6 +658,7 @@ fn glsl_passes_match_the_cpu_bit_for_bit() {
     };
     let passes = Passes::from_glsl(&gpu, &spirv);
     check_frame_loop(&gpu, &passes, "GLSL");
+    check_samplers(&gpu, &passes, "GLSL");
 }
 
 /// Every HLSL file compiles with glslang's HLSL front end (not DXC or FXC,
@@ -596,10 +682,10 @@ fn hlsl_compiles_with_glslang() {
 
 #[test]
 fn the_hlsl_shim_only_rewrites_array_zero_casts() {
-    let text = "uint a[3] = (uint[3])0;\nS s = (S)0;\nfloat b[2] = (float[2])0;";
+    let text = "uint a[3] = (uint[3])0;\nS s = (S)0;\nfloat b[2][1] = (float[2][1])0;";
     assert_eq!(
         hlsl_for_glslang(text),
-        "uint a[3] = {0, 0, 0};\nS s = (S)0;\nfloat b[2] = {0, 0};"
+        "uint a[3] = {0, 0, 0};\nS s = (S)0;\nfloat b[2][1] = {{0}, {0}};"
     );
 }
 
@@ -680,10 +766,18 @@ fn the_claim_atomic_survives_in_every_language() {
 #[test]
 fn every_file_declares_its_entry_point_and_bindings() {
     for e in &ENTRIES {
+        let block = match e.pass() {
+            "screen_sobol" | "zsobol" => "SamplerParamsBlock",
+            _ => "FrameParamsBlock",
+        };
         let hlsl = read_generated(&hlsl_file(e));
         let declaration = format!("[numthreads(64, 1, 1)]\nvoid {}(", e.name);
         assert_eq!(hlsl.matches(&declaration).count(), 1, "HLSL: {declaration}");
-        assert!(hlsl.contains("cbuffer params : register(b0) { FrameParamsBlock params; }"));
+        assert!(
+            hlsl.contains(&format!("cbuffer params : register(b0) {{ {block} params; }}")),
+            "{}",
+            e.name
+        );
         let msl = read_generated(&msl_file(e));
         let kernel = format!(
             "[[max_total_threads_per_threadgroup(64)]] kernel void {}(",
@@ -691,7 +785,11 @@ fn every_file_declares_its_entry_point_and_bindings() {
         );
         assert_eq!(msl.matches(&kernel).count(), 1, "MSL: {kernel}");
         assert!(msl.contains("#include <metal_stdlib>"));
-        assert!(msl.contains("constant FrameParamsBlock& params [[buffer(0)]]"));
+        assert!(
+            msl.contains(&format!("constant {block}& params [[buffer(0)]]")),
+            "{}",
+            e.name
+        );
         let glsl = read_generated(&glsl_file(e));
         assert!(glsl.contains("#version 450 core"), "{}", e.name);
         assert!(

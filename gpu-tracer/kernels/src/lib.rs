@@ -16,7 +16,8 @@
 //!   the seed reprojection takes (disocclusion marked), [`surface_features`]
 //!   the feature-aware permutation's per-pixel features and sort keys.
 //! - Entry points: [`entry`] (tracer), [`permute_entry`] (seed permutation),
-//!   [`reproject_entry`] (seed reprojection).
+//!   [`reproject_entry`] (seed reprojection), [`sampler_entry`] (the
+//!   a-priori samplers, one pair per pixel).
 //!
 //! Everything reachable from an entry point follows rust-gpu's rules:
 //! `u32`/`f32` arithmetic (`wrapping_*` on integers), fixed-size local
@@ -59,6 +60,7 @@ pub mod motion;
 pub mod numbers;
 pub mod permute_entry;
 pub mod reproject_entry;
+pub mod sampler_entry;
 pub mod sampling;
 pub mod surface;
 pub mod surface_features;

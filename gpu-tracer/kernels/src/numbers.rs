@@ -58,11 +58,10 @@ use crate::abi::{
     TraceParams, MAX_DEPTH_LIMIT, SAMPLER_JITTER_ONLY, SAMPLER_KIND_MASK, SAMPLER_SCREEN_SOBOL,
     SAMPLER_ZSOBOL, SEED_MODE_ADVANCE,
 };
+use crate::sampler_entry::{screen_sobol_pair, zsobol_pair};
 use glam::{UVec2, Vec2};
-use sampler_core::r2::q32_to_f32;
-use sampler_core::screen_sobol::{screen_sobol_pair_u32, ScreenSobolLayout};
-use sampler_core::zsobol::{zsobol_sample_u32, ZSOBOL_MAX_LOG2_SPP};
-use sampler_core::{walk_offset, RandomStream};
+use sampler_core::screen_sobol::ScreenSobolLayout;
+use sampler_core::RandomStream;
 
 /// Stream dimensions used before the first vertex (pixel jitter).
 pub const DIMS_CAMERA: u32 = 2;
@@ -165,20 +164,9 @@ pub fn apriori_pair(params: &TraceParams, keys: &[u32], pixel: UVec2, s: u32, pa
             levels: params.key_levels.max(1),
             pad: 0,
         };
-        // Wrapping: `key_index` keeps only the low `key_side_log2` bits.
-        let o = walk_offset(params.frame, params.key_side_log2);
-        let shifted = UVec2::new(pixel.x.wrapping_add(o.x), pixel.y.wrapping_add(o.y));
-        let v = screen_sobol_pair_u32(keys, layout, spp, shifted, s, pair);
-        Vec2::new(q32_to_f32(v[0]), q32_to_f32(v[1]))
+        screen_sobol_pair(keys, layout, spp, params.frame, pixel, s, pair)
     } else if kind == SAMPLER_ZSOBOL {
-        let mut log2_spp = 0u32;
-        while log2_spp < ZSOBOL_MAX_LOG2_SPP && (1u32 << log2_spp) < spp {
-            log2_spp += 1;
-        }
-        Vec2::new(
-            q32_to_f32(zsobol_sample_u32(pixel, s, 2 * pair, log2_spp, params.frame)),
-            q32_to_f32(zsobol_sample_u32(pixel, s, 2 * pair + 1, log2_spp, params.frame)),
-        )
+        zsobol_pair(spp, params.frame, pixel, s, pair)
     } else {
         Vec2::ZERO
     }

@@ -8,6 +8,7 @@ use kernels::permute_entry::{
 use kernels::reproject_entry::{
     CLAIM_ENTRY, CLEAR_CLAIMS_ENTRY, LIST_FREE_ENTRY, RECYCLE_ENTRY, SCAN_ENTRY, TAKE_ENTRY,
 };
+use kernels::sampler_entry::{SCREEN_SOBOL_ENTRY, ZSOBOL_ENTRY};
 
 /// One entry point kept in the generated sources.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -20,14 +21,16 @@ pub struct Entry {
     pub name: &'static str,
     /// What binding `i` (group 0) holds, for `i` in `0..bindings.len()`: the
     /// kernel's parameter name. Binding 0 is always `params`, the uniform
-    /// `sampler_core::FrameParams`.
+    /// `sampler_core::FrameParams` (`kernels::sampler_entry::SamplerParams`
+    /// for the samplers).
     pub bindings: &'static [&'static str],
 }
 
 /// The entry points kept, in the order a frame dispatches them within each
-/// group (permutation, feature-aware permutation, then reprojection). All
-/// have 64-wide workgroups (`kernels::permute_entry::PERMUTE_WORKGROUP`).
-pub const ENTRIES: [Entry; 13] = [
+/// group (permutation, feature-aware permutation, reprojection, then the
+/// a-priori samplers). All have 64-wide workgroups
+/// (`kernels::permute_entry::PERMUTE_WORKGROUP`).
+pub const ENTRIES: [Entry; 15] = [
     Entry {
         spirv: SEED_INIT_ENTRY,
         name: "permute_entry_seed_init_cs",
@@ -117,6 +120,16 @@ pub const ENTRIES: [Entry; 13] = [
             "seeds_out",
         ],
     },
+    Entry {
+        spirv: SCREEN_SOBOL_ENTRY,
+        name: "sampler_entry_screen_sobol_cs",
+        bindings: &["params", "keys", "samples"],
+    },
+    Entry {
+        spirv: ZSOBOL_ENTRY,
+        name: "sampler_entry_zsobol_cs",
+        bindings: &["params", "samples"],
+    },
 ];
 
 impl Entry {
@@ -127,6 +140,7 @@ impl Entry {
         let name = self.name.strip_suffix("_cs").unwrap_or(self.name);
         name.strip_prefix("permute_entry_")
             .or_else(|| name.strip_prefix("reproject_entry_"))
+            .or_else(|| name.strip_prefix("sampler_entry_"))
             .unwrap_or(name)
     }
 }

@@ -8,17 +8,19 @@
 //! cargo run -p shader-sources -- --check  # exit 1 when a committed file is stale
 //! ```
 //!
-//! Only the thirteen entry points of [`ENTRIES`] are kept (the permutation,
-//! its feature-aware form and the reprojection passes); the path tracer's entry points are removed from the
+//! Only the fifteen entry points of [`ENTRIES`] are kept (the permutation,
+//! its feature-aware form, the reprojection passes and the a-priori samplers);
+//! the path tracer's entry points are removed from the
 //! naga module and everything only they used is compacted away, so a renderer
 //! that includes a generated file does not carry the tracer.
 //!
-//! WGSL gets one module with all thirteen entry points; GLSL, HLSL and MSL one
+//! WGSL gets one module with all fifteen entry points; GLSL, HLSL and MSL one
 //! file per entry point, each compacted to what that pass uses (GLSL needs
 //! one `main` per shader; in HLSL and MSL this keeps registers and the MSL
 //! buffer-size struct specific to one pass). rust-gpu's SPIR-V carries no
 //! names, so the generator names the types and buffers before translating:
-//! `FrameParams` with `sampler_core::FrameParams`'s fields, buffers after the
+//! `FrameParams` with `sampler_core::FrameParams`'s fields (`SamplerParams`
+//! for the samplers), buffers after the
 //! kernel parameters (`seeds_in`; `sort_seeds_in` in the shared WGSL module).
 //!
 //! `naga` cannot name a function `permute_entry::sort_cs`; every entry point
@@ -64,6 +66,6 @@ pub use generate::{
     generate, generate_from_workspace, sha256_hex, stale_files, workspace_root, write_files, GeneratedFile,
     COMMAND, LANGUAGE_DIRS, OUTPUT_DIR, SPIRV_PATH,
 };
-pub use naming::FRAME_PARAMS_FIELDS;
+pub use naming::{FRAME_PARAMS_FIELDS, SAMPLER_PARAMS_FIELDS};
 pub use select::permutation_module;
 pub use translate::{GLSL_VERSION, MSL_SIZES_SLOT, MSL_VERSION};

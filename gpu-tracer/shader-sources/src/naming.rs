@@ -75,6 +75,41 @@ pub const FRAME_PARAMS_FIELDS: [(&str, usize); 8] = {
 };
 const _: () = assert!(core::mem::size_of::<sampler_core::FrameParams>() == 32);
 
+/// `kernels::sampler_entry::SamplerParams`'s fields and byte offsets, in
+/// order: the uniform of the sampler entry points.
+pub const SAMPLER_PARAMS_FIELDS: [(&str, usize); 12] = {
+    use core::mem::offset_of;
+    use kernels::sampler_entry::SamplerParams as P;
+    [
+        ("width", offset_of!(P, width)),
+        ("height", offset_of!(P, height)),
+        ("spp", offset_of!(P, spp)),
+        ("sample_index", offset_of!(P, sample_index)),
+        ("pair", offset_of!(P, pair)),
+        ("frame", offset_of!(P, frame)),
+        ("key_side_log2", offset_of!(P, key_side_log2)),
+        ("key_pairs", offset_of!(P, key_pairs)),
+        ("key_levels", offset_of!(P, key_levels)),
+        ("reserved0", offset_of!(P, reserved0)),
+        ("reserved1", offset_of!(P, reserved1)),
+        ("reserved2", offset_of!(P, reserved2)),
+    ]
+};
+
+/// A uniform block: name, size in bytes and fields `(name, byte offset)`,
+/// all `u32`.
+type UniformBlock = (&'static str, usize, &'static [(&'static str, usize)]);
+
+/// The uniform blocks of the kept entry points.
+const UNIFORMS: [UniformBlock; 2] = [
+    ("FrameParams", 32, &FRAME_PARAMS_FIELDS),
+    (
+        "SamplerParams",
+        core::mem::size_of::<kernels::sampler_entry::SamplerParams>(),
+        &SAMPLER_PARAMS_FIELDS,
+    ),
+];
+
 /// `(name, size in bytes, [(field, byte offset, is f32)])`.
 type ElementStruct = (&'static str, usize, &'static [(&'static str, usize, bool)]);
 
@@ -124,46 +159,62 @@ fn element_struct(module: &Module, ty: &naga::TypeInner) -> Option<usize> {
 }
 
 /// Gives the anonymous types of rust-gpu's SPIR-V names a reader can follow:
-/// the uniform's `FrameParamsBlock { value: FrameParams }` with
-/// [`FRAME_PARAMS_FIELDS`], and each storage buffer's
+/// each uniform's `FrameParamsBlock { value: FrameParams }` with
+/// [`FRAME_PARAMS_FIELDS`] or `SamplerParamsBlock { value: SamplerParams }`
+/// with [`SAMPLER_PARAMS_FIELDS`], and each storage buffer's
 /// `<Element>Array { values: array<Element> }` (`U32Array`, `F32Array`,
 /// `Vec2Array`, `Vec4Array`, `AtomicU32Array`, `SurfaceFeatureArray`,
 /// `FeatureThresholdsArray`), with the element structs of
 /// [`ELEMENT_STRUCTS`] named field by field.
 ///
 /// # Errors
-/// [`Error::Validation`] if the uniform is not the 32-byte `FrameParams`.
+/// [`Error::Validation`] if a uniform is neither `FrameParams` nor
+/// `SamplerParams`.
 pub(crate) fn name_types(module: &mut Module) -> Result<(), Error> {
     use naga::{ArraySize, Scalar, ScalarKind, TypeInner, VectorSize};
     let bad = |message: String| Error::Validation {
-        what: "the FrameParams uniform".to_string(),
+        what: "the uniforms".to_string(),
         message,
     };
-    let uniform = module
+    let uniforms: Vec<_> = module
         .global_variables
         .iter()
-        .find(|(_, g)| g.space == naga::AddressSpace::Uniform)
+        .filter(|(_, g)| g.space == naga::AddressSpace::Uniform)
         .map(|(_, g)| g.ty)
-        .ok_or_else(|| bad("no uniform".to_string()))?;
-    let params = match &module.types[uniform].inner {
-        TypeInner::Struct { members, .. } if members.len() == 1 => members[0].ty,
-        other => return Err(bad(format!("unexpected type {other:?}"))),
-    };
-    let mut renames = vec![(uniform, "FrameParamsBlock".to_string(), vec!["value".to_string()])];
-    match &module.types[params].inner {
-        TypeInner::Struct { members, span: 32 }
-            if members.len() == FRAME_PARAMS_FIELDS.len()
-                && members.iter().zip(FRAME_PARAMS_FIELDS).all(|(m, (_, offset))| {
-                    m.offset as usize == offset && module.types[m.ty].inner == TypeInner::Scalar(Scalar::U32)
-                }) =>
-        {
-            renames.push((
-                params,
-                "FrameParams".to_string(),
-                FRAME_PARAMS_FIELDS.iter().map(|f| f.0.to_string()).collect(),
-            ));
-        }
-        other => return Err(bad(format!("not sampler_core::FrameParams: {other:?}"))),
+        .collect();
+    if uniforms.is_empty() {
+        return Err(bad("no uniform".to_string()));
+    }
+    let mut renames = Vec::new();
+    for uniform in uniforms {
+        let params = match &module.types[uniform].inner {
+            TypeInner::Struct { members, .. } if members.len() == 1 => members[0].ty,
+            other => return Err(bad(format!("unexpected type {other:?}"))),
+        };
+        // Every uniform is one of the known parameter blocks, told apart by size.
+        let known = UNIFORMS
+            .iter()
+            .find(|(_, size, fields)| match &module.types[params].inner {
+                TypeInner::Struct { members, span } => {
+                    *span as usize == *size
+                        && members.len() == fields.len()
+                        && members.iter().zip(fields.iter()).all(|(m, (_, offset))| {
+                            m.offset as usize == *offset
+                                && module.types[m.ty].inner == TypeInner::Scalar(Scalar::U32)
+                        })
+                }
+                _ => false,
+            });
+        let Some((name, _, fields)) = known else {
+            let found = &module.types[params].inner;
+            return Err(bad(format!("not FrameParams or SamplerParams: {found:?}")));
+        };
+        renames.push((uniform, format!("{name}Block"), vec!["value".to_string()]));
+        renames.push((
+            params,
+            name.to_string(),
+            fields.iter().map(|f| f.0.to_string()).collect(),
+        ));
     }
     for (handle, ty) in module.types.iter() {
         if let Some(i) = element_struct(module, &ty.inner) {

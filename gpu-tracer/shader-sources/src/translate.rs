@@ -168,7 +168,7 @@ pub(crate) fn write_hlsl(
             sha,
             &format!(
                 "HLSL (shader model 5.1: FXC cs_5_1, or DXC cs_6_0 and later) of {} ({}).\n\
-                 // Register N, space 0 = binding N: b0 the FrameParams cbuffer, tN read-only and uN\n\
+                 // Register N, space 0 = binding N: b0 the params cbuffer, tN read-only and uN\n\
                  // read-write (RW)ByteAddressBuffers, see the README.",
                 entry.name, entry.spirv
             ),
