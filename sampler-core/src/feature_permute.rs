@@ -318,6 +318,38 @@ pub fn retarget_features_pixel(
 /// # Errors
 /// [`Error::TileSize`] if the tile or tables do not match the layout;
 /// [`Error::BufferSize`] for a buffer of the wrong length.
+///
+/// # Example
+///
+/// Two surfaces side by side: seeds are permuted, and none crosses from one to
+/// the other.
+///
+/// ```
+/// use sampler_core::{defaults, permute_frame_features, FeatureThresholds, FrameLayout, SurfaceFeature};
+/// use glam::Vec3;
+/// let layout = FrameLayout::new(64, 32, 4, 64)?;
+/// let (tile, tables) = (defaults::tile_64(), defaults::tables_64());
+/// let (w, n) = (layout.padded_width(), layout.seed_count());
+/// let features: Vec<SurfaceFeature> = (0..64 * 32)
+///     .map(|i| SurfaceFeature::new(if i % 64 < 30 { 0 } else { 1 }, 5.0, Vec3::Z))
+///     .collect();
+/// let image: Vec<f32> = (0..64 * 32).map(|i| (i * 7919 % 101) as f32).collect();
+/// let seeds: Vec<u32> = (0..n as u32).collect(); // seed = its pixel index
+/// let (mut sorted, mut sources, mut next) = (vec![0; n], vec![0; n], vec![0; n]);
+/// let thresholds = FeatureThresholds::DEFAULT;
+/// permute_frame_features(&layout, 0, &image, &features, &thresholds, &tile, &tables, &seeds,
+///                        &mut sorted, &mut sources, &mut next)?;
+/// let mut check = next.clone();
+/// check.sort();
+/// assert_eq!(check, seeds); // a permutation
+/// for (p, &s) in next.iter().enumerate() {
+///     let (x, y, sx, sy) = (p as u32 % w, p as u32 / w, s % w, s / w);
+///     if x < 64 && y < 32 && sx < 64 && sy < 32 {
+///         assert_eq!(x < 30, sx < 30, "seed {s} crossed the edge"); // stays on its surface
+///     }
+/// }
+/// # Ok::<(), sampler_core::Error>(())
+/// ```
 #[allow(clippy::too_many_arguments)]
 pub fn permute_frame_features<T: Intensity>(
     layout: &FrameLayout,

@@ -39,6 +39,19 @@ pub struct SurfaceFeature {
 impl SurfaceFeature {
     /// The feature of a hit on surface `id` (below [`NO_SURFACE`]) at linear
     /// depth `depth` with unit normal `normal`.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use sampler_core::{same_surface, FeatureThresholds, SurfaceFeature};
+    /// use glam::Vec3;
+    /// let floor = SurfaceFeature::new(3, 10.0, Vec3::Y);
+    /// let near = SurfaceFeature::new(3, 10.5, Vec3::Y);
+    /// let wall = SurfaceFeature::new(4, 10.0, Vec3::X);
+    /// let t = FeatureThresholds::DEFAULT;
+    /// assert!(same_surface(&floor, &near, &t));
+    /// assert!(!same_surface(&floor, &wall, &t));
+    /// ```
     #[inline]
     pub fn new(id: u32, depth: f32, normal: Vec3) -> Self {
         SurfaceFeature {
@@ -115,6 +128,19 @@ pub fn same_surface(a: &SurfaceFeature, b: &SurfaceFeature, t: &FeatureThreshold
 /// (as SVGF-style denoisers demodulate), or `luma(radiance)` where the
 /// albedo's luma is below [`ALBEDO_FLOOR`]. On a textured surface the key
 /// then follows the noise, not the texture.
+///
+/// # Example
+///
+/// ```
+/// use sampler_core::demodulated_luma;
+/// use glam::Vec3;
+/// // The same irradiance on a dark and a bright texel gives the same key.
+/// let light = Vec3::splat(0.5);
+/// let (dark, bright) = (Vec3::splat(0.2), Vec3::splat(0.8));
+/// let a = demodulated_luma(light * dark, dark);
+/// let b = demodulated_luma(light * bright, bright);
+/// assert!((a - b).abs() < 1e-6);
+/// ```
 #[inline]
 pub fn demodulated_luma(radiance: Vec3, albedo: Vec3) -> f32 {
     let a = luma(albedo);

@@ -26,6 +26,30 @@ use glam::UVec2;
 /// `intensities`: `width * height` visible values; `tile`: `W * W` dither
 /// values; seed buffers: `padded_width * padded_height`. Pixels of the block
 /// outside the visible frame keep their seeds.
+///
+/// # Example
+///
+/// What a GPU kernel runs, one invocation per block, here as a CPU loop; it
+/// equals [`sort_frame`]:
+///
+/// ```
+/// use sampler_core::{defaults, sort_block_in_frame, sort_frame, FrameLayout};
+/// let layout = FrameLayout::new(20, 12, 4, 64)?;
+/// let tile = defaults::tile_64();
+/// let params = layout.params(7); // frame 7
+/// let image: Vec<f32> = (0..20 * 12).map(|i| (i * 13 % 7) as f32).collect();
+/// let seeds: Vec<u32> = (0..layout.seed_count() as u32).collect();
+/// let mut out = vec![0; seeds.len()];
+/// for by in 0..params.blocks_y() {
+///     for bx in 0..params.blocks_x() {
+///         sort_block_in_frame(&params, bx, by, &image, tile.values(), &seeds, &mut out);
+///     }
+/// }
+/// let mut expected = vec![0; seeds.len()];
+/// sort_frame(&layout, 7, &image, &tile, &seeds, &mut expected)?;
+/// assert_eq!(out, expected);
+/// # Ok::<(), sampler_core::Error>(())
+/// ```
 #[inline]
 pub fn sort_block_in_frame<T: Intensity>(
     params: &FrameParams,
@@ -90,6 +114,28 @@ pub fn sort_block_at_offset<T: Intensity>(
 /// Moves the seed at padded-buffer index `seed_index` to its retargeted
 /// place. Shader-callable; one invocation per seed; the scatter is a
 /// bijection, so invocations never write the same element.
+///
+/// # Example
+///
+/// What a GPU kernel runs, one invocation per seed, here as a CPU loop; it
+/// equals [`retarget_frame`]:
+///
+/// ```
+/// use sampler_core::{defaults, retarget_frame, retarget_pixel, step_index, FrameLayout};
+/// let layout = FrameLayout::new(20, 12, 4, 64)?;
+/// let tables = defaults::tables_64();
+/// let params = layout.params(7);
+/// let table = tables.table(step_index(7, params.tile_log2));
+/// let seeds: Vec<u32> = (0..layout.seed_count() as u32).collect();
+/// let mut out = vec![0; seeds.len()];
+/// for i in 0..params.seed_count() {
+///     retarget_pixel(&params, i, table.packed(), &seeds, &mut out);
+/// }
+/// let mut expected = vec![0; seeds.len()];
+/// retarget_frame(&layout, 7, &tables, &seeds, &mut expected)?;
+/// assert_eq!(out, expected);
+/// # Ok::<(), sampler_core::Error>(())
+/// ```
 #[inline]
 pub fn retarget_pixel(
     params: &FrameParams,
@@ -145,6 +191,27 @@ fn check_seeds(layout: &FrameLayout, seeds_in: &[u32], seeds_out: &[u32]) -> Res
 /// # Errors
 /// [`Error::BufferSize`] for a buffer of the wrong length,
 /// [`Error::TileSize`] if the tile's side differs from the layout's.
+///
+/// # Example
+///
+/// The two passes of [`permute_frame`], one after the
+/// other (as a GPU runs them):
+///
+/// ```
+/// use sampler_core::{defaults, permute_frame, retarget_frame, sort_frame, FrameLayout};
+/// let layout = FrameLayout::new(40, 24, 4, 64)?;
+/// let (tile, tables) = (defaults::tile_64(), defaults::tables_64());
+/// let n = layout.seed_count();
+/// let image: Vec<f32> = (0..40 * 24).map(|i| (i * 31 % 17) as f32).collect();
+/// let seeds: Vec<u32> = (0..n as u32).map(|i| i.wrapping_mul(2654435761)).collect();
+/// let (mut sorted, mut next) = (vec![0; n], vec![0; n]);
+/// sort_frame(&layout, 3, &image, &tile, &seeds, &mut sorted)?;
+/// retarget_frame(&layout, 3, &tables, &sorted, &mut next)?;
+/// let mut fused = vec![0; n];
+/// permute_frame(&layout, 3, &image, &tile, &tables, &seeds, &mut fused)?;
+/// assert_eq!(next, fused);
+/// # Ok::<(), sampler_core::Error>(())
+/// ```
 pub fn sort_frame<T: Intensity>(
     layout: &FrameLayout,
     frame: u32,

@@ -88,6 +88,17 @@ impl FrameLayout {
     /// `2^31` seeds, [`Error::BlockSize`] for a block outside
     /// `MIN_BLOCK..=MAX_BLOCK`, [`Error::TileSize`] for a tile side that is
     /// not a power of two in `2..=MAX_TILE`.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use sampler_core::{Error, FrameLayout};
+    /// let layout = FrameLayout::new(1920, 1080, 4, 64)?;
+    /// assert_eq!((layout.padded_width(), layout.padded_height()), (1920, 1088)); // whole tiles
+    /// assert_eq!(layout.seed_count(), 1920 * 1088);
+    /// assert!(matches!(FrameLayout::new(1920, 1080, 4, 48), Err(Error::TileSize { .. }))); // not a power of two
+    /// # Ok::<(), sampler_core::Error>(())
+    /// ```
     pub fn new(width: u32, height: u32, block: u32, tile: u32) -> Result<Self, Error> {
         if !(MIN_BLOCK..=MAX_BLOCK).contains(&block) {
             return Err(Error::BlockSize { block });

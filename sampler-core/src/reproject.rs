@@ -173,6 +173,27 @@ pub struct ReprojectStats {
 /// (`seeds_in`, `seeds_out`, `claims`: `seed_count`; `motion`:
 /// `pixel_count`); [`Error::FrameSize`] when the padded frame has more than
 /// [`MAX_REPROJECT_SEEDS`] seeds.
+///
+/// # Example
+///
+/// The camera panned 3 pixels to the left: every pixel's surface was 3 pixels
+/// to its right in the previous frame (backward motion `+3`), so seeds follow.
+///
+/// ```
+/// use sampler_core::{reproject_frame, FrameLayout};
+/// let layout = FrameLayout::new(32, 16, 4, 16)?;
+/// let n = layout.seed_count();
+/// let motion = vec![[3.0f32, 0.0]; 32 * 16];
+/// let seeds: Vec<u32> = (0..n as u32).collect();
+/// let (mut claims, mut next) = (vec![0; n], vec![0; n]);
+/// let stats = reproject_frame(&layout, &motion, &seeds, &mut claims, &mut next)?;
+/// assert_eq!(next[5], seeds[8]); // pixel (5, 0) takes the seed of (8, 0)
+/// assert!(stats.recycled > 0);  // the right edge had no source: recycled seeds
+/// let mut check = next.clone();
+/// check.sort();
+/// assert_eq!(check, seeds); // never a duplicated seed
+/// # Ok::<(), sampler_core::Error>(())
+/// ```
 pub fn reproject_frame(
     layout: &FrameLayout,
     motion: &[[f32; 2]],

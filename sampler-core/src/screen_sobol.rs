@@ -227,6 +227,20 @@ impl<'a> ScreenSobolKeys<'a> {
 
     /// Dimension `dimension` of sample `sample_index` of `pixel` at `spp`
     /// samples per pixel, in `[0, 1)`; identical to [`screen_sobol_sample`].
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use sampler_core::defaults;
+    /// use glam::UVec2;
+    /// let keys = defaults::screen_sobol_keys();
+    /// // Pair 0 (dimensions 0, 1: the position in the pixel) of sample 0 at 1 spp.
+    /// let (x, y) = (keys.sample(UVec2::new(3, 4), 0, 0, 1), keys.sample(UVec2::new(3, 4), 0, 1, 1));
+    /// assert!((0.0..1.0).contains(&x) && (0.0..1.0).contains(&y));
+    /// // Across a 64x64 tile of pixels the values are evenly spread (blue noise).
+    /// let mean: f32 = (0..64 * 64).map(|i| keys.sample(UVec2::new(i % 64, i / 64), 0, 0, 1)).sum::<f32>() / 4096.0;
+    /// assert!((mean - 0.5).abs() < 0.01);
+    /// ```
     #[inline]
     pub fn sample(&self, pixel: UVec2, sample_index: u32, dimension: u32, spp: u32) -> f32 {
         screen_sobol_sample(self.keys, self.layout, spp, pixel, sample_index, dimension)

@@ -27,6 +27,18 @@ pub fn hash_u32(x: u32) -> u32 {
 ///
 /// Distinct pixels of one buffer get distinct seeds (a bijective hash of the
 /// row-major index), so no two pixels start correlated.
+///
+/// # Example
+///
+/// ```
+/// use sampler_core::initial_seed;
+/// let (w, h) = (64, 32);
+/// let mut seeds: Vec<u32> = (0..h).flat_map(|y| (0..w).map(move |x| initial_seed(x, y, w, 0))).collect();
+/// seeds.sort();
+/// seeds.dedup();
+/// assert_eq!(seeds.len(), (w * h) as usize); // all distinct
+/// assert_ne!(initial_seed(0, 0, w, 0), initial_seed(0, 0, w, 1)); // another salt, another set
+/// ```
 #[inline]
 pub fn initial_seed(x: u32, y: u32, stride: u32, salt: u32) -> u32 {
     hash_u32(y.wrapping_mul(stride).wrapping_add(x) ^ hash_u32(salt))
@@ -39,6 +51,15 @@ pub fn random_u32(seed: u32, index: u32) -> u32 {
 }
 
 /// Number `index` of the stream of `seed`, uniform in `[0, 1)` with 24 bits.
+///
+/// # Example
+///
+/// ```
+/// use sampler_core::random_f32;
+/// let u = random_f32(0xC0FFEE, 3); // number 3 of the seed's stream
+/// assert!((0.0..1.0).contains(&u));
+/// assert_eq!(u, random_f32(0xC0FFEE, 3)); // a pure function of (seed, index)
+/// ```
 #[inline]
 pub fn random_f32(seed: u32, index: u32) -> f32 {
     crate::r2::q32_to_f32(random_u32(seed, index))
@@ -57,6 +78,16 @@ pub struct RandomStream {
 impl RandomStream {
     /// Stream of `seed` positioned at the first dimension of sample `sample`
     /// when each sample uses `dimensions_per_sample` numbers.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use sampler_core::{random_u32, RandomStream};
+    /// // Sample 2 of a pixel that draws 8 numbers per sample starts at index 16.
+    /// let mut stream = RandomStream::new(42, 2, 8);
+    /// assert_eq!(stream.next_u32(), random_u32(42, 16));
+    /// assert_eq!(stream.next_u32(), random_u32(42, 17));
+    /// ```
     #[inline]
     pub fn new(seed: u32, sample: u32, dimensions_per_sample: u32) -> Self {
         RandomStream {

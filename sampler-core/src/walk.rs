@@ -53,6 +53,15 @@ pub fn tile_log2(tile: u32) -> Option<u32> {
 ///
 /// `tile_log2` must be in `1..=MAX_TILE_LOG2` (callers validate with
 /// [`tile_log2`]; out-of-range values give meaningless but in-range offsets).
+///
+/// # Example
+///
+/// ```
+/// use sampler_core::walk_offset;
+/// let o = walk_offset(5, 6); // frame 5, 64x64 tile
+/// assert!(o.x < 64 && o.y < 64);
+/// assert_ne!(walk_offset(5, 6), walk_offset(6, 6));
+/// ```
 #[inline]
 pub fn walk_offset(frame: u32, tile_log2: u32) -> UVec2 {
     let shift = 32u32.wrapping_sub(tile_log2) & 31;
@@ -79,6 +88,17 @@ pub fn walk_step(frame: u32, tile_log2: u32) -> UVec2 {
 
 /// Index in `0..STEP_COUNT` of the step taken after frame `t`; selects the
 /// retarget table.
+///
+/// # Example
+///
+/// ```
+/// use sampler_core::{defaults, step_index, STEP_COUNT};
+/// let tables = defaults::tables_64();
+/// let t = 10;
+/// let table = tables.table(step_index(t, 6)); // the table from frame t's tile to frame t + 1's
+/// assert!(step_index(t, 6) < STEP_COUNT as u32);
+/// assert_eq!(table.packed().len(), 64 * 64);
+/// ```
 #[inline]
 pub fn step_index(frame: u32, tile_log2: u32) -> u32 {
     let mask = (1u32 << tile_log2).wrapping_sub(1);

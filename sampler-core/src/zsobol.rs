@@ -227,6 +227,21 @@ pub fn zsobol_sample_u32(
 }
 
 /// [`zsobol_sample_u32`] in `[0, 1)` (24 bits).
+///
+/// # Example
+///
+/// Four samples per pixel, dimension pair 0 (e.g. the position in the pixel):
+///
+/// ```
+/// use sampler_core::zsobol_sample;
+/// use glam::UVec2;
+/// let pixel = UVec2::new(10, 7);
+/// let xs: Vec<f32> = (0..4).map(|s| zsobol_sample(pixel, s, 0, 2, 1234)).collect();
+/// // Stratified: one sample in each quarter of [0, 1).
+/// let mut quarters: Vec<u32> = xs.iter().map(|x| (x * 4.0) as u32).collect();
+/// quarters.sort();
+/// assert_eq!(quarters, [0, 1, 2, 3]);
+/// ```
 #[inline]
 pub fn zsobol_sample(pixel: glam::UVec2, sample_index: u32, dimension: u32, log2_spp: u32, seed: u32) -> f32 {
     crate::r2::q32_to_f32(zsobol_sample_u32(pixel, sample_index, dimension, log2_spp, seed))
