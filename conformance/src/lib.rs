@@ -36,6 +36,7 @@ pub mod motion_insets;
 pub mod motion_study;
 pub mod motion_tables;
 pub mod permute_par;
+pub mod plot;
 pub mod radial;
 pub mod reference;
 pub mod regions;

@@ -4,11 +4,12 @@
 //! Pictures per method: the frame at [`GOAL_FRAME`], the signed luma error on the
 //! back-wall inset (grey = 0, white/black = +/- 3 white-mode RMS of that inset) and its
 //! power spectrum (centred, `log10` of power relative to white's mean, mapped from -2
-//! (black) to +1 (white)). Plots (plotters, no text in the PNGs: the fonts are not
-//! available, so axes and colours are described in the page): radial power of the
-//! error, blurred RMSE against frame, accumulated RMSE against frame count, and the
-//! R2-walk against the fixed-step accumulated RMSE.
+//! (black) to +1 (white)). Plots ([`crate::plot`]: SVG with axes, ticks, legends and
+//! labelled goal lines; data beside each as CSV): radial power of the error, LF
+//! power and blurred RMSE against frame, accumulated RMSE against frame count, and
+//! the R2-walk against the fixed-step accumulated RMSE.
 
+use crate::plot::{Curve, LinePlot};
 use crate::render_study::{
     crop, Method, Metric, Study, StudyConfig, StudyResult, ACCUMULATION_POINTS, GOAL_FRAME,
 };
@@ -159,53 +160,43 @@ fn save_grey(path: &Path, side: u32, data: &[u8]) -> Result<()> {
 
 type Series = (Method, Vec<(f64, f64)>);
 
-/// A line plot with `series` (x, y) in linear x and `log10` y, grid lines at integer
-/// decades, no text.
-fn plot(path: &Path, series: &[Series], log_y: bool, y_lines: &[f64]) -> Result<()> {
-    let tf = |v: f64| if log_y { v.max(1e-12).log10() } else { v };
-    let pts: Vec<(f64, f64)> = series
+/// The plots of the report: file stem (`<stem>.svg`, `<stem>.csv`) and caption.
+const PLOTS: [(&str, &str); 5] = [
+    ("plot-radial", "Radially averaged power of the error on the back-wall inset, averaged over frames from 8 on, relative to white noise's mean power (white noise is flat at 1; blue noise is low at low frequencies)."),
+    ("plot-lf", "Low-frequency power of the error on the flat insets against frame (white = 1)."),
+    ("plot-blur1", "RMSE after a Gaussian blur (sigma 1, whole image) against frame (white = 1)."),
+    ("plot-accumulated", "RMSE of the accumulated image against the number of frames (white = 1)."),
+    ("plot-walk", "Aperiodic R2 walk (permute) against the fixed step floor(W (a1, a2)) = (48, 36) (fixed-step): accumulated RMSE against frames (white = 1)."),
+];
+
+/// Writes `out/<stem>.svg` and `.csv` with one curve per method of `series`.
+fn plot(
+    out: &Path,
+    stem: &str,
+    (x_title, y_title): (&str, &str),
+    series: &[Series],
+    log_y: bool,
+    lines: &[(f64, &str)],
+) -> Result<()> {
+    let curves: Vec<Curve> = series
         .iter()
-        .flat_map(|(_, s)| s.iter().map(|&(x, y)| (x, tf(y))))
-        .filter(|p| p.1.is_finite())
+        .map(|(m, points)| Curve {
+            label: m.name().to_string(),
+            colour: colour(*m),
+            points: points.clone(),
+        })
         .collect();
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for &(x, y) in &pts {
-        x0 = x0.min(x);
-        x1 = x1.max(x);
-        y0 = y0.min(y);
-        y1 = y1.max(y);
-    }
-    for &l in y_lines {
-        y0 = y0.min(tf(l));
-        y1 = y1.max(tf(l));
-    }
-    if x1 <= x0 {
-        x1 = x0 + 1.0;
-    }
-    let pad = ((y1 - y0) * 0.05).max(1e-3);
-    let root = BitMapBackend::new(path, (640, 400)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let mut chart = ChartBuilder::on(&root)
-        .margin(10)
-        .build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))
-        .map_err(|e| anyhow::anyhow!("{e}"))?;
-    for &l in y_lines {
-        chart
-            .draw_series(LineSeries::new([(x0, tf(l)), (x1, tf(l))], BLACK.mix(0.4)))
-            .map_err(|e| anyhow::anyhow!("{e}"))?;
-    }
-    for (m, s) in series {
-        let data: Vec<(f64, f64)> = s
-            .iter()
-            .map(|&(x, y)| (x, tf(y)))
-            .filter(|p| p.1.is_finite())
-            .collect();
-        chart
-            .draw_series(LineSeries::new(data, colour(*m).stroke_width(2)))
-            .map_err(|e| anyhow::anyhow!("{e}"))?;
-    }
-    root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
-    Ok(())
+    let title = PLOTS.iter().find(|p| p.0 == stem).map(|p| p.1).unwrap_or(stem);
+    let title = title.split([',', '(', ':']).next().unwrap_or(title).trim();
+    let plot = LinePlot {
+        title,
+        x_title,
+        y_title,
+        log_y,
+        lines,
+        curves: &curves,
+    };
+    plot.write(&out.join(format!("{stem}.svg")), &out.join(format!("{stem}.csv")))
 }
 
 fn rel_series(r: &StudyResult, m: Method, metric: Metric, count_from_one: bool) -> Vec<(f64, f64)> {
@@ -237,7 +228,15 @@ fn write_plots(r: &StudyResult, out: &Path) -> Result<()> {
             (run.method, s)
         })
         .collect();
-    plot(&out.join("plot-radial.png"), &radial, true, &[0.01, 0.1, 1.0])?;
+    let relative = "relative to white (white = 1)";
+    plot(
+        out,
+        "plot-radial",
+        ("frequency (cycles per pixel)", "power / white's mean power"),
+        &radial,
+        true,
+        &[(1.0, "white noise")],
+    )?;
     let all = |metric, one| -> Vec<Series> {
         r.runs
             .iter()
@@ -245,28 +244,41 @@ fn write_plots(r: &StudyResult, out: &Path) -> Result<()> {
             .collect()
     };
     plot(
-        &out.join("plot-lf.png"),
+        out,
+        "plot-lf",
+        ("frame", relative),
         &all(Metric::LowFrequency, false),
         true,
-        &[0.1, 1.0],
+        &[(0.15, "goal"), (1.0, "white")],
     )?;
     plot(
-        &out.join("plot-blur1.png"),
+        out,
+        "plot-blur1",
+        ("frame", relative),
         &all(Metric::Blur1, false),
         false,
-        &[0.6, 1.0],
+        &[(0.6, "goal"), (1.0, "white")],
     )?;
     plot(
-        &out.join("plot-accumulated.png"),
+        out,
+        "plot-accumulated",
+        ("frames accumulated", relative),
         &all(Metric::Accumulated, true),
         false,
-        &[1.0, 1.05],
+        &[(1.0, "white"), (1.05, "goal")],
     )?;
     let walk: Vec<Series> = [Method::White, Method::Permute, Method::FixedStep]
         .iter()
         .map(|&m| (m, rel_series(r, m, Metric::Accumulated, true)))
         .collect();
-    plot(&out.join("plot-walk.png"), &walk, false, &[1.0, 1.05])?;
+    plot(
+        out,
+        "plot-walk",
+        ("frames accumulated", relative),
+        &walk,
+        false,
+        &[(1.0, "white"), (1.05, "goal")],
+    )?;
     Ok(())
 }
 
@@ -348,6 +360,73 @@ fn pictures(r: &StudyResult) -> String {
     h
 }
 
+/// The generated opening paragraph: which method wins each headline figure
+/// of `r` (1 spp), in numbers, and the region split of the blurred error.
+fn summary_text(r: &StudyResult) -> String {
+    use crate::regions::Region;
+    let t = GOAL_FRAME.min(r.config.frames.saturating_sub(1)) as usize;
+    let best = |value: &dyn Fn(Method) -> Option<f64>| -> Option<(Method, f64)> {
+        r.runs
+            .iter()
+            .filter(|run| run.method != Method::White)
+            .filter_map(|run| {
+                value(run.method)
+                    .filter(|v| v.is_finite() && *v > 0.0)
+                    .map(|v| (run.method, v))
+            })
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    };
+    let name = |b: Option<(Method, f64)>| match b {
+        Some((m, v)) => format!("<b style=\"color:{}\">{}</b> ({v:.3})", css(m), m.name()),
+        None => "n/a".to_string(),
+    };
+    let frames = r.config.frames as usize;
+    let lf_mean = |m| {
+        let v: Vec<f64> = (t..frames)
+            .filter_map(|i| r.relative(m, Metric::LowFrequency, i))
+            .collect();
+        (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+    };
+    let acc_n = ACCUMULATION_POINTS
+        .iter()
+        .copied()
+        .filter(|&n| n <= r.config.frames)
+        .max();
+    let mut h = format!(
+        "<p class=\"summary\"><b>In short</b> ({} spp, {} frames, figures relative to white noise = 1, lower is better; \
+generated from the tables below): the lowest blurred error (&sigma; 1, RMSE over frames {t}..) is {}; the lowest \
+low-frequency power on the flat insets (mean over frames {t}..) is {}",
+        r.config.spp,
+        r.config.frames,
+        name(best(&|m| r.pooled(m, Metric::Blur1, t))),
+        name(best(&lf_mean)),
+    );
+    if let Some(n) = acc_n {
+        let _ = write!(
+            h,
+            "; the lowest error of the image accumulated over {n} frames is {}",
+            name(best(&|m| r.relative(m, Metric::Accumulated, n as usize - 1)))
+        );
+    }
+    h += ". By region (blurred error, frames from {t}):";
+    let h = h.replace("{t}", &t.to_string());
+    let mut h = h;
+    for (region, label) in [
+        (Region::Emitter, "emitter zone"),
+        (Region::Edge, "edges"),
+        (Region::Interior, "interior"),
+    ] {
+        let _ = write!(
+            h,
+            " {label}: {};",
+            name(best(&|m| r.pooled_region(m, Some(region), t)))
+        );
+    }
+    h += " (0 would mean below the reference's own noise: not ranked). The permutation's \
+figures are in the rows <i>permute</i> and <i>permute-jitter</i>.</p>\n";
+    h
+}
+
 fn legend() -> String {
     Method::ALL
         .iter()
@@ -362,7 +441,7 @@ fn html(cfg: &ReportConfig, results: &[StudyResult]) -> String {
         "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Blue-noise seed permutation: rendered quality</title>\n\
 <style>body{font-family:sans-serif;margin:1em} img{image-rendering:pixelated;width:256px;height:256px;border:1px solid #ccc}\
  figure{display:inline-block;margin:4px} table{border-collapse:collapse} td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}\
- img.plot{width:640px;height:400px}</style></head>\n<body>\n",
+ img.plot{width:720px;height:440px;image-rendering:auto}</style></head>\n<body>\n",
     );
     let _ = write!(
         h,
@@ -376,6 +455,7 @@ Error = luma(frame) - luma(reference). Figures relative to white (fresh white-no
         r = cfg.ref_spp,
         g = GOAL_FRAME
     );
+    h += &summary_text(r1);
     h += "<p>Insets (flat regions, checked by casting each pixel's centre ray):";
     for i in &r1.insets {
         let _ = write!(
@@ -396,21 +476,15 @@ Error = luma(frame) - luma(reference). Figures relative to white (fresh white-no
     }
     let _ = writeln!(
         h,
-        "<h2>Plots (1 spp, {} frames)</h2><p>Colours: {}. Grey horizontal lines mark the values given per plot.</p>",
+        "<h2>Plots (1 spp, {} frames)</h2><p>Colours: {}. Dashed lines: white noise and the goals, labelled with their values. Each plot's data is linked below it.</p>",
         r1.config.frames,
         legend()
     );
-    let plots = [
-        ("plot-radial.png", "Radial power of the error on the back-wall inset, averaged over frames from 8 on: x = frequency 0..0.5 cycles/pixel, y = log10(power / white's mean power); lines at 0.01, 0.1, 1."),
-        ("plot-lf.png", "Low-frequency power of the error on the insets against frame (white = 1), y = log10; lines at 0.1 and 1."),
-        ("plot-blur1.png", "RMSE after a Gaussian blur (sigma 1, whole image) against frame, white = 1; lines at 0.6 and 1."),
-        ("plot-accumulated.png", "RMSE of the accumulated image against the number of frames, white = 1; lines at 1 and 1.05."),
-        ("plot-walk.png", "Aperiodic R2 walk (permute) against the fixed step floor(W (a1, a2)) = (48, 36) (fixed-step): accumulated RMSE against frames, white = 1; lines at 1 and 1.05."),
-    ];
-    for (file, caption) in plots {
+    for (stem, caption) in PLOTS {
         let _ = writeln!(
             h,
-            "<figure><img class=\"plot\" src=\"{file}\" alt=\"{file}\"><figcaption>{caption}</figcaption></figure>"
+            "<figure><img class=\"plot\" src=\"{stem}.svg\" alt=\"{stem}\"><figcaption>{caption} \
+<a href=\"{stem}.csv\">data (CSV)</a></figcaption></figure>"
         );
     }
     for r in results {

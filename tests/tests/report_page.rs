@@ -1,8 +1,12 @@
-//! Issue 5, part 3: the quality report opens in a browser and every image loads.
+//! Issue 5, part 3 and issue 17: the quality report opens in a browser, every image
+//! and SVG plot loads, and the page logs no console message.
 //!
 //! Runs `conformance report` at a tiny size, opens `index.html` in headless Chromium
 //! with `--dump-dom`, and reads the `data-images-loaded="ok/total"` attribute the
-//! page's own script sets on `load` (an image counts when `naturalWidth > 0`).
+//! page's own script sets on `load` (an image counts when `naturalWidth > 0`);
+//! Chromium's console log (`--enable-logging=stderr`) must hold no message from the
+//! page (a failed load or a script error would be one). A screenshot of the top of
+//! the page at 1400 px width is written to `target/report_page/top.png` for the record.
 //! Without Chromium the test prints SKIPPED, unless `BLUENOISE_REQUIRE_GPU=1` or
 //! `BLUENOISE_REQUIRE_BROWSER=1` is set (CI), then it fails.
 
@@ -67,12 +71,20 @@ fn report_page_loads_every_image() {
             "--no-first-run",
             &format!("--user-data-dir={}", profile.path().display()),
             "--virtual-time-budget=5000",
+            "--enable-logging=stderr",
+            "--v=0",
             "--dump-dom",
             &url,
         ])
         .output()
         .expect("chromium starts");
     let dom = String::from_utf8_lossy(&o.stdout);
+    let console: Vec<&str> = std::str::from_utf8(&o.stderr)
+        .unwrap_or("")
+        .lines()
+        .filter(|l| l.contains(":CONSOLE"))
+        .collect();
+    assert!(console.is_empty(), "the page logged to the console: {console:#?}");
     let attr = dom
         .split("data-images-loaded=\"")
         .nth(1)
@@ -92,4 +104,50 @@ fn report_page_loads_every_image() {
     let (ok, total): (usize, usize) = (ok.parse().expect("count"), total.parse().expect("count"));
     assert_eq!(total, imgs, "the browser saw {total} images, the HTML has {imgs}");
     assert_eq!(ok, total, "only {ok} of {total} images loaded");
+    let svgs = html.matches(".svg\"").count();
+    assert!(svgs >= 5, "expected the SVG plots, found {svgs}");
+    for stem in [
+        "plot-radial",
+        "plot-lf",
+        "plot-blur1",
+        "plot-accumulated",
+        "plot-walk",
+    ] {
+        let csv = std::fs::read_to_string(out.join(format!("{stem}.csv"))).expect("plot data");
+        assert!(
+            csv.starts_with("curve,x,y\n") && csv.lines().count() > 10,
+            "{stem}.csv"
+        );
+    }
+
+    // The top of the page at 1400 px width, for the record.
+    let shots = Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/report_page");
+    std::fs::create_dir_all(&shots).expect("screenshot dir");
+    let shot = shots.join("top.png");
+    let _ = std::fs::remove_file(&shot);
+    let o = Command::new(CHROMIUM)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--no-first-run",
+            &format!("--user-data-dir={}", profile.path().display()),
+            "--virtual-time-budget=5000",
+            "--hide-scrollbars",
+            "--window-size=1400,1000",
+            &format!("--screenshot={}", shot.display()),
+            &url,
+        ])
+        .output()
+        .expect("chromium starts");
+    let size = std::fs::metadata(&shot).map(|m| m.len()).unwrap_or(0);
+    assert!(
+        size > 10_000,
+        "no screenshot ({size} B): {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    println!("screenshot: {} ({size} B)", shot.display());
 }
