@@ -44,7 +44,7 @@ const LEGEND_WIDTH: u32 = 170;
 
 /// A tick label with at least two significant digits: plain decimals from
 /// 0.001 to 10,000, else scientific.
-fn tick(v: &f64) -> String {
+pub fn tick(v: &f64) -> String {
     let a = v.abs();
     if a == 0.0 {
         "0".to_string()

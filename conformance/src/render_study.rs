@@ -300,6 +300,17 @@ pub struct MethodRun {
     /// Radially averaged power of the first inset's error, averaged over the frames
     /// from [`GOAL_FRAME`] on (or the last frame); index = radius in bins.
     pub radial: Vec<f64>,
+    /// Power spectrum of the error (DFT order, `(kx, ky)` at `ky * side + kx`, DC
+    /// at 0), averaged over the frames from [`GOAL_FRAME`] on and over every inset,
+    /// each cropped to its central `spectrum_side` square (the smallest inset's
+    /// side) so the spectra share one frequency grid; in units of luma².
+    pub spectrum: Vec<f64>,
+    /// Side of [`Self::spectrum`].
+    pub spectrum_side: usize,
+    /// Temporal power spectrum of a pixel's error ([`crate::temporal::temporal_power`]:
+    /// entry `k` is `k / len` cycles per frame, entry 0 is 0), averaged over the first
+    /// inset's pixels, over the frames from [`GOAL_FRAME`] on.
+    pub temporal: Vec<f64>,
     /// Frame [`GOAL_FRAME`] (or the last).
     pub snapshot: Snapshot,
 }
@@ -495,6 +506,10 @@ struct Meter<'a> {
     sum: Vec<f64>,
     radial_frames: u32,
     snapshot_frame: u32,
+    /// Spectra summed into `run.spectrum`.
+    spectrum_count: u32,
+    /// The first inset's error per frame from `snapshot_frame` on (frame-major).
+    inset_series: Vec<f32>,
 }
 
 impl<'a> Meter<'a> {
@@ -515,6 +530,9 @@ impl<'a> Meter<'a> {
                 acc_rmse: Vec::new(),
                 acc_rmse_corrected: Vec::new(),
                 radial: Vec::new(),
+                spectrum: Vec::new(),
+                spectrum_side: study.insets.iter().map(|i| i.side as usize).min().unwrap_or(0),
+                temporal: Vec::new(),
                 snapshot: Snapshot {
                     frame: snapshot_frame,
                     rgb: Vec::new(),
@@ -527,6 +545,8 @@ impl<'a> Meter<'a> {
             sum: vec![0.0; n],
             radial_frames: 0,
             snapshot_frame,
+            spectrum_count: 0,
+            inset_series: Vec::new(),
         })
     }
 
@@ -562,6 +582,10 @@ impl<'a> Meter<'a> {
                     *a += b;
                 }
                 self.radial_frames += 1;
+                self.inset_series.extend_from_slice(sub.data());
+            }
+            if t >= self.snapshot_frame {
+                self.add_spectrum(&sub);
             }
         }
         self.run.lf_insets.push(lf);
@@ -593,6 +617,25 @@ impl<'a> Meter<'a> {
         }
     }
 
+    /// Adds the spectrum of the central `spectrum_side` square of `inset_error`.
+    fn add_spectrum(&mut self, inset_error: &Grid) {
+        let side = self.run.spectrum_side;
+        let (x0, y0) = (
+            (inset_error.width() - side) / 2,
+            (inset_error.height() - side) / 2,
+        );
+        let centre =
+            Grid::from_fn(side, side, |x, y| inset_error.get(x0 + x, y0 + y)).expect("spectrum side");
+        let spectrum = self.analyzer.power_spectrum(&centre);
+        if self.run.spectrum.is_empty() {
+            self.run.spectrum = vec![0.0; side * side];
+        }
+        for (a, b) in self.run.spectrum.iter_mut().zip(spectrum.power()) {
+            *a += b;
+        }
+        self.spectrum_count += 1;
+    }
+
     fn finish(mut self) -> Result<MethodRun> {
         ensure!(
             self.run.rmse.len() == self.study.config.frames as usize,
@@ -602,6 +645,15 @@ impl<'a> Meter<'a> {
         );
         let k = self.radial_frames.max(1) as f64;
         self.run.radial.iter_mut().for_each(|v| *v /= k);
+        let k = self.spectrum_count.max(1) as f64;
+        self.run.spectrum.iter_mut().for_each(|v| *v /= k);
+        let side = self.study.insets.first().map_or(0, |i| i.side as usize);
+        let depth = self.inset_series.len() / (side * side).max(1);
+        if depth >= 2 {
+            let series = std::mem::take(&mut self.inset_series);
+            let volume = crate::Volume::new(side, side, depth, series)?;
+            self.run.temporal = crate::temporal::temporal_power(&mut self.analyzer, &volume);
+        }
         Ok(self.run)
     }
 }

@@ -81,9 +81,11 @@ pub fn write_report(
             progress(&label, done, total);
         })?;
         write_images(&study, &result, out)?;
+        crate::report_spectra::write_spectra(&result, out, |m| prefix(&result, m))?;
         results.push(result);
     }
     write_plots(&results[0], out)?;
+    crate::report_spectra::write_temporal_plot(&results[0], out, colour)?;
     std::fs::write(out.join("index.html"), html(cfg, &results))?;
     Ok(results)
 }
@@ -161,11 +163,12 @@ fn save_grey(path: &Path, side: u32, data: &[u8]) -> Result<()> {
 type Series = (Method, Vec<(f64, f64)>);
 
 /// The plots of the report: file stem (`<stem>.svg`, `<stem>.csv`) and caption.
-const PLOTS: [(&str, &str); 5] = [
+const PLOTS: [(&str, &str); 6] = [
     ("plot-radial", "Radially averaged power of the error on the back-wall inset, averaged over frames from 8 on, relative to white noise's mean power (white noise is flat at 1; blue noise is low at low frequencies)."),
     ("plot-lf", "Low-frequency power of the error on the flat insets against frame (white = 1)."),
     ("plot-blur1", "RMSE after a Gaussian blur (sigma 1, whole image) against frame (white = 1)."),
     ("plot-accumulated", "RMSE of the accumulated image against the number of frames (white = 1)."),
+    ("plot-temporal", "Temporal power spectrum of a pixel's error on the back-wall inset, frames from 8 on, averaged over its pixels, relative to white noise's mean power (white noise is flat at 1; error that alternates between frames is high at 0.5 cycles per frame)."),
     ("plot-walk", "Aperiodic R2 walk (permute) against the fixed step floor(W (a1, a2)) = (48, 36) (fixed-step): accumulated RMSE against frames (white = 1)."),
 ];
 
@@ -349,7 +352,8 @@ fn pictures(r: &StudyResult) -> String {
 <figure><img src=\"{p}-frame.png\" alt=\"{n} frame\"><figcaption>frame {f}</figcaption></figure>\
 <figure><img src=\"{p}-error-full.png\" alt=\"{n} error\"><figcaption>luma error, whole frame</figcaption></figure>\
 <figure><img class=\"inset\" src=\"{p}-error.png\" alt=\"{n} error inset\"><figcaption>error, {i} inset</figcaption></figure>\
-<figure><img class=\"inset\" src=\"{p}-spectrum.png\" alt=\"{n} spectrum\"><figcaption>its power spectrum</figcaption></figure></div>",
+<figure><img class=\"inset\" src=\"{p}-spectrum.png\" alt=\"{n} spectrum\"><figcaption>its power spectrum, this frame</figcaption></figure>\
+<figure><img class=\"inset\" src=\"{p}-spectrum-avg.png\" alt=\"{n} averaged spectrum\"><figcaption>power spectrum averaged over frames {f}.. and insets</figcaption></figure></div>",
             c = css(run.method),
             n = run.method.name(),
             d = run.method.describe(),
@@ -441,7 +445,8 @@ fn html(cfg: &ReportConfig, results: &[StudyResult]) -> String {
         "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Blue-noise seed permutation: rendered quality</title>\n\
 <style>body{font-family:sans-serif;margin:1em} img{image-rendering:pixelated;width:256px;height:256px;border:1px solid #ccc}\
  figure{display:inline-block;margin:4px} table{border-collapse:collapse} td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}\
- img.plot{width:720px;height:440px;image-rendering:auto}</style></head>\n<body>\n",
+ img.plot{width:760px;height:440px;image-rendering:auto}\
+ img.bar{width:520px;height:70px;border:none;image-rendering:auto} img.inset{width:160px;height:160px}</style></head>\n<body>\n",
     );
     let _ = write!(
         h,
@@ -486,6 +491,29 @@ Error = luma(frame) - luma(reference). Figures relative to white (fresh white-no
             "<figure><img class=\"plot\" src=\"{stem}.svg\" alt=\"{stem}\"><figcaption>{caption} \
 <a href=\"{stem}.csv\">data (CSV)</a></figcaption></figure>"
         );
+    }
+    for r in results {
+        let _ = write!(
+            h,
+            "<h2>Averaged spectra, {spp} spp</h2><p>Power spectrum of the error, DC at the centre, averaged over \
+frames {t}.. and over the flat insets (each cropped to the smallest inset's side), on one colour scale for every \
+method: white noise is flat around 1; blue noise is dark near the centre (low frequencies).</p>\n\
+<figure><img class=\"bar\" src=\"{bar}\" alt=\"colour scale\"><figcaption>colour scale</figcaption></figure><div class=\"row\">",
+            spp = r.config.spp,
+            t = GOAL_FRAME.min(r.config.frames - 1),
+            bar = crate::report_spectra::scale_file(r),
+        );
+        for run in &r.runs {
+            let _ = write!(
+                h,
+                "<figure><img class=\"inset\" src=\"{p}-spectrum-avg.png\" alt=\"{n} averaged spectrum\">\
+<figcaption style=\"color:{c}\">{n}</figcaption></figure>",
+                p = prefix(r, run.method),
+                n = run.method.name(),
+                c = css(run.method),
+            );
+        }
+        h += "</div>\n";
     }
     for r in results {
         let _ = write!(
