@@ -42,6 +42,7 @@ pub mod reference;
 pub mod regions;
 pub mod render_study;
 pub mod report;
+pub mod report_pictures;
 pub mod report_spectra;
 pub mod spectrum;
 pub mod study_result;

@@ -100,6 +100,8 @@ use std::path::Path;
 pub const GOAL_FRAME: u32 = 8;
 /// Frame counts at which the accumulated RMSE is reported.
 pub const ACCUMULATION_POINTS: [u32; 4] = [8, 32, 64, 128];
+/// Frame counts whose accumulated mean image a run keeps (the report's pictures).
+pub const ACCUMULATION_SNAPSHOTS: [u32; 2] = [8, 64];
 
 /// How the seeds (or random numbers) change between frames.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -311,6 +313,9 @@ pub struct MethodRun {
     /// entry `k` is `k / len` cycles per frame, entry 0 is 0), averaged over the first
     /// inset's pixels, over the frames from [`GOAL_FRAME`] on.
     pub temporal: Vec<f64>,
+    /// The accumulated mean luma (mean of frames `0..n`, row-major) for each `n`
+    /// of [`ACCUMULATION_SNAPSHOTS`] the run reached.
+    pub accumulated: Vec<(u32, Vec<f32>)>,
     /// Frame [`GOAL_FRAME`] (or the last).
     pub snapshot: Snapshot,
 }
@@ -533,6 +538,7 @@ impl<'a> Meter<'a> {
                 spectrum: Vec::new(),
                 spectrum_side: study.insets.iter().map(|i| i.side as usize).min().unwrap_or(0),
                 temporal: Vec::new(),
+                accumulated: Vec::new(),
                 snapshot: Snapshot {
                     frame: snapshot_frame,
                     rgb: Vec::new(),
@@ -606,6 +612,10 @@ impl<'a> Meter<'a> {
             acc[*region as usize] += d * d;
         }
         self.run.acc_regions.push(acc);
+        if ACCUMULATION_SNAPSHOTS.contains(&(t + 1)) {
+            let mean = self.sum.iter().map(|s| (*s / n) as f32).collect();
+            self.run.accumulated.push((t + 1, mean));
+        }
         mse /= self.sum.len() as f64;
         self.run.acc_rmse.push(mse.sqrt());
         self.run

@@ -68,6 +68,7 @@ pub fn write_report(
 ) -> Result<Vec<StudyResult>> {
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     let mut results = Vec::new();
+    let mut picture_sections = Vec::new();
     for (spp, frames) in [(1u32, 2 * cfg.frames), (4, cfg.frames)] {
         let mut config = StudyConfig::new(cfg.size, spp, frames, cfg.ref_spp);
         config.max_depth = cfg.max_depth;
@@ -82,11 +83,18 @@ pub fn write_report(
         })?;
         write_images(&study, &result, out)?;
         crate::report_spectra::write_spectra(&result, out, |m| prefix(&result, m))?;
+        picture_sections.push(crate::report_pictures::write_pictures(
+            &study,
+            &result,
+            out,
+            |m| prefix(&result, m),
+            css,
+        )?);
         results.push(result);
     }
     write_plots(&results[0], out)?;
     crate::report_spectra::write_temporal_plot(&results[0], out, colour)?;
-    std::fs::write(out.join("index.html"), html(cfg, &results))?;
+    std::fs::write(out.join("index.html"), html(cfg, &results, &picture_sections))?;
     Ok(results)
 }
 
@@ -439,14 +447,15 @@ fn legend() -> String {
         .join(" ")
 }
 
-fn html(cfg: &ReportConfig, results: &[StudyResult]) -> String {
+fn html(cfg: &ReportConfig, results: &[StudyResult], picture_sections: &[String]) -> String {
     let r1 = &results[0];
     let mut h = String::from(
         "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Blue-noise seed permutation: rendered quality</title>\n\
 <style>body{font-family:sans-serif;margin:1em} img{image-rendering:pixelated;width:256px;height:256px;border:1px solid #ccc}\
  figure{display:inline-block;margin:4px} table{border-collapse:collapse} td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}\
  img.plot{width:760px;height:440px;image-rendering:auto}\
- img.bar{width:520px;height:70px;border:none;image-rendering:auto} img.inset{width:160px;height:160px}</style></head>\n<body>\n",
+ img.bar{width:520px;height:70px;border:none;image-rendering:auto} img.inset{width:160px;height:160px}\
+ table.pictures img{width:192px;height:192px} table.pictures img.crop{width:256px;height:256px}</style></head>\n<body>\n",
     );
     let _ = write!(
         h,
@@ -514,6 +523,9 @@ method: white noise is flat around 1; blue noise is dark near the centre (low fr
             );
         }
         h += "</div>\n";
+    }
+    for section in picture_sections {
+        h += section;
     }
     for r in results {
         let _ = write!(
