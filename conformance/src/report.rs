@@ -82,6 +82,7 @@ pub fn write_report(
             progress(&label, done, total);
         })?;
         write_images(&study, &result, out)?;
+        write_table_csv(&result, out)?;
         crate::report_spectra::write_spectra(&result, out, |m| prefix(&result, m))?;
         picture_sections.push(crate::report_pictures::write_pictures(
             &study,
@@ -298,47 +299,91 @@ fn mean_nonzero(v: &[f64]) -> f64 {
     (nz.iter().sum::<f64>() / nz.len().max(1) as f64).max(1e-30)
 }
 
-fn figure_table(r: &StudyResult) -> String {
+/// The headline table of `r`: header and one row per method (name, then
+/// values), relative to white = 1. Shared by the HTML and its CSV.
+fn table_rows(r: &StudyResult) -> (Vec<String>, Vec<(Method, Vec<f64>)>) {
     let t = GOAL_FRAME.min(r.config.frames - 1) as usize;
     let points: Vec<u32> = ACCUMULATION_POINTS
         .iter()
         .copied()
         .filter(|&n| n <= r.config.frames)
         .collect();
-    let mut h = String::from("<table><tr><th>method</th>");
-    let _ = write!(
-        h,
-        "<th>LF power, frame {t}</th><th>LF mean, frames {t}..</th><th>blur &sigma;1, frame {t}</th><th>blur &sigma;2, frame {t}</th><th>blur &sigma;1, mean of frame ratios {t}..</th><th>blur &sigma;1, RMSE over frames {t}..</th>"
-    );
+    let mut header: Vec<String> = vec![
+        format!("LF power, frame {t}"),
+        format!("LF mean, frames {t}.."),
+        format!("blur sigma 1, frame {t}"),
+        format!("blur sigma 2, frame {t}"),
+        format!("blur sigma 1, mean of frame ratios {t}.."),
+        format!("blur sigma 1, RMSE over frames {t}.."),
+    ];
     for n in &points {
-        let _ = write!(h, "<th>accumulated, {n} frames (raw)</th>");
+        header.push(format!("accumulated, {n} frames"));
+        header.push(format!("accumulated raw, {n} frames"));
+    }
+    let rows = r
+        .runs
+        .iter()
+        .map(|run| {
+            let m = run.method;
+            let rel = |metric, i| r.relative(m, metric, i).unwrap_or(f64::NAN);
+            let frames = run.rmse.len();
+            let avg = |metric| (t..frames).map(|i| rel(metric, i)).sum::<f64>() / (frames - t).max(1) as f64;
+            let mut v = vec![
+                rel(Metric::LowFrequency, t),
+                avg(Metric::LowFrequency),
+                rel(Metric::Blur1, t),
+                rel(Metric::Blur2, t),
+                avg(Metric::Blur1),
+                r.pooled(m, Metric::Blur1, t.min(frames.saturating_sub(1)))
+                    .unwrap_or(f64::NAN),
+            ];
+            for &n in &points {
+                let i = n as usize - 1;
+                v.push(rel(Metric::Accumulated, i));
+                v.push(rel(Metric::AccumulatedRaw, i));
+            }
+            (m, v)
+        })
+        .collect();
+    (header, rows)
+}
+
+/// Writes the headline table of `r` as `table-spp<N>.csv`; returns the file name.
+fn write_table_csv(r: &StudyResult, out: &Path) -> Result<String> {
+    let (header, rows) = table_rows(r);
+    let quoted: Vec<String> = header.iter().map(|c| format!("\"{c}\"")).collect();
+    let mut csv = format!("method,{}\n", quoted.join(","));
+    for (m, v) in rows {
+        let values: Vec<String> = v.iter().map(|x| x.to_string()).collect();
+        let _ = writeln!(csv, "{},{}", m.name(), values.join(","));
+    }
+    let file = format!("table-spp{}.csv", r.config.spp);
+    std::fs::write(out.join(&file), csv)?;
+    Ok(file)
+}
+
+fn figure_table(r: &StudyResult) -> String {
+    let (header, rows) = table_rows(r);
+    let mut h = String::from("<table><tr><th>method</th>");
+    // Accumulated columns come in (corrected, raw) pairs, shown as "v (raw)".
+    let first_acc = header
+        .iter()
+        .position(|c| c.starts_with("accumulated"))
+        .unwrap_or(header.len());
+    for c in &header[..first_acc] {
+        let _ = write!(h, "<th>{}</th>", c.replace("sigma ", "&sigma;"));
+    }
+    for c in header[first_acc..].iter().step_by(2) {
+        let _ = write!(h, "<th>{c} (raw)</th>");
     }
     h += "</tr>\n";
-    for run in &r.runs {
-        let m = run.method;
-        let rel = |metric, i| r.relative(m, metric, i).unwrap_or(f64::NAN);
-        let frames = run.rmse.len();
-        let avg = |metric| (t..frames).map(|i| rel(metric, i)).sum::<f64>() / (frames - t).max(1) as f64;
-        let _ = write!(
-            h,
-            "<tr><td style=\"color:{}\">{}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td>",
-            css(m),
-            m.name(),
-            rel(Metric::LowFrequency, t),
-            avg(Metric::LowFrequency),
-            rel(Metric::Blur1, t),
-            rel(Metric::Blur2, t),
-            avg(Metric::Blur1),
-            r.pooled(m, Metric::Blur1, t.min(frames.saturating_sub(1))).unwrap_or(f64::NAN)
-        );
-        for &n in &points {
-            let i = n as usize - 1;
-            let _ = write!(
-                h,
-                "<td>{:.3} ({:.3})</td>",
-                rel(Metric::Accumulated, i),
-                rel(Metric::AccumulatedRaw, i)
-            );
+    for (m, v) in rows {
+        let _ = write!(h, "<tr><td style=\"color:{}\">{}</td>", css(m), m.name());
+        for x in &v[..first_acc] {
+            let _ = write!(h, "<td>{x:.3}</td>");
+        }
+        for pair in v[first_acc..].chunks(2) {
+            let _ = write!(h, "<td>{:.3} ({:.3})</td>", pair[0], pair[1]);
         }
         h += "</tr>\n";
     }
@@ -482,10 +527,11 @@ Error = luma(frame) - luma(reference). Figures relative to white (fresh white-no
     for r in results {
         let _ = write!(
             h,
-            "<h2>{} spp, {} frames</h2>\n{}",
+            "<h2>{} spp, {} frames</h2>\n{}<p><a href=\"table-spp{}.csv\">table as CSV</a></p>\n",
             r.config.spp,
             r.config.frames,
-            figure_table(r)
+            figure_table(r),
+            r.config.spp
         );
     }
     let _ = writeln!(
