@@ -106,12 +106,24 @@ fn report_page_loads_every_image() {
     assert_eq!(ok, total, "only {ok} of {total} images loaded");
     let svgs = html.matches(".svg\"").count();
     assert!(svgs >= 5, "expected the SVG plots, found {svgs}");
+    for spp in [1, 4] {
+        let table = std::fs::read_to_string(out.join(format!("table-spp{spp}.csv"))).expect("table data");
+        assert!(
+            table.starts_with("method,") && table.lines().count() >= 9,
+            "table-spp{spp}.csv"
+        );
+        assert!(
+            html.contains(&format!("table-spp{spp}.csv")),
+            "no link to table-spp{spp}.csv"
+        );
+    }
     for stem in [
         "plot-radial",
         "plot-lf",
         "plot-blur1",
         "plot-accumulated",
         "plot-walk",
+        "plot-temporal",
     ] {
         let csv = std::fs::read_to_string(out.join(format!("{stem}.csv"))).expect("plot data");
         assert!(
