@@ -42,7 +42,7 @@ fn report_page_loads_every_image() {
             "--size",
             "32",
             "--frames",
-            "4",
+            "6",
             "--ref-spp",
             "16",
             "--no-cache",
