@@ -494,6 +494,11 @@ fn check_samplers(gpu: &Gpu, passes: &Passes, language: &str) {
         let uniform = gpu.uniform("sampler params", &params);
         let samples = gpu.storage_zeroed::<Vec2>("samples", n);
         let pixel = |i: usize| UVec2::new(i as u32 % width, i as u32 / width);
+        // The GPU's pairs as bits (bit for bit, NaN payloads included).
+        let read_bits = |buffer: &wgpu::Buffer| -> Vec<[u32; 2]> {
+            let v: Vec<Vec2> = gpu.read(buffer, n).unwrap();
+            v.iter().map(|v| [v.x.to_bits(), v.y.to_bits()]).collect()
+        };
         let what = format!(
             "{language}: {width}x{height}, spp {spp}, sample {sample_index}, pair {pair}, frame {frame}"
         );
@@ -513,13 +518,7 @@ fn check_samplers(gpu: &Gpu, passes: &Passes, language: &str) {
                 [v.x.to_bits(), v.y.to_bits()]
             })
             .collect();
-        let got: Vec<[u32; 2]> = gpu
-            .read::<Vec2>(&samples, n)
-            .unwrap()
-            .iter()
-            .map(|v| [v.x.to_bits(), v.y.to_bits()])
-            .collect();
-        assert_eq!(got, cpu, "screen_sobol, {what}");
+        assert_eq!(read_bits(&samples), cpu, "screen_sobol, {what}");
 
         passes.run(gpu, "zsobol", &[&uniform, &samples], n as u32);
         let cpu: Vec<[u32; 2]> = (0..n)
@@ -528,13 +527,7 @@ fn check_samplers(gpu: &Gpu, passes: &Passes, language: &str) {
                 [v.x.to_bits(), v.y.to_bits()]
             })
             .collect();
-        let got: Vec<[u32; 2]> = gpu
-            .read::<Vec2>(&samples, n)
-            .unwrap()
-            .iter()
-            .map(|v| [v.x.to_bits(), v.y.to_bits()])
-            .collect();
-        assert_eq!(got, cpu, "zsobol, {what}");
+        assert_eq!(read_bits(&samples), cpu, "zsobol, {what}");
         assert!(cpu.iter().any(|v| v != &cpu[0]), "{what}: constant samples");
     }
 }

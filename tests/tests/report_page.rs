@@ -20,6 +20,28 @@ fn browser_required() -> bool {
     gpu_required() || std::env::var("BLUENOISE_REQUIRE_BROWSER").as_deref() == Ok("1")
 }
 
+/// Headless Chromium with the flags this machine needs (no sandbox, no GPU,
+/// no background networking), a fresh profile in `profile`, 5 s of virtual
+/// time for the page's load script, and `args`.
+fn chromium(profile: &Path, args: &[&str]) -> std::process::Output {
+    let user_data = format!("--user-data-dir={}", profile.display());
+    Command::new(CHROMIUM)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--no-first-run",
+            &user_data,
+            "--virtual-time-budget=5000",
+        ])
+        .args(args)
+        .output()
+        .expect("chromium starts")
+}
+
 #[test]
 fn report_page_loads_every_image() {
     if !Path::new(CHROMIUM).exists() {
@@ -60,24 +82,10 @@ fn report_page_loads_every_image() {
 
     let profile = tempfile::tempdir().expect("profile dir");
     let url = format!("file://{}", out.join("index.html").display());
-    let o = Command::new(CHROMIUM)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--no-first-run",
-            &format!("--user-data-dir={}", profile.path().display()),
-            "--virtual-time-budget=5000",
-            "--enable-logging=stderr",
-            "--v=0",
-            "--dump-dom",
-            &url,
-        ])
-        .output()
-        .expect("chromium starts");
+    let o = chromium(
+        profile.path(),
+        &["--enable-logging=stderr", "--v=0", "--dump-dom", &url],
+    );
     let dom = String::from_utf8_lossy(&o.stdout);
     let console: Vec<&str> = std::str::from_utf8(&o.stderr)
         .unwrap_or("")
@@ -137,24 +145,15 @@ fn report_page_loads_every_image() {
     std::fs::create_dir_all(&shots).expect("screenshot dir");
     let shot = shots.join("top.png");
     let _ = std::fs::remove_file(&shot);
-    let o = Command::new(CHROMIUM)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--no-first-run",
-            &format!("--user-data-dir={}", profile.path().display()),
-            "--virtual-time-budget=5000",
+    let o = chromium(
+        profile.path(),
+        &[
             "--hide-scrollbars",
             "--window-size=1400,1000",
             &format!("--screenshot={}", shot.display()),
             &url,
-        ])
-        .output()
-        .expect("chromium starts");
+        ],
+    );
     let size = std::fs::metadata(&shot).map(|m| m.len()).unwrap_or(0);
     assert!(
         size > 10_000,
