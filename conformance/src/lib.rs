@@ -26,6 +26,7 @@
 pub mod blur;
 pub mod error;
 pub mod feature_diagnostics;
+pub mod filtered;
 pub mod fixtures;
 pub mod grid;
 pub mod history;
@@ -42,6 +43,7 @@ pub mod reference;
 pub mod regions;
 pub mod render_study;
 pub mod report;
+pub mod report_filtered;
 pub mod report_pictures;
 pub mod report_spectra;
 pub mod spectrum;

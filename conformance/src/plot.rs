@@ -100,11 +100,22 @@ impl LinePlot<'_> {
     /// # Errors
     /// I/O errors, or plotters' drawing errors.
     pub fn write(&self, svg: &Path, csv: &Path) -> Result<()> {
+        self.write_sized(svg, csv, PLOT_SIZE)
+    }
+
+    /// [`LinePlot::write`] at `size` pixels (width, height) instead of
+    /// [`PLOT_SIZE`]; the legend column narrows with the width (110 px at
+    /// least).
+    ///
+    /// # Errors
+    /// As [`LinePlot::write`].
+    pub fn write_sized(&self, svg: &Path, csv: &Path, size: (u32, u32)) -> Result<()> {
         let (x0, x1, y0, y1) = self.ranges();
         {
-            let root = SVGBackend::new(svg, PLOT_SIZE).into_drawing_area();
+            let legend_width = (LEGEND_WIDTH * size.0 / PLOT_SIZE.0).max(110).min(size.0 / 2);
+            let root = SVGBackend::new(svg, size).into_drawing_area();
             root.fill(&WHITE).map_err(err)?;
-            let (plot_area, legend_area) = root.split_horizontally(PLOT_SIZE.0 - LEGEND_WIDTH);
+            let (plot_area, legend_area) = root.split_horizontally(size.0 - legend_width);
             self.legend(&legend_area)?;
             let mut chart = ChartBuilder::on(&plot_area)
                 .caption(self.title, ("sans-serif", 18))

@@ -82,11 +82,12 @@ pub use crate::study_result::Metric;
 pub use crate::walks::{permute_with_offset, render_dither, render_walk, Walk};
 
 use crate::feature_diagnostics::SeedTracker;
+use crate::filtered::{FilteredErrors, FilteredMeter};
 use crate::insets::{check_inset, inset_layout, max_gradient};
 use crate::regions::{classify_regions, region_shares, Region};
 use crate::{low_frequency_ratio, radial_power, GaussianBlur, Grid, SpectrumAnalyzer};
 use anyhow::{ensure, Result};
-use glam::{Vec3, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 use gpu_tracer::cornell::cornell_box;
 use gpu_tracer::render::{render_sequence_cpu, FrameView, SequenceOptions};
 use gpu_tracer::scene::{SceneGpu, TraceSettings};
@@ -223,6 +224,9 @@ pub struct StudyConfig {
     pub max_depth: u32,
     /// Salt of the initial white-noise seeds.
     pub salt: u32,
+    /// Also measure every method after the real-time filters
+    /// ([`crate::filtered::STUDY_FILTERS`]); on by default.
+    pub filters: bool,
 }
 
 impl StudyConfig {
@@ -238,6 +242,7 @@ impl StudyConfig {
             seed_mode: SEED_MODE_FIXED,
             max_depth: 8,
             salt: 1,
+            filters: true,
         }
     }
 
@@ -318,6 +323,10 @@ pub struct MethodRun {
     pub accumulated: Vec<(u32, Vec<f32>)>,
     /// Frame [`GOAL_FRAME`] (or the last).
     pub snapshot: Snapshot,
+    /// The error after each real-time filter chain
+    /// ([`crate::filtered::STUDY_FILTERS`]; empty when the study's
+    /// [`StudyConfig::filters`] is off).
+    pub filtered: Vec<FilteredErrors>,
 }
 
 impl MethodRun {
@@ -343,6 +352,9 @@ pub struct StudyResult {
     pub features: FeatureDiagnostics,
     /// The runs, in the order they were requested.
     pub runs: Vec<MethodRun>,
+    /// The reference itself sent through each filter chain, one frame per
+    /// study frame: the filters' own error floor ([`Self::filter_bias`]).
+    pub filter_bias: Vec<FilteredErrors>,
 }
 
 /// The scene, reference and insets of one configuration.
@@ -413,7 +425,24 @@ impl Study {
             region_shares: region_shares(&self.regions),
             features: self.feature_diagnostics()?,
             runs,
+            filter_bias: self.filter_bias()?,
         })
+    }
+
+    /// The reference sent through each filter chain for the study's frame
+    /// count (empty without [`StudyConfig::filters`]).
+    fn filter_bias(&self) -> Result<Vec<FilteredErrors>> {
+        if !self.config.filters {
+            return Ok(Vec::new());
+        }
+        let size = self.config.size;
+        let mut meter = FilteredMeter::new(size, size)?;
+        let color: Vec<Vec4> = self.reference.rgb.iter().map(|c| c.extend(1.0)).collect();
+        let still = vec![Vec2::ZERO; color.len()];
+        for _ in 0..self.config.frames {
+            meter.frame(&color, &self.gbuffer, &still, &self.reference.luma, &self.regions)?;
+        }
+        Ok(meter.finish())
     }
 
     fn run_method(&self, method: Method, mut progress: impl FnMut(u32)) -> Result<MethodRun> {
@@ -515,6 +544,10 @@ struct Meter<'a> {
     spectrum_count: u32,
     /// The first inset's error per frame from `snapshot_frame` on (frame-major).
     inset_series: Vec<f32>,
+    /// The real-time filters ([`StudyConfig::filters`]), a still camera's
+    /// zero motion, and the first filter error.
+    filters: Option<(FilteredMeter, Vec<Vec2>)>,
+    filter_error: Option<anyhow::Error>,
 }
 
 impl<'a> Meter<'a> {
@@ -544,6 +577,7 @@ impl<'a> Meter<'a> {
                     rgb: Vec::new(),
                     error: Vec::new(),
                 },
+                filtered: Vec::new(),
             },
             analyzer: SpectrumAnalyzer::new(),
             blur1: GaussianBlur::new(1.0)?,
@@ -553,6 +587,14 @@ impl<'a> Meter<'a> {
             snapshot_frame,
             spectrum_count: 0,
             inset_series: Vec::new(),
+            filters: match study.config.filters {
+                true => Some((
+                    FilteredMeter::new(study.config.size, study.config.size)?,
+                    vec![Vec2::ZERO; n],
+                )),
+                false => None,
+            },
+            filter_error: None,
         })
     }
 
@@ -625,6 +667,12 @@ impl<'a> Meter<'a> {
             self.run.snapshot.rgb = color.iter().map(|c| c.truncate()).collect();
             self.run.snapshot.error = error;
         }
+        if let Some((filters, still)) = self.filters.as_mut() {
+            let s = self.study;
+            if let Err(e) = filters.frame(color, &s.gbuffer, still, &reference.luma, &s.regions) {
+                self.filter_error.get_or_insert(e);
+            }
+        }
     }
 
     /// Adds the spectrum of the central `spectrum_side` square of `inset_error`.
@@ -647,6 +695,12 @@ impl<'a> Meter<'a> {
     }
 
     fn finish(mut self) -> Result<MethodRun> {
+        if let Some(e) = self.filter_error.take() {
+            return Err(e.context("real-time filter"));
+        }
+        if let Some((filters, _)) = self.filters.take() {
+            self.run.filtered = filters.finish();
+        }
         ensure!(
             self.run.rmse.len() == self.study.config.frames as usize,
             "the renderer delivered {} of {} frames",

@@ -83,7 +83,11 @@ pub fn write_report(
         })?;
         write_images(&study, &result, out)?;
         write_table_csv(&result, out)?;
+        if crate::report_filtered::has_filters(&result) {
+            crate::report_filtered::write_csv(&result, out)?;
+        }
         crate::report_spectra::write_spectra(&result, out, |m| prefix(&result, m))?;
+        crate::report_spectra::write_radial_plots(&result, out, |m| prefix(&result, m), colour)?;
         picture_sections.push(crate::report_pictures::write_pictures(
             &study,
             &result,
@@ -97,6 +101,12 @@ pub fn write_report(
     crate::report_spectra::write_temporal_plot(&results[0], out, colour)?;
     std::fs::write(out.join("index.html"), html(cfg, &results, &picture_sections))?;
     Ok(results)
+}
+
+/// A figure's links: to the command at the top of the page and to `data`
+/// (a file beside the page).
+fn links(data: &str) -> String {
+    format!("<a href=\"#command\">command</a> &middot; <a href=\"{data}\">data (CSV)</a>")
 }
 
 fn prefix(r: &StudyResult, m: Method) -> String {
@@ -498,14 +508,14 @@ fn html(cfg: &ReportConfig, results: &[StudyResult], picture_sections: &[String]
         "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Blue-noise seed permutation: rendered quality</title>\n\
 <style>body{font-family:sans-serif;margin:1em} img{image-rendering:pixelated;width:256px;height:256px;border:1px solid #ccc}\
  figure{display:inline-block;margin:4px} table{border-collapse:collapse} td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}\
- img.plot{width:760px;height:440px;image-rendering:auto}\
+ img.plot{width:760px;height:440px;image-rendering:auto} img.radial{width:330px;height:225px;image-rendering:auto;border:none}\
  img.bar{width:520px;height:70px;border:none;image-rendering:auto} img.inset{width:160px;height:160px}\
  table.pictures img{width:192px;height:192px} table.pictures img.crop{width:256px;height:256px}</style></head>\n<body>\n",
     );
     let _ = write!(
         h,
         "<h1>Rendered quality of the blue-noise seed permutation</h1>\n<p>Cornell box {s}x{s}, static camera, CPU renderer, \
-reference {r} spp. Command: <code>cargo run -p conformance --release -- report --out DIR --size {s} --frames {f} --ref-spp {r}</code>. \
+reference {r} spp. Command (every figure below links here): <code id=\"command\">cargo run -p conformance --release -- report --out DIR --size {s} --frames {f} --ref-spp {r}</code>. \
 Error = luma(frame) - luma(reference). Figures relative to white (fresh white-noise seeds every frame) = 1; frame numbers from 0 \
 (frame 0 is the white start, frame {g} has had {g} permutation passes). Accumulated RMSE has the reference's own noise removed \
 (raw value in brackets). Goals (issue 5): by frame 8 LF power &le; 0.15 and blurred RMSE (&sigma; 1) &le; 0.6; accumulated RMSE &le; 1.05 at 64 and 128 frames.</p>\n",
@@ -524,10 +534,25 @@ Error = luma(frame) - luma(reference). Figures relative to white (fresh white-no
         );
     }
     h += "</p>\n";
+    for r in results.iter().filter(|r| crate::report_filtered::has_filters(r)) {
+        let _ = write!(
+            h,
+            "<h2>What the viewer sees: error after the real-time filter, {spp} spp</h2>\n<p>RMSE of luma(filtered frame) - \
+luma(reference) over frames {t}.., relative to white noise after the same filter (= 1), whole image and interior region. \
+<i>taa</i>: exponential history (&alpha; 0.1) with 3x3 colour clamping; <i>atrous</i>: SVGF's edge-avoiding a-trous \
+wavelet filter, 5 iterations, guided by depth, normal and luminance; <i>taa+atrous</i>: both, in SVGF's order (the \
+headline). Both filter the illumination demodulated by the albedo. The last row is the filter's own error on the \
+reference (its bias): where it is close to 1 the filter's blur, not the noise, dominates. Best per column in bold.</p>\n\
+{table}<p><a href=\"table-filtered-spp{spp}.csv\">table as CSV</a> &middot; <a href=\"#command\">command</a></p>\n",
+            spp = r.config.spp,
+            t = GOAL_FRAME.min(r.config.frames - 1),
+            table = crate::report_filtered::html_table(r, css),
+        );
+    }
     for r in results {
         let _ = write!(
             h,
-            "<h2>{} spp, {} frames</h2>\n{}<p><a href=\"table-spp{}.csv\">table as CSV</a></p>\n",
+            "<h2>Raw frames, {} spp, {} frames</h2>\n{}<p><a href=\"table-spp{}.csv\">table as CSV</a> &middot; <a href=\"#command\">command</a></p>\n",
             r.config.spp,
             r.config.frames,
             figure_table(r),
@@ -544,7 +569,8 @@ Error = luma(frame) - luma(reference). Figures relative to white (fresh white-no
         let _ = writeln!(
             h,
             "<figure><img class=\"plot\" src=\"{stem}.svg\" alt=\"{stem}\"><figcaption>{caption} \
-<a href=\"{stem}.csv\">data (CSV)</a></figcaption></figure>"
+{links}</figcaption></figure>",
+            links = links(&format!("{stem}.csv"))
         );
     }
     for r in results {
@@ -552,7 +578,8 @@ Error = luma(frame) - luma(reference). Figures relative to white (fresh white-no
             h,
             "<h2>Averaged spectra, {spp} spp</h2><p>Power spectrum of the error, DC at the centre, averaged over \
 frames {t}.. and over the flat insets (each cropped to the smallest inset's side), on one colour scale for every \
-method: white noise is flat around 1; blue noise is dark near the centre (low frequencies).</p>\n\
+method: white noise is flat around 1; blue noise is dark near the centre (low frequencies). Beside each, its radially \
+averaged power (log scale) with white noise's curve in grey.</p>\n\
 <figure><img class=\"bar\" src=\"{bar}\" alt=\"colour scale\"><figcaption>colour scale</figcaption></figure><div class=\"row\">",
             spp = r.config.spp,
             t = GOAL_FRAME.min(r.config.frames - 1),
@@ -561,8 +588,10 @@ method: white noise is flat around 1; blue noise is dark near the centre (low fr
         for run in &r.runs {
             let _ = write!(
                 h,
-                "<figure><img class=\"inset\" src=\"{p}-spectrum-avg.png\" alt=\"{n} averaged spectrum\">\
-<figcaption style=\"color:{c}\">{n}</figcaption></figure>",
+                "<figure class=\"pair\"><img class=\"inset\" src=\"{p}-spectrum-avg.png\" alt=\"{n} averaged spectrum\">\
+<img class=\"radial\" src=\"{p}-spectrum-radial.svg\" alt=\"{n} radial power\">\
+<figcaption><span style=\"color:{c}\">{n}</span>: averaged spectrum and its radial mean. {l}</figcaption></figure>",
+                l = links(&format!("{}-spectrum-radial.csv", prefix(r, run.method))),
                 p = prefix(r, run.method),
                 n = run.method.name(),
                 c = css(run.method),

@@ -70,7 +70,8 @@ pub fn write_pictures(
     let mut h = format!(
         "<h2>Pictures, {spp} spp</h2><p>Crop ({x0}, {y0}), {side} px, of frame {f}, zoomed {ZOOM}x (nearest neighbour), \
 the same for every method; the luma error after a Gaussian blur of sigma 1 and 2 (grey = 0, white/black = &plusmn;{s1:.3} \
-and &plusmn;{s2:.3}: 3x white noise's blurred RMS, one scale for every method); the mean of the first 8 and 64 frames.</p>\n",
+and &plusmn;{s2:.3}: 3x white noise's blurred RMS, one scale for every method); the mean of the first 8 and 64 frames. Each picture is a PNG beside the page; \
+<a href=\"#command\">command</a>.</p>\n",
         f = GOAL_FRAME.min(study.config.frames - 1),
         s1 = scales[0],
         s2 = scales[1],

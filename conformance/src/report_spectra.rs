@@ -5,7 +5,9 @@
 //! beside them), and the temporal spectrum of a pixel's error as a plot.
 
 use crate::plot::{Curve, LinePlot};
+use crate::radial::radial_power;
 use crate::render_study::{Method, StudyResult};
+use crate::spectrum::PowerSpectrum;
 use anyhow::{anyhow, Context, Result};
 use plotters::prelude::*;
 use plotters::style::colors::colormaps::{ColorMap, ViridisRGB};
@@ -112,6 +114,75 @@ pub fn write_spectra(r: &StudyResult, out: &Path, prefix: impl Fn(Method) -> Str
     Ok(scale)
 }
 
+/// Size of each method's radial plot beside its averaged spectrum, pixels.
+pub const RADIAL_PLOT_SIZE: (u32, u32) = (440, 300);
+
+/// The radially averaged power of a method's averaged spectrum
+/// ([`MethodRun::spectrum`](crate::render_study::MethodRun)) relative to
+/// `norm`: `(frequency in cycles per pixel, power / norm)` for the complete
+/// annuli `r = 1 ..= side / 2` (frequency `r / side`).
+///
+/// # Errors
+/// A spectrum that is not `side x side` finite, non-negative powers.
+pub fn radial_of_average(spectrum: &[f64], side: usize, norm: f64) -> Result<Vec<(f64, f64)>> {
+    let s = PowerSpectrum::from_power(side, side, spectrum.to_vec())
+        .map_err(|e| anyhow!("averaged spectrum: {e}"))?;
+    let radial = radial_power(&s);
+    Ok((1..=side / 2)
+        .filter(|&r| r < radial.mean().len() && radial.count()[r] > 0)
+        .map(|r| (r as f64 / side as f64, radial.mean()[r] / norm))
+        .collect())
+}
+
+/// Writes `<prefix>-spectrum-radial.svg` and `.csv` per method: the radially
+/// averaged power of its averaged spectrum (the image beside it), white
+/// noise's curve in grey and the white-noise mean as a labelled line at 1.
+///
+/// # Errors
+/// No white run or spectrum; I/O or drawing errors.
+pub fn write_radial_plots(
+    r: &StudyResult,
+    out: &Path,
+    prefix: impl Fn(Method) -> String,
+    colour: impl Fn(Method) -> RGBColor,
+) -> Result<()> {
+    let white = r.run(Method::White).context("white run")?;
+    let side = white.spectrum_side;
+    let norm = mean_non_dc(&white.spectrum);
+    let white_curve = Curve {
+        label: "white".to_string(),
+        colour: RGBColor(150, 150, 150),
+        points: radial_of_average(&white.spectrum, side, norm)?,
+    };
+    for run in r.runs.iter().filter(|run| run.spectrum.len() == side * side) {
+        let mut curves = Vec::new();
+        if run.method != Method::White {
+            curves.push(white_curve.clone());
+        }
+        curves.push(Curve {
+            label: run.method.name().to_string(),
+            colour: colour(run.method),
+            points: radial_of_average(&run.spectrum, side, norm)?,
+        });
+        let title = format!("{}: radial power", run.method.name());
+        let p = prefix(run.method);
+        LinePlot {
+            title: &title,
+            x_title: "frequency (cycles per pixel)",
+            y_title: "power / white's mean",
+            log_y: true,
+            lines: &[(1.0, "white mean")],
+            curves: &curves,
+        }
+        .write_sized(
+            &out.join(format!("{p}-spectrum-radial.svg")),
+            &out.join(format!("{p}-spectrum-radial.csv")),
+            RADIAL_PLOT_SIZE,
+        )?;
+    }
+    Ok(())
+}
+
 /// A horizontal colour bar for `scale`, ticks labelled with the power ratio.
 fn colour_bar(path: &Path, scale: LogScale) -> Result<()> {
     let err = |e: &dyn std::fmt::Display| anyhow!("colour bar: {e}");
@@ -199,5 +270,16 @@ mod tests {
         assert_eq!(s.colour(1e-5), s.colour(0.1));
         assert_ne!(s.colour(0.5), s.colour(2.0));
         assert_eq!(mean_non_dc(&[100.0, 1.0, 3.0]), 2.0);
+    }
+
+    #[test]
+    fn radial_of_a_flat_spectrum_is_flat_and_spans_up_to_half_a_cycle() {
+        let side = 16;
+        let curve = radial_of_average(&vec![2.0; side * side], side, 2.0).unwrap();
+        assert_eq!(curve.len(), side / 2);
+        assert_eq!(curve.first().unwrap().0, 1.0 / side as f64);
+        assert_eq!(curve.last().unwrap().0, 0.5);
+        assert!(curve.iter().all(|&(_, p)| (p - 1.0).abs() < 1e-12));
+        assert!(radial_of_average(&[1.0; 10], side, 1.0).is_err());
     }
 }

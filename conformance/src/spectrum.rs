@@ -9,6 +9,7 @@
 //!   i.i.d. noise of variance `s^2` every non-DC bin has expected power `s^2`, and the
 //!   mean over all non-DC bins is the unbiased sample variance.
 
+use crate::error::Error;
 use crate::grid::Grid;
 use rustfft::num_complex::Complex;
 use rustfft::{FftDirection, FftPlanner};
@@ -133,6 +134,40 @@ pub struct PowerSpectrum {
 }
 
 impl PowerSpectrum {
+    /// A spectrum from powers already computed elsewhere (for example averaged
+    /// over frames), `width x height`, row-major in DFT order like
+    /// [`PowerSpectrum::power`]. The DC entry is set to 0, as for a computed
+    /// spectrum.
+    ///
+    /// # Errors
+    /// [`Error::ZeroSize`] for an empty shape, [`Error::DataLength`] if `power`
+    /// does not hold `width * height` values, [`Error::Parameter`] (`power`) for
+    /// a negative or non-finite power.
+    pub fn from_power(width: usize, height: usize, mut power: Vec<f64>) -> Result<Self, Error> {
+        let expected = width
+            .checked_mul(height)
+            .filter(|&n| n > 0)
+            .ok_or(Error::ZeroSize {
+                width,
+                height,
+                depth: 1,
+            })?;
+        if power.len() != expected {
+            return Err(Error::DataLength {
+                expected,
+                actual: power.len(),
+            });
+        }
+        if let Some(&bad) = power.iter().find(|p| !p.is_finite() || **p < 0.0) {
+            return Err(Error::Parameter {
+                name: "power",
+                value: bad,
+            });
+        }
+        power[0] = 0.0;
+        Ok(PowerSpectrum { width, height, power })
+    }
+
     /// Width of the transformed grid (number of `kx` indices).
     pub fn width(&self) -> usize {
         self.width
@@ -237,6 +272,30 @@ mod tests {
             .iter()
             .zip(&n2)
             .all(|(p, q)| (p - q).abs() < 1e-9 * (1.0 + q)));
+    }
+
+    #[test]
+    fn from_power_checks_its_input_and_zeroes_dc() {
+        let s = PowerSpectrum::from_power(2, 2, vec![5.0, 1.0, 2.0, 3.0]).unwrap();
+        assert_eq!(s.power(), &[0.0, 1.0, 2.0, 3.0]);
+        assert_eq!((s.width(), s.height()), (2, 2));
+        assert!(matches!(
+            PowerSpectrum::from_power(2, 2, vec![0.0; 3]),
+            Err(Error::DataLength {
+                expected: 4,
+                actual: 3
+            })
+        ));
+        assert!(matches!(
+            PowerSpectrum::from_power(0, 2, vec![]),
+            Err(Error::ZeroSize { .. })
+        ));
+        for bad in [f64::NAN, -1.0, f64::INFINITY] {
+            assert!(matches!(
+                PowerSpectrum::from_power(1, 2, vec![0.0, bad]),
+                Err(Error::Parameter { name: "power", .. })
+            ));
+        }
     }
 
     #[test]

@@ -160,6 +160,13 @@ impl StudyResult {
                 );
             }
         }
+        if self.runs.iter().any(|r| !r.filtered.is_empty()) {
+            s += &format!(
+                "\nAfter the real-time filters (RMSE of the filtered frame against the reference over frames {from}.., \
+                 white after the same filter = 1; the last row is the reference itself filtered: the filter's bias):\n\n"
+            );
+            s += &self.filtered_markdown(from);
+        }
         let f = &self.features;
         s += &format!(
             "\nFeature diagnostics (still camera, default thresholds): {:.1}% of blocks hold several groups \

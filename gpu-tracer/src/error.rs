@@ -139,6 +139,15 @@ pub enum Error {
         /// What is allowed.
         expected: &'static str,
     },
+    /// A real-valued setting is outside its range (or NaN).
+    InvalidSetting {
+        /// Name of the setting.
+        name: &'static str,
+        /// Its value.
+        value: f32,
+        /// What is allowed.
+        expected: &'static str,
+    },
     /// A caller-provided buffer has the wrong length.
     BufferSize {
         /// Which buffer.
@@ -251,6 +260,9 @@ impl fmt::Display for Error {
                 "invalid frame size {width}x{height} with seed stride {padded_width} (sizes must be >= 1 and the stride >= the width)"
             ),
             Error::InvalidParameter { name, value, expected } => {
+                write!(f, "invalid {name} = {value}: expected {expected}")
+            }
+            Error::InvalidSetting { name, value, expected } => {
                 write!(f, "invalid {name} = {value}: expected {expected}")
             }
             Error::BufferSize {

@@ -19,6 +19,9 @@
 //!   frame with its motion ([`timeline::SceneSequence`]); [`render`] renders
 //!   a sequence on the CPU or the GPU, with the G-buffer and motion vectors
 //!   of `kernels::gbuffer` when asked.
+//! - [`filter`]: the real-time filters after a frame on the CPU
+//!   ([`filter::FrameFilter`]: TAA, Gaussian, a-trous, TAA + a-trous) with
+//!   the kernels' per-pixel filter functions.
 //! - [`image_out`]: tone-mapped PNG and linear EXR, written atomically.
 //! - [`error`]: the crate's [`Error`].
 //!
@@ -41,6 +44,7 @@ pub mod camera_path;
 pub mod cornell;
 pub mod cpu;
 pub mod error;
+pub mod filter;
 pub mod gltf_scene;
 pub mod gpu;
 pub mod image_out;

@@ -114,6 +114,28 @@ fn report_page_loads_every_image() {
     assert_eq!(ok, total, "only {ok} of {total} images loaded");
     let svgs = html.matches(".svg\"").count();
     assert!(svgs >= 5, "expected the SVG plots, found {svgs}");
+    // Every link leads somewhere: files beside the page, anchors on it.
+    let hrefs: Vec<&str> = html
+        .split("href=\"")
+        .skip(1)
+        .filter_map(|rest| rest.split('"').next())
+        .collect();
+    assert!(
+        hrefs.len() >= 10,
+        "expected a link per figure, found {}",
+        hrefs.len()
+    );
+    for href in &hrefs {
+        match href.strip_prefix('#') {
+            Some(id) => assert!(html.contains(&format!("id=\"{id}\"")), "no element #{id}"),
+            None => assert!(out.join(href).is_file(), "link to a missing file: {href}"),
+        }
+    }
+    let radial = html.matches("-spectrum-radial.svg\"").count();
+    assert!(
+        radial >= 2 * 8,
+        "expected a radial plot beside each averaged spectrum, found {radial}"
+    );
     for spp in [1, 4] {
         let table = std::fs::read_to_string(out.join(format!("table-spp{spp}.csv"))).expect("table data");
         assert!(

@@ -14,10 +14,12 @@
 //!   [`surface`] textured albedo and emission, [`gbuffer`] the G-buffer and
 //!   motion vectors ([`gbuffer::gbuffer_pixel`]), [`motion`] the motion vectors
 //!   the seed reprojection takes (disocclusion marked), [`surface_features`]
-//!   the feature-aware permutation's per-pixel features and sort keys.
+//!   the feature-aware permutation's per-pixel features and sort keys,
+//!   [`filters`] the real-time filters after the frame (TAA, Gaussian, a-trous).
 //! - Entry points: [`entry`] (tracer), [`permute_entry`] (seed permutation),
 //!   [`reproject_entry`] (seed reprojection), [`sampler_entry`] (the
-//!   a-priori samplers, one pair per pixel).
+//!   a-priori samplers, one pair per pixel), [`filter_entry`] (the real-time
+//!   filters).
 //!
 //! Everything reachable from an entry point follows rust-gpu's rules:
 //! `u32`/`f32` arithmetic (`wrapping_*` on integers), fixed-size local
@@ -54,6 +56,8 @@ pub mod bvh;
 pub mod camera;
 pub mod dither;
 pub mod entry;
+pub mod filter_entry;
+pub mod filters;
 pub mod gbuffer;
 pub mod intersect;
 pub mod motion;

@@ -2,12 +2,14 @@
 //! group of GPU passes.
 
 mod context;
+mod filter;
 mod permute;
 mod reproject;
 mod timer;
 mod trace;
 
 pub use context::{groups, Gpu, KERNELS_SPV, REQUIRE_GPU_ENV};
+pub use filter::{FilterPipelines, FrameFilterGpu};
 pub use permute::{PermuteMode, PermutePipelines, SeedPermuter};
 pub use reproject::{ReprojectPipelines, SeedReprojector};
 pub use timer::PassTimer;
@@ -30,6 +32,8 @@ pub enum GpuError {
     Readback(String),
     /// Input that does not fit the frame layout.
     Input(sampler_core::Error),
+    /// A filter setting or buffer that does not fit ([`crate::filter`]).
+    Filter(crate::error::Error),
 }
 
 impl fmt::Display for GpuError {
@@ -40,6 +44,7 @@ impl fmt::Display for GpuError {
             GpuError::Validation(e) => write!(f, "GPU validation error: {e}"),
             GpuError::Readback(e) => write!(f, "GPU read-back failed: {e}"),
             GpuError::Input(e) => write!(f, "bad input: {e}"),
+            GpuError::Filter(e) => write!(f, "bad filter input: {e}"),
         }
     }
 }
@@ -48,6 +53,7 @@ impl std::error::Error for GpuError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
             GpuError::Input(e) => Some(e),
+            GpuError::Filter(e) => Some(e),
             _ => None,
         }
     }

@@ -1,0 +1,193 @@
+//! What the viewer sees: each method's error after the real-time filters a
+//! renderer runs between the frame and the screen (`gpu_tracer::filter`:
+//! TAA, SVGF's a-trous, both), measured per region against the reference.
+//!
+//! The error of a filtered frame is `luma(filter(frames 0..=t)) -
+//! luma(reference)`: it includes the filter's own bias (blurred detail,
+//! clamped history), which is the same for every method, so ratios to
+//! white noise are pulled towards 1 where the bias dominates.
+//! [`StudyResult::filter_bias`](crate::render_study::StudyResult) measures
+//! that floor: the reference itself sent through the same chain.
+
+use crate::regions::Region;
+use crate::render_study::{Method, MethodRun, StudyResult};
+use anyhow::Result;
+use glam::{Vec2, Vec4};
+use gpu_tracer::filter::{FilterChain, FilterSettings, FrameFilter};
+use kernels::abi::GBufferGpu;
+use sampler_core::Intensity;
+
+/// The chains the studies measure, the headline first.
+pub const STUDY_FILTERS: [FilterChain; 3] = [FilterChain::TaaAtrous, FilterChain::Taa, FilterChain::Atrous];
+
+/// Per frame, the sum of the squared luma error of the filtered frame over
+/// each region ([`Region::ALL`] order).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FilteredErrors {
+    /// The filter chain.
+    pub chain: FilterChain,
+    /// Entry `t`: squared error sums of frame `t` per region.
+    pub regions: Vec<[f64; 3]>,
+}
+
+/// Runs every chain of [`STUDY_FILTERS`] over a method's frames and sums the
+/// error per region.
+pub(crate) struct FilteredMeter {
+    filters: Vec<FrameFilter>,
+    errors: Vec<FilteredErrors>,
+}
+
+impl FilteredMeter {
+    /// Filters for `width x height` frames with the default settings.
+    pub(crate) fn new(width: u32, height: u32) -> Result<Self> {
+        let filters = STUDY_FILTERS
+            .iter()
+            .map(|&c| FrameFilter::new(c, FilterSettings::default(), width, height))
+            .collect::<Result<Vec<_>, _>>()?;
+        let errors = STUDY_FILTERS
+            .iter()
+            .map(|&chain| FilteredErrors {
+                chain,
+                regions: Vec::new(),
+            })
+            .collect();
+        Ok(FilteredMeter { filters, errors })
+    }
+
+    /// Filters the next frame (`motion`: backward motion per pixel, zeros
+    /// for a still camera) and records its error against `reference` luma.
+    pub(crate) fn frame(
+        &mut self,
+        color: &[Vec4],
+        gbuffer: &[GBufferGpu],
+        motion: &[Vec2],
+        reference: &[f32],
+        regions: &[Region],
+    ) -> Result<()> {
+        for (filter, errors) in self.filters.iter_mut().zip(&mut self.errors) {
+            let out = filter.apply(color, gbuffer, motion)?;
+            errors.regions.push(region_sums(&out, reference, regions));
+        }
+        Ok(())
+    }
+
+    /// The recorded errors, one entry per chain of [`STUDY_FILTERS`].
+    pub(crate) fn finish(self) -> Vec<FilteredErrors> {
+        self.errors
+    }
+}
+
+/// Sum over each region of `(luma(frame) - reference)^2`.
+pub(crate) fn region_sums(frame: &[Vec4], reference: &[f32], regions: &[Region]) -> [f64; 3] {
+    let mut sums = [0.0f64; 3];
+    for ((c, r), region) in frame.iter().zip(reference).zip(regions) {
+        let d = (c.intensity() - r) as f64;
+        sums[*region as usize] += d * d;
+    }
+    sums
+}
+
+/// RMS over frames `from..` of a region's (or the whole image's) error sums.
+fn pooled_sum(errors: &FilteredErrors, region: Option<Region>, from: usize) -> Option<f64> {
+    let tail = errors.regions.get(from..).filter(|t| !t.is_empty())?;
+    Some(
+        tail.iter()
+            .map(|v| match region {
+                Some(r) => v[r as usize],
+                None => v.iter().sum(),
+            })
+            .sum(),
+    )
+}
+
+impl MethodRun {
+    /// The errors after `chain`, if measured.
+    pub fn filtered(&self, chain: FilterChain) -> Option<&FilteredErrors> {
+        self.filtered.iter().find(|f| f.chain == chain)
+    }
+}
+
+impl StudyResult {
+    /// RMSE of `method` after `chain` over frames `from..` in `region`
+    /// (`None`: the whole image), relative to white noise's after the same
+    /// chain. `None` for a missing run or chain, no frames or an empty region.
+    pub fn pooled_filtered(
+        &self,
+        method: Method,
+        chain: FilterChain,
+        region: Option<Region>,
+        from: usize,
+    ) -> Option<f64> {
+        let m = pooled_sum(self.run(method)?.filtered(chain)?, region, from)?;
+        let w = pooled_sum(self.run(Method::White)?.filtered(chain)?, region, from)?;
+        (w > 0.0).then(|| (m / w).sqrt())
+    }
+
+    /// The filter's bias floor relative to white noise after the chain: the
+    /// RMSE of the reference itself sent through `chain` (as many frames as
+    /// the study) over frames `from..`, divided by white's filtered RMSE.
+    pub fn filter_bias(&self, chain: FilterChain, region: Option<Region>, from: usize) -> Option<f64> {
+        let bias = self.filter_bias.iter().find(|f| f.chain == chain)?;
+        let b = pooled_sum(bias, region, from)?;
+        let w = pooled_sum(self.run(Method::White)?.filtered(chain)?, region, from)?;
+        (w > 0.0).then(|| (b / w).sqrt())
+    }
+
+    /// Markdown table: every method's RMSE after each chain of
+    /// [`STUDY_FILTERS`], whole image and interior, relative to white = 1,
+    /// and the bias floor row.
+    pub fn filtered_markdown(&self, from: usize) -> String {
+        let cell = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
+        let mut s = String::from("| method");
+        for c in STUDY_FILTERS {
+            s += &format!(" | {c} whole | {c} interior");
+        }
+        s += " |\n|---";
+        s += &"|---|---".repeat(STUDY_FILTERS.len());
+        s += "|\n";
+        for r in &self.runs {
+            s += &format!("| {}", r.method.name());
+            for c in STUDY_FILTERS {
+                s += &format!(
+                    " | {} | {}",
+                    cell(self.pooled_filtered(r.method, c, None, from)),
+                    cell(self.pooled_filtered(r.method, c, Some(Region::Interior), from))
+                );
+            }
+            s += " |\n";
+        }
+        s += "| *filter bias (reference filtered)*";
+        for c in STUDY_FILTERS {
+            s += &format!(
+                " | {} | {}",
+                cell(self.filter_bias(c, None, from)),
+                cell(self.filter_bias(c, Some(Region::Interior), from))
+            );
+        }
+        s += " |\n";
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn region_sums_split_the_squared_error() {
+        let frame = [Vec4::ONE, Vec4::splat(2.0), Vec4::splat(3.0)];
+        let reference = [1.0, 1.0, 1.0];
+        let regions = [Region::Interior, Region::Edge, Region::Interior];
+        let s = region_sums(&frame, &reference, &regions);
+        assert!((s[Region::Interior as usize] - 4.0).abs() < 1e-5, "{s:?}");
+        assert!((s[Region::Edge as usize] - 1.0).abs() < 1e-5);
+        assert_eq!(s[Region::Emitter as usize], 0.0);
+        let e = FilteredErrors {
+            chain: FilterChain::Taa,
+            regions: vec![[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]],
+        };
+        assert_eq!(pooled_sum(&e, None, 1), Some(15.0));
+        assert_eq!(pooled_sum(&e, Some(Region::Edge), 0), Some(7.0));
+        assert_eq!(pooled_sum(&e, None, 2), None);
+    }
+}
