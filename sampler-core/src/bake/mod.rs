@@ -17,6 +17,11 @@
 //! - [`bake_vector_stbn`]: vector spatiotemporal masks (2D/3D values, unit
 //!   and cosine-hemisphere directions) with the same swap optimiser and the
 //!   STBN coupling.
+//! - [`bake_filter_adapted`] / [`refine_filter_adapted`]: masks adapted to
+//!   the spatial and temporal filters a renderer applies (the idea of FAST,
+//!   Donnelly et al. 2024): scalar values of several distributions and
+//!   vectors, [`SpatialFilter`]s and [`TemporalFilter`]s combined as a
+//!   product or separately ([`FilterCombine`]).
 //! - [`search_placement`]: the search behind ZSobol's one-sample-per-pixel
 //!   placement map ([`ZSOBOL_PLACEMENT`](crate::zsobol::ZSOBOL_PLACEMENT)).
 //!
@@ -29,16 +34,28 @@ mod anneal;
 mod assignment;
 mod energy;
 mod extrema;
+mod filter_adapted;
+mod filter_swap;
+mod filters;
 mod keys;
 mod retarget_bake;
 mod stbn;
 mod swap;
+mod threshold_swap;
 mod vector_stbn;
 mod void_and_cluster;
 mod zsobol_placement;
 
 pub use anneal::{anneal_retarget_table, AnnealParams};
 pub use assignment::{solve_assignment, Assignment, SparseCosts, SparseMatrix};
+pub use filter_adapted::{
+    bake_filter_adapted, refine_filter_adapted, Distribution, FilterAdapted, FilterAdaptedParams,
+    FilterCombine, FilterValue,
+};
+pub use filters::{
+    spatial_autocorrelation, SpatialFilter, TemporalFilter, GAUSSIAN_TRUNCATION, MAX_FILTER_SIGMA,
+    MAX_FILTER_TAPS,
+};
 pub use keys::{
     bake_key_tile, bake_sampler_keys, heaviside_integrands, key_errors, line_integrands, HeavisideIntegrand,
     KeyParams, LINE_INTEGRANDS, LINE_STEPS,
@@ -95,6 +112,14 @@ pub enum BakeError {
         /// The rejected weight.
         weight: f64,
     },
+    /// A filter parameter is out of range or not finite (see
+    /// [`SpatialFilter`] and [`TemporalFilter`] for the ranges).
+    Filter {
+        /// Which parameter: `"sigma"`, `"alpha"`, `"beta"`, `"box size"`, `"binomial order"`.
+        parameter: &'static str,
+        /// The rejected value.
+        value: f64,
+    },
     /// The dither tile or retarget table is invalid.
     Core(crate::Error),
     /// A retarget-table index is not below [`STEP_COUNT`](crate::STEP_COUNT).
@@ -127,6 +152,9 @@ impl fmt::Display for BakeError {
                 write!(f, "sigma {sigma} is outside {MIN_SIGMA}..={MAX_SIGMA}")
             }
             BakeError::Weight { weight } => write!(f, "weight {weight} is negative or not finite"),
+            BakeError::Filter { parameter, value } => {
+                write!(f, "filter {parameter} {value} is out of range or not finite")
+            }
             BakeError::Core(e) => write!(f, "{e}"),
             BakeError::StepIndex { index } => {
                 write!(

@@ -59,7 +59,7 @@ impl VectorKind {
 
     /// Maps a Sobol point (0.32 fixed point, 3 coordinates; the third is
     /// used by [`VectorKind::Vec3`] only) to the kind's value.
-    fn map(self, p: [u32; 3]) -> [f64; 3] {
+    pub(crate) fn map(self, p: [u32; 3]) -> [f64; 3] {
         let u = |x: u32| crate::r2::q32_to_f32(x) as f64;
         let (a, b, c) = (u(p[0]), u(p[1]), u(p[2]));
         let tau = core::f64::consts::TAU;
