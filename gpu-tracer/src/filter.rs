@@ -11,7 +11,7 @@
 //! albedo and multiply it back; the temporal history is kept demodulated.
 
 use crate::error::{Error, Result};
-use glam::{Vec2, Vec4};
+use glam::{UVec2, Vec2, Vec4};
 use kernels::abi::GBufferGpu;
 use kernels::filters::atrous::{atrous_pixel, variance_pixel, ATROUS_ITERATIONS};
 use kernels::filters::demodulate::{demodulate, remodulate};
@@ -266,19 +266,72 @@ impl FrameFilter {
     }
 }
 
+/// A [`FrameFilter`] fed by a frame sequence's colour and G-buffer alone:
+/// it derives each frame's motion vectors itself
+/// ([`crate::motion::reprojection_motion`] against the previous frame's
+/// visibility), so a renderer that hands over colour and G-buffer per frame
+/// gets the reprojected, disocclusion-aware history.
+#[derive(Clone, Debug)]
+pub struct SequenceFilter {
+    filter: FrameFilter,
+    previous: Option<Vec<UVec2>>,
+}
+
+impl SequenceFilter {
+    /// A sequence filter over `width x height` frames.
+    ///
+    /// # Errors
+    /// As [`FrameFilter::new`].
+    pub fn new(chain: FilterChain, settings: FilterSettings, width: u32, height: u32) -> Result<Self> {
+        Ok(SequenceFilter {
+            filter: FrameFilter::new(chain, settings, width, height)?,
+            previous: None,
+        })
+    }
+
+    /// Filters the next frame of the sequence.
+    ///
+    /// # Errors
+    /// [`Error::BufferSize`] when `color` or `gbuffer` is not `width *
+    /// height` long.
+    pub fn next(&mut self, color: &[Vec4], gbuffer: &[GBufferGpu]) -> Result<Vec<Vec4>> {
+        let (w, h) = (self.filter.width, self.filter.height);
+        let n = w as usize * h as usize;
+        if gbuffer.len() != n {
+            return Err(Error::BufferSize {
+                buffer: "gbuffer",
+                expected: n,
+                actual: gbuffer.len(),
+            });
+        }
+        let motion: Vec<Vec2> = match &self.previous {
+            Some(previous) => crate::motion::reprojection_motion(gbuffer, previous, w, h)
+                .into_iter()
+                .map(Vec2::from)
+                .collect(),
+            None => vec![Vec2::ZERO; n],
+        };
+        let out = self.filter.apply(color, gbuffer, &motion)?;
+        let previous = self.previous.get_or_insert_with(|| vec![UVec2::ZERO; n]);
+        crate::motion::write_visibility(gbuffer, previous);
+        Ok(out)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use glam::{UVec4, Vec3};
-    use kernels::abi::GBUFFER_HIT;
+    use kernels::abi::{GBUFFER_HIT, GBUFFER_PREV_IN_FRONT};
 
     fn flat_scene(w: u32, h: u32) -> Vec<GBufferGpu> {
         vec![
             GBufferGpu {
                 normal_depth: Vec4::new(0.0, 0.0, 1.0, 3.0),
                 albedo: Vec4::new(0.5, 0.25, 1.0, 0.0),
-                ids: UVec4::new(0, 0, 0, GBUFFER_HIT),
-                ..Default::default()
+                // Seen in the previous frame at the same depth: a still camera.
+                motion: Vec4::new(0.0, 0.0, 3.0, 0.0),
+                ids: UVec4::new(0, 0, 0, GBUFFER_HIT | GBUFFER_PREV_IN_FRONT),
             };
             (w * h) as usize
         ]
@@ -343,6 +396,23 @@ mod tests {
         let mut f = FrameFilter::new(FilterChain::Taa, s, 4, 4).unwrap();
         let err = f.apply(&[Vec4::ZERO; 15], &flat_scene(4, 4), &[Vec2::ZERO; 16]);
         assert!(matches!(err, Err(Error::BufferSize { buffer: "color", .. })));
+        let no_clamp = FilterSettings { clamp: false, ..s };
+        let mut seq = SequenceFilter::new(FilterChain::Taa, no_clamp, 4, 4).unwrap();
+        assert!(matches!(
+            seq.next(&[Vec4::ZERO; 16], &flat_scene(4, 3)),
+            Err(Error::BufferSize {
+                buffer: "gbuffer",
+                ..
+            })
+        ));
+        let first = seq.next(&[Vec4::ONE; 16], &flat_scene(4, 4)).unwrap();
+        let second = seq.next(&[Vec4::ZERO; 16], &flat_scene(4, 4)).unwrap();
+        assert!(
+            first[5].x > 0.99 && (second[5].x - 0.9).abs() < 1e-5,
+            "{} {}",
+            first[5],
+            second[5]
+        );
         assert_eq!("taa+atrous".parse::<FilterChain>(), Ok(FilterChain::TaaAtrous));
         assert!("blur".parse::<FilterChain>().is_err());
     }

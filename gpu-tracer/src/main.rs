@@ -11,6 +11,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use gpu_tracer::animation::Rig;
 use gpu_tracer::aov::write_aovs;
 use gpu_tracer::camera_path::{CameraPath, CameraPathKind};
+use gpu_tracer::filter::{FilterChain, FilterSettings, SequenceFilter};
 use gpu_tracer::gpu::{Gpu, GpuError};
 use gpu_tracer::image_out::{write_exr, write_png, ToneMap};
 use gpu_tracer::scene::{Camera, Scene};
@@ -91,6 +92,18 @@ struct RenderArgs {
     /// G-buffer).
     #[arg(long, value_enum, default_value = "off")]
     features: OnOff,
+    /// Real-time filter after each frame, as a renderer shows it: `taa`
+    /// (reprojected exponential history, 3x3 colour clamp), `gauss`
+    /// (Gaussian, sigma 1 px), `atrous` (SVGF's edge-avoiding a-trous, 5
+    /// iterations), `taa+atrous` (both, SVGF's order). Writes
+    /// `last_filtered.png|exr`, and `frames/filtered_NNNNN.exr|png` beside
+    /// the raw frames with `--save-frames`. Runs on the CPU from the
+    /// read-back frame and G-buffer.
+    #[arg(long, default_value = "none")]
+    filter: FilterChain,
+    /// Weight of the current frame in the `taa` history, in (0, 1].
+    #[arg(long, default_value_t = 0.1)]
+    taa_alpha: f32,
     /// Write every frame to `<out>/frames/frame_NNNNN.exr` (linear) and
     /// `.png` (tone-mapped).
     #[arg(long)]
@@ -283,6 +296,17 @@ fn render(args: RenderArgs) -> Result<()> {
         .scene()
         .trace_params(&settings, 0)
         .with_context(|| format!("--sampler {} cannot render these settings", args.sampler.name()))?;
+    let filtering = args.filter != FilterChain::None;
+    let mut filter = SequenceFilter::new(
+        args.filter,
+        FilterSettings {
+            alpha: args.taa_alpha,
+            ..FilterSettings::default()
+        },
+        args.width,
+        args.height,
+    )
+    .context("--filter / --taa-alpha")?;
     prepare_out_dir(&args.out)?;
     let frames_dir = args.out.join("frames");
     let aovs_dir = args.out.join("aovs");
@@ -344,7 +368,8 @@ fn render(args: RenderArgs) -> Result<()> {
     );
     let start = Instant::now();
     let (w, h) = (args.width, args.height);
-    let want_gbuffer = args.save_aovs;
+    let want_gbuffer = args.save_aovs || filtering;
+    let mut last_filtered: Vec<glam::Vec4> = Vec::new();
     let moves = sequence.timeline().moves();
     let reproject = match args.reproject {
         Some(OnOff::On) => true,
@@ -359,13 +384,18 @@ fn render(args: RenderArgs) -> Result<()> {
     };
     let mut save_error: Option<anyhow::Error> = None;
     let mut on_frame = |f: &FrameView<'_>| {
-        if save_error.is_none() {
-            if let Err(e) = save_frame(&args, &frames_dir, &aovs_dir, w, h, f) {
-                save_error = Some(e);
-            }
+        if save_error.is_some() {
+            return;
+        }
+        let mut result = save_frame(&args, &frames_dir, &aovs_dir, w, h, f);
+        if result.is_ok() && filtering {
+            result = filter_frame(&args, &mut filter, &frames_dir, w, h, f).map(|out| last_filtered = out);
+        }
+        if let Err(e) = result {
+            save_error = Some(e);
         }
     };
-    let saving = args.save_frames || args.save_aovs;
+    let saving = args.save_frames || args.save_aovs || filtering;
     let output = match &gpu {
         Some(gpu) => {
             bar.set_prefix(format!("GPU {}", gpu.info.name));
@@ -392,13 +422,20 @@ fn render(args: RenderArgs) -> Result<()> {
     let secs = start.elapsed().as_secs_f64();
 
     let files = [
-        (args.out.join("last.png"), false, false),
-        (args.out.join("mean.png"), true, false),
-        (args.out.join("last.exr"), false, true),
-        (args.out.join("mean.exr"), true, true),
+        (args.out.join("last.png"), Some(false), false),
+        (args.out.join("mean.png"), Some(true), false),
+        (args.out.join("last.exr"), Some(false), true),
+        (args.out.join("mean.exr"), Some(true), true),
+        (args.out.join("last_filtered.png"), None, false),
+        (args.out.join("last_filtered.exr"), None, true),
     ];
     for (path, mean, exr) in &files {
-        let pixels = if *mean { &output.mean } else { &output.last };
+        let pixels = match mean {
+            Some(true) => &output.mean,
+            Some(false) => &output.last,
+            None if filtering => &last_filtered,
+            None => continue,
+        };
         if *exr {
             write_exr(path, w, h, pixels)
         } else {
@@ -409,12 +446,15 @@ fn render(args: RenderArgs) -> Result<()> {
     let mut saved = String::new();
     if args.save_frames {
         saved += &format!(", {}/frame_*.exr|png", frames_dir.display());
+        if filtering {
+            saved += &format!(", {}/filtered_*.exr|png", frames_dir.display());
+        }
     }
     if args.save_aovs {
         saved += &format!(", {}/frame_*.<aov>.exr", aovs_dir.display());
     }
     println!(
-        "rendered {} frame(s) of {}x{} at {} spp on {} in {:.2} s ({:?} mode, {} sampler, reprojection {}, features {}); wrote {}{saved}",
+        "rendered {} frame(s) of {}x{} at {} spp on {} in {:.2} s ({:?} mode, {} sampler, reprojection {}, features {}, filter {}); wrote {}{saved}",
         args.frames,
         w,
         h,
@@ -425,8 +465,10 @@ fn render(args: RenderArgs) -> Result<()> {
         args.sampler.name(),
         if reproject { "on" } else { "off" },
         if features { "on" } else { "off" },
+        args.filter,
         files
             .iter()
+            .filter(|f| f.1.is_some() || filtering)
             .map(|f| f.0.display().to_string())
             .collect::<Vec<_>>()
             .join(", ")
@@ -487,6 +529,31 @@ fn save_frame(
             .with_context(|| format!("cannot write the AOVs of frame {}", f.index))?;
     }
     Ok(())
+}
+
+/// Filters frame `f` (the filter keeps the history between calls) and, with
+/// `--save-frames`, writes it as `filtered_NNNNN.exr|png`; returns it.
+fn filter_frame(
+    args: &RenderArgs,
+    filter: &mut SequenceFilter,
+    frames_dir: &Path,
+    w: u32,
+    h: u32,
+    f: &FrameView<'_>,
+) -> Result<Vec<glam::Vec4>> {
+    let gbuffer = f.gbuffer.context("the renderer returned no G-buffer")?;
+    let out = filter
+        .next(f.color, gbuffer)
+        .with_context(|| format!("filtering frame {}", f.index))?;
+    if args.save_frames {
+        let stem = format!("filtered_{:05}", f.index);
+        let exr = frames_dir.join(format!("{stem}.exr"));
+        write_exr(&exr, w, h, &out).with_context(|| format!("cannot write {}", exr.display()))?;
+        let png = frames_dir.join(format!("{stem}.png"));
+        write_png(&png, w, h, &out, ToneMap::Reinhard)
+            .with_context(|| format!("cannot write {}", png.display()))?;
+    }
+    Ok(out)
 }
 
 /// Parses `x,y,z`.

@@ -661,3 +661,98 @@ fn gltf_fixtures_are_fresh() {
         );
     }
 }
+
+/// Mean absolute difference between horizontally adjacent pixels' luma of
+/// an EXR: how rough (noisy) an image is.
+fn roughness(path: &Path) -> f32 {
+    let img = image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgb32f();
+    let luma = |x: u32, y: u32| {
+        let p = img.get_pixel(x, y);
+        0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]
+    };
+    let mut sum = 0.0;
+    for y in 0..img.height() {
+        for x in 1..img.width() {
+            sum += (luma(x, y) - luma(x - 1, y)).abs();
+        }
+    }
+    sum / (img.height() * (img.width() - 1)) as f32
+}
+
+#[test]
+fn filters_write_filtered_frames_beside_raw_ones() {
+    let exe = tracer();
+    for filter in ["taa", "gauss", "atrous", "taa+atrous"] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let o = run(
+            &exe,
+            &[
+                "render",
+                "--scene",
+                "cornell",
+                "--width",
+                "48",
+                "--height",
+                "40",
+                "--frames",
+                "6",
+                "--mode",
+                "permute",
+                "--device",
+                "cpu",
+                "--filter",
+                filter,
+                "--save-frames",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+        );
+        assert!(o.status.success(), "--filter {filter}: {}", text(&o));
+        for t in 0..6 {
+            for ext in ["exr", "png"] {
+                let f = out.join(format!("frames/filtered_{t:05}.{ext}"));
+                assert!(f.is_file(), "--filter {filter}: no {}", f.display());
+            }
+        }
+        assert_eq!(png_size(&out.join("last_filtered.png")), (48, 40));
+        let (raw, filtered) = (
+            roughness(&out.join("last.exr")),
+            roughness(&out.join("last_filtered.exr")),
+        );
+        println!("--filter {filter}: neighbour luma difference {filtered:.4} (raw {raw:.4})");
+        assert!(
+            filtered < 0.8 * raw,
+            "--filter {filter} did not smooth: {filtered} vs raw {raw}"
+        );
+    }
+    for bad in [
+        &["--filter", "blur"][..],
+        &["--filter", "taa", "--taa-alpha", "0"],
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let mut args = vec![
+            "render",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--device",
+            "cpu",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(bad);
+        let o = run(&exe, &args);
+        assert!(!o.status.success(), "{bad:?} was accepted");
+        let msg = text(&o);
+        assert!(
+            msg.contains("filter") || msg.contains("alpha"),
+            "{bad:?}: unclear message: {msg}"
+        );
+        assert!(!out.exists(), "{bad:?} created the output directory");
+    }
+}
