@@ -62,8 +62,9 @@ use crate::regions::{classify_regions, Region};
 use crate::render_study::GOAL_FRAME;
 use crate::{low_frequency_ratio, GaussianBlur, Grid, SpectrumAnalyzer};
 use anyhow::{ensure, Context, Result};
-use glam::UVec2;
+use glam::{UVec2, Vec2};
 use gpu_tracer::cornell::cornell_box;
+use gpu_tracer::filter::{FilterChain, FilterSettings, FrameFilter};
 use gpu_tracer::motion::{reprojection_motion, write_visibility};
 use gpu_tracer::render::{render_sequence_cpu, FrameView, SequenceOptions};
 use gpu_tracer::scene::{Scene, TraceSettings};
@@ -277,6 +278,10 @@ pub struct MotionRun {
     /// Per frame: sum of squared history error minus the reference's noise variance,
     /// whole image and interior.
     pub ema: Vec<[f64; 2]>,
+    /// Per frame: sum of squared error after the real-time filter
+    /// (`taa+atrous` of `gpu_tracer::filter`, reprojected by the motion vectors,
+    /// reset at disocclusions), whole image and interior.
+    pub filtered: Vec<[f64; 2]>,
 }
 
 /// One of the study's figures.
@@ -288,6 +293,12 @@ pub enum Figure {
     Blur(Option<Region>),
     /// History RMSE (reference noise removed), whole image or interior.
     Ema {
+        /// Interior only.
+        interior: bool,
+    },
+    /// RMSE after the real-time filter (TAA + a-trous), whole image or interior,
+    /// over frames from [`EMA_FROM`].
+    Filtered {
         /// Interior only.
         interior: bool,
     },
@@ -352,6 +363,16 @@ impl CaseResult {
                 let k = usize::from(interior);
                 let sum = |r: &MotionRun| (from..frames).map(|t| r.ema[t][k]).sum::<f64>();
                 ratio(sum(m).max(0.0), sum(w))
+            }
+            Figure::Filtered { interior } => {
+                let from = (EMA_FROM as usize).min(frames.saturating_sub(1));
+                let k = usize::from(interior);
+                let sum = |r: &MotionRun| {
+                    (from..r.filtered.len().min(frames))
+                        .map(|t| r.filtered[t][k])
+                        .sum::<f64>()
+                };
+                ratio(sum(m), sum(w))
             }
         }
     }
@@ -557,7 +578,11 @@ impl MotionSequence {
     fn run_method(&self, method: MotionMethod, mut progress: impl FnMut(u32)) -> Result<MotionRun> {
         let size = self.config.size;
         let n = (size * size) as usize;
-        let (job, options) = method.job(&self.config);
+        let (job, mut options) = method.job(&self.config);
+        // The a-trous filter reads each frame's G-buffer.
+        options.gbuffer = true;
+        let mut filter = FrameFilter::new(FilterChain::TaaAtrous, FilterSettings::default(), size, size)?;
+        let mut filter_error = None;
         let mut sequence = SceneSequence::new(&self.scene, self.timeline.clone(), size)?;
         let blur = GaussianBlur::new(1.0)?;
         let mut analyzer = SpectrumAnalyzer::new();
@@ -567,6 +592,7 @@ impl MotionSequence {
             lf: Vec::new(),
             blur: Vec::new(),
             ema: Vec::new(),
+            filtered: Vec::new(),
         };
         let mut luma = vec![0.0f32; n];
         render_sequence_cpu(&mut sequence, &job, options, |f: &FrameView<'_>| {
@@ -604,8 +630,32 @@ impl MotionSequence {
                 }
             }
             run.ema.push(ema);
+            let motion: Vec<Vec2> = pose.motion.iter().map(|m| Vec2::from(*m)).collect();
+            let filtered = f
+                .gbuffer
+                .ok_or_else(|| anyhow::anyhow!("the renderer returned no G-buffer"))
+                .and_then(|g| Ok(filter.apply(f.color, g, &motion)?));
+            match filtered {
+                Ok(out) => {
+                    let mut sums = [0.0f64; 2];
+                    for ((c, r), region) in out.iter().zip(reference).zip(&pose.regions) {
+                        let d = (c.intensity() - r) as f64;
+                        sums[0] += d * d;
+                        if *region == Region::Interior {
+                            sums[1] += d * d;
+                        }
+                    }
+                    run.filtered.push(sums);
+                }
+                Err(e) => {
+                    filter_error.get_or_insert(e);
+                }
+            }
             progress(f.index);
         })?;
+        if let Some(e) = filter_error {
+            return Err(e.context("real-time filter"));
+        }
         ensure!(
             run.lf.len() == self.config.frames as usize,
             "the renderer delivered {} of {} frames",
@@ -709,6 +759,7 @@ mod tests {
             lf: vec![vec![lf]; 20],
             blur: vec![[blur, blur, 0.0, 0.0]; 20],
             ema: vec![[blur, 0.0]; 20],
+            filtered: vec![[blur, blur]; 20],
         };
         let r = CaseResult {
             case: MotionCase::Still,
@@ -722,6 +773,10 @@ mod tests {
                 run(MotionMethod::Permute, 1.0, 1.0),
             ],
         };
+        assert_eq!(
+            r.relative(MotionMethod::Permute, Figure::Filtered { interior: true }),
+            Some(0.5)
+        );
         assert_eq!(r.relative(MotionMethod::Permute, Figure::LowFrequency), Some(0.5));
         assert_eq!(r.relative(MotionMethod::Permute, Figure::Blur(None)), Some(0.5));
         assert_eq!(

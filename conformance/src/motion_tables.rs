@@ -12,7 +12,7 @@ use crate::render_study::GOAL_FRAME;
 
 impl Figure {
     /// The columns of the tables, in order.
-    pub const COLUMNS: [Figure; 7] = [
+    pub const COLUMNS: [Figure; 9] = [
         Figure::LowFrequency,
         Figure::Blur(None),
         Figure::Blur(Some(Region::Emitter)),
@@ -20,6 +20,8 @@ impl Figure {
         Figure::Blur(Some(Region::Interior)),
         Figure::Ema { interior: false },
         Figure::Ema { interior: true },
+        Figure::Filtered { interior: false },
+        Figure::Filtered { interior: true },
     ];
 
     /// Column header.
@@ -32,6 +34,8 @@ impl Figure {
             Figure::Blur(Some(Region::Interior)) => "blur interior",
             Figure::Ema { interior: false } => "EMA",
             Figure::Ema { interior: true } => "EMA interior",
+            Figure::Filtered { interior: false } => "taa+atrous",
+            Figure::Filtered { interior: true } => "taa+atrous interior",
         }
     }
 }
