@@ -65,7 +65,7 @@ fn every_filter_chain_matches_the_cpu() {
             let want = cpu.apply(color, &gbuffer, &m).unwrap();
             dev.upload(&gpu, color, &gbuffer, &m).unwrap();
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
-            dev.encode(&gpu, &mut encoder, &pipelines);
+            dev.encode(&gpu, &mut encoder, &pipelines, None);
             gpu.queue.submit([encoder.finish()]);
             let got = dev.read_output(&gpu).unwrap();
             for (i, (a, b)) in want.iter().zip(&got).enumerate() {

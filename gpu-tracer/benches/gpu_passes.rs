@@ -4,7 +4,9 @@
 //! passes (4x4 blocks, 64x64 tile), and the seed reprojection (its motion
 //! pass and its six passes) under a camera panning 2 units a frame (about
 //! 1.5 px at the back wall), and the feature-aware permutation (the
-//! tracer's feature pass, the grouped sort, the inverse + cut retarget).
+//! tracer's feature pass, the grouped sort, the inverse + cut retarget),
+//! and the real-time filters (`taa`, `gauss`, `atrous`, `taa+atrous`) on the
+//! traced frame and its G-buffer.
 //!
 //! ```text
 //! cargo bench -p gpu-tracer --bench gpu_passes
@@ -13,12 +15,14 @@
 //! Uses timestamp queries where the device has them, else wall-clock time of
 //! each pass in its own submission. Prints each pass's median and its share
 //! of a traced frame (goals: permutation <= 5%, G-buffer <= 10%,
-//! reprojection <= 1%, feature-aware permutation <= 5%).
+//! reprojection <= 1%, feature-aware permutation <= 5%; the filters are
+//! reported, with no goal).
 
 use gpu_tracer::cornell::cornell_box;
+use gpu_tracer::filter::{FilterChain, FilterSettings};
 use gpu_tracer::gpu::{
-    Gpu, PassTimer, PermuteMode, PermutePipelines, ReprojectPipelines, SeedPermuter, SeedReprojector,
-    TracePipelines, Tracer,
+    FilterPipelines, FrameFilterGpu, Gpu, PassTimer, PermuteMode, PermutePipelines, ReprojectPipelines,
+    SeedPermuter, SeedReprojector, TracePipelines, Tracer,
 };
 use gpu_tracer::{SceneGpu, TraceSettings};
 use sampler_core::FrameLayout;
@@ -147,6 +151,47 @@ fn main() {
             fretarget_ms.push(times[8]);
         }
     }
+    // The filters, each chain on the traced frame and G-buffer (copied into
+    // its inputs, untimed), timed per chain.
+    let chains = [
+        FilterChain::Taa,
+        FilterChain::Gauss,
+        FilterChain::Atrous,
+        FilterChain::TaaAtrous,
+    ];
+    let fp = FilterPipelines::new(&gpu).expect("filter pipelines");
+    let mut filters: Vec<FrameFilterGpu> = chains
+        .iter()
+        .map(|&c| {
+            FrameFilterGpu::new(&gpu, &fp, c, FilterSettings::default(), WIDTH, HEIGHT).expect("filter")
+        })
+        .collect();
+    let filter_timer = PassTimer::new(&gpu, chains.len() as u32);
+    let mut filter_ms = vec![Vec::new(); chains.len()];
+    let pixels = (WIDTH * HEIGHT) as u64;
+    for _ in 0..rounds {
+        let mut e = gpu.device.create_command_encoder(&Default::default());
+        for f in &filters {
+            e.copy_buffer_to_buffer(&tracer.color, 0, &f.color, 0, pixels * 16);
+            e.copy_buffer_to_buffer(&tracer.gbuffer, 0, &f.gbuffer, 0, f.gbuffer.size());
+        }
+        gpu.queue.submit([e.finish()]);
+        for (k, f) in filters.iter_mut().enumerate() {
+            let mut e = gpu.device.create_command_encoder(&Default::default());
+            let start = Instant::now();
+            f.encode(&gpu, &mut e, &fp, filter_timer.as_ref().map(|t| (t, k as u32)));
+            if let Some(t) = &filter_timer {
+                t.resolve(&mut e);
+            }
+            gpu.queue.submit([e.finish()]);
+            gpu.wait().expect("wait");
+            let wall = start.elapsed().as_secs_f64() * 1e3;
+            filter_ms[k].push(match &filter_timer {
+                Some(t) => t.read_ms(&gpu).expect("timestamps")[k],
+                None => wall,
+            });
+        }
+    }
     let (tr, so, re, gb) = (
         median(&mut trace_ms),
         median(&mut sort_ms),
@@ -178,6 +223,11 @@ fn main() {
         ("feature-aware sort", median(&mut fsort_ms)),
         ("feature-aware retarget", median(&mut fretarget_ms)),
     ] {
+        println!("{name:<28} {ms:>10.3} {:>13.2}%", 100.0 * ms / tr);
+    }
+    for (c, ms) in chains.iter().zip(&mut filter_ms) {
+        let ms = median(ms);
+        let name = format!("filter {c}");
         println!("{name:<28} {ms:>10.3} {:>13.2}%", 100.0 * ms / tr);
     }
 }

@@ -3,6 +3,7 @@
 //! [`crate::filter::FrameFilter`] on the CPU.
 
 use super::context::Gpu;
+use super::timer::PassTimer;
 use super::GpuError;
 use crate::filter::{FilterChain, FilterSettings};
 use glam::{Vec2, Vec4};
@@ -244,8 +245,15 @@ impl FrameFilterGpu {
     }
 
     /// Encodes the chain's passes for the next frame (and the history copy),
-    /// after writing this frame's TAA uniform.
-    pub fn encode(&mut self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, pipelines: &FilterPipelines) {
+    /// after writing this frame's TAA uniform. `timer` (if any, with its span
+    /// index) times the passes as one span (not the history copy).
+    pub fn encode(
+        &mut self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        pipelines: &FilterPipelines,
+        timer: Option<(&PassTimer, u32)>,
+    ) {
         let base = FilterParams {
             width: self.width,
             height: self.height,
@@ -257,7 +265,7 @@ impl FrameFilterGpu {
         if !self.steps.is_empty() {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("real-time filter"),
-                timestamp_writes: None,
+                timestamp_writes: timer.map(|(t, span)| t.writes(span)),
             });
             let (x, y) = kernels::permute_entry::linear_dispatch(self.width * self.height);
             for (stage, bind_group) in &self.steps {
