@@ -1,13 +1,14 @@
 //! Baked defaults compiled into the crate (cargo feature `defaults`, on by
 //! default; the workspace dependency turns it off so shader crates never
-//! carry the ~2.4 MiB of statics).
+//! carry the ~4.7 MiB of statics).
 //!
 //! The data are the files of `sampler-core/data/` (see its README), produced
 //! by the `bake` CLI from recorded seeds: void-and-cluster dither tiles with
 //! sigma 1.9, the exact retarget tables of every step of their offset walk
 //! (energy about 0.011 of the identity's), and a 128x128x64 spatiotemporal
-//! mask with sigma 1.9 in space and time, and the optimised keys of the
-//! screen-space Sobol sampler. Tiles, tables and keys are decoded at compile
+//! mask with sigma 1.9 in space and time, a 128x128x64 mask adapted to an
+//! exponential history (alpha 0.1) times a Gaussian blur (sigma 1.3435), and
+//! the optimised keys of the screen-space Sobol sampler. Tiles, tables and keys are decoded at compile
 //! time into `u32` statics; the mask is read byte-wise.
 
 use crate::dither::DitherTile;
@@ -34,6 +35,8 @@ static TABLES_64: [u32; STEP_COUNT * 64 * 64] = decode_u32(include_bytes!("../da
 static TILE_128: [u32; 128 * 128] = decode_u32(include_bytes!("../data/tile_128.bin"));
 static TABLES_128: [u32; STEP_COUNT * 128 * 128] = decode_u32(include_bytes!("../data/tables_128.bin"));
 static STBN_128: &[u8; 2 * 128 * 128 * 64] = include_bytes!("../data/stbn_128x128x64.bin");
+static FILTER_ADAPTED_128: &[u8; 2 * 128 * 128 * 64] =
+    include_bytes!("../data/filter_adapted_128x128x64.bin");
 /// Side, dimension pairs and spp levels of the default screen-space sampler keys.
 const KEYS_LAYOUT: (u32, u32, u32) = (64, 4, 5);
 static SCREEN_SOBOL_KEYS: [u32; 5 * 4 * 64 * 64] =
@@ -105,6 +108,23 @@ pub fn stbn_128() -> SpatiotemporalMask<'static> {
     }
 }
 
+/// The default filter-adapted 128x128x64 mask: per-slice ranks like
+/// [`stbn_128`] (each slice holds every rank of `0..16384` once), arranged
+/// so that the thresholded error after an exponential history (TAA-like,
+/// alpha 0.1) and a Gaussian blur of sigma 1.3435 is low (the
+/// filter-adapted bake of module `bake`, feature `bake`, refining
+/// [`stbn_128`]). Use it where the renderer accumulates with an EMA and
+/// denoises spatially; [`stbn_128`] where the filters are unknown.
+///
+/// # Panics
+/// Never (size and length are fixed above).
+pub fn filter_adapted_128() -> SpatiotemporalMask<'static> {
+    match SpatiotemporalMask::new(128, 128, 64, FILTER_ADAPTED_128) {
+        Ok(m) => m,
+        Err(e) => panic!("default filter-adapted mask is malformed: {e}"),
+    }
+}
+
 /// The default keys of the screen-space Sobol sampler
 /// ([`screen_sobol`](crate::screen_sobol)): 64x64 tiles for 4 dimension pairs
 /// (dimensions 0..8) and 5 spp levels (optimised for 1, 2, 4, 8 and 16 spp),
@@ -141,21 +161,22 @@ mod tests {
         assert!(exact(tile_128().values()));
         assert_eq!(tables_64().tile(), 64);
         assert_eq!(tables_128().tile(), 128);
-        let m = stbn_128();
-        assert_eq!((m.width(), m.height(), m.depth()), (128, 128, 64));
-        for z in 0..64 {
-            let mut seen = [false; 128 * 128];
-            for y in 0..128 {
-                for x in 0..128 {
-                    let r = m.rank(x, y, z) as usize;
-                    assert!(
-                        r < seen.len() && !core::mem::replace(&mut seen[r], true),
-                        "slice {z}"
-                    );
+        for m in [stbn_128(), filter_adapted_128()] {
+            assert_eq!((m.width(), m.height(), m.depth()), (128, 128, 64));
+            for z in 0..64 {
+                let mut seen = [false; 128 * 128];
+                for y in 0..128 {
+                    for x in 0..128 {
+                        let r = m.rank(x, y, z) as usize;
+                        assert!(
+                            r < seen.len() && !core::mem::replace(&mut seen[r], true),
+                            "slice {z}"
+                        );
+                    }
                 }
+                let v = m.value(0, 0, z);
+                assert!(v > 0.0 && v < 1.0);
             }
-            let v = m.value(0, 0, z);
-            assert!(v > 0.0 && v < 1.0);
         }
         let k = screen_sobol_keys();
         assert_eq!(k.keys().len(), k.layout().key_count());

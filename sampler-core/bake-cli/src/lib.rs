@@ -14,6 +14,9 @@
 //!   row-major).
 //! - vector spatiotemporal `.bin`: `f32` components, slice-major then
 //!   row-major, the 2 or 3 components of a texel together.
+//! - filter-adapted `.bin`: scalars as spatiotemporal `.bin` (`u16` ranks);
+//!   with a non-uniform distribution or vectors also `f32` values as the
+//!   vector `.bin` (`values_*.bin`) and one EXR per slice.
 //!
 //! PNG output maps rank `r` of `n` to `floor(r * 2^bits / n)` (8 or 16 bits
 //! per texel, grey), so every level is used equally often.
@@ -21,8 +24,9 @@
 use anyhow::{bail, ensure, Context, Result};
 use rayon::prelude::*;
 use sampler_core::bake::{
-    bake_key_tile, bake_mask, bake_retarget_table_with, bake_stbn, no_progress, KeyParams, MaskParams,
-    RetargetBake, StbnParams, SwapReport, DISPLACEMENT_COST, MAX_MASK_SIDE,
+    bake_filter_adapted, bake_key_tile, bake_mask, bake_retarget_table_with, bake_stbn, no_progress,
+    FilterAdaptedParams, FilterCombine, KeyParams, MaskParams, RetargetBake, SpatialFilter, StbnParams,
+    SwapReport, TemporalFilter, DISPLACEMENT_COST, MAX_MASK_SIDE,
 };
 use sampler_core::{DitherTile, ScreenSobolLayout, STEP_COUNT};
 use std::fs;
@@ -42,6 +46,26 @@ pub const DEFAULT_STBN_SIZE: (u32, u32, u32) = (128, 128, 64);
 pub const DEFAULT_STBN_SIGMA: f64 = 1.9;
 /// Recorded seed of the default spatiotemporal mask.
 pub const DEFAULT_STBN_SEED: u64 = 3;
+/// Sweeps of the default filter-adapted mask: 8 (about 18 s with the STBN
+/// start on 2 busy cores; QUALITY.md, "Filter-adapted masks").
+pub const DEFAULT_FILTER_ADAPTED_SWEEPS: u32 = 8;
+
+/// Parameters of the default filter-adapted mask: 128x128x64 uniform scalars
+/// adapted to an exponential history (alpha 0.1) times a Gaussian of sigma
+/// 1.3435 (product), [`DEFAULT_FILTER_ADAPTED_SWEEPS`] sweeps, seed
+/// [`DEFAULT_STBN_SEED`], so it starts from the default STBN mask itself.
+pub fn default_filter_adapted_params() -> FilterAdaptedParams {
+    let (width, height, depth) = DEFAULT_STBN_SIZE;
+    FilterAdaptedParams {
+        width,
+        height,
+        depth,
+        sweeps: DEFAULT_FILTER_ADAPTED_SWEEPS,
+        seed: DEFAULT_STBN_SEED,
+        ..FilterAdaptedParams::default()
+    }
+}
+
 /// Recorded seed of the default screen-space sampler keys (and of their training
 /// integrands).
 pub const DEFAULT_KEYS_SEED: u64 = 6;
@@ -79,15 +103,18 @@ pub enum DefaultSet {
     Stbn,
     /// `screen_sobol_keys_64.bin`.
     Keys,
+    /// `filter_adapted_128x128x64.bin`.
+    FilterAdapted,
 }
 
 impl DefaultSet {
     /// Every set, in the order `defaults` writes them.
-    pub const ALL: [DefaultSet; 4] = [
+    pub const ALL: [DefaultSet; 5] = [
         DefaultSet::Tile64,
         DefaultSet::Tile128,
         DefaultSet::Stbn,
         DefaultSet::Keys,
+        DefaultSet::FilterAdapted,
     ];
 
     /// File names this set writes.
@@ -97,6 +124,7 @@ impl DefaultSet {
             DefaultSet::Tile128 => &["tile_128.bin", "tables_128.bin"],
             DefaultSet::Stbn => &["stbn_128x128x64.bin"],
             DefaultSet::Keys => &["screen_sobol_keys_64.bin"],
+            DefaultSet::FilterAdapted => &["filter_adapted_128x128x64.bin"],
         }
     }
 }
@@ -252,6 +280,38 @@ pub fn write_vector_png(
         .with_context(|| format!("cannot write PNG {}", path.display()))
 }
 
+/// Writes one slice of `channels` (1, 2 or 3) `f32` components per texel as
+/// an RGB `f32` OpenEXR image into `file`: a scalar fills all three
+/// channels (grey), a 2D vector leaves blue 0.
+///
+/// # Errors
+/// Bad `channels` or length, or an encoding/I/O failure.
+pub fn write_exr(
+    file: fs::File,
+    path: &Path,
+    width: u32,
+    height: u32,
+    channels: usize,
+    values: &[f32],
+) -> Result<()> {
+    ensure!(
+        (1..=3).contains(&channels) && values.len() == (width * height) as usize * channels,
+        "slice {} has {} components, expected {width}x{height}x{channels}",
+        path.display(),
+        values.len()
+    );
+    let img = image::Rgb32FImage::from_fn(width, height, |x, y| {
+        let t = &values[(y * width + x) as usize * channels..][..channels];
+        match channels {
+            1 => image::Rgb([t[0], t[0], t[0]]),
+            2 => image::Rgb([t[0], t[1], 0.0]),
+            _ => image::Rgb([t[0], t[1], t[2]]),
+        }
+    });
+    img.write_to(&mut std::io::BufWriter::new(file), image::ImageFormat::OpenExr)
+        .with_context(|| format!("cannot write EXR {}", path.display()))
+}
+
 /// `f32`s as little-endian bytes.
 pub fn encode_f32(values: &[f32]) -> Vec<u8> {
     values.iter().flat_map(|v| v.to_le_bytes()).collect()
@@ -281,6 +341,84 @@ pub fn parse_size(text: &str, max_parts: usize) -> Result<Vec<u32>> {
         sides.push(v);
     }
     Ok(sides)
+}
+
+/// Splits `name:a:b` into the name and its numbers.
+fn parse_spec(text: &str, what: &str) -> Result<(String, Vec<f64>)> {
+    let mut parts = text.split(':');
+    let name = parts.next().unwrap_or("").trim().to_lowercase();
+    let numbers = parts
+        .map(|p| {
+            p.trim()
+                .parse::<f64>()
+                .with_context(|| format!("{what} {text:?}: {p:?} is not a number"))
+        })
+        .collect::<Result<Vec<f64>>>()?;
+    Ok((name, numbers))
+}
+
+/// The one integer parameter of a box or binomial filter.
+fn count(text: &str, numbers: &[f64]) -> Result<u32> {
+    ensure!(
+        numbers.len() == 1 && numbers[0].fract() == 0.0 && numbers[0] >= 0.0,
+        "filter {text:?} needs one whole number"
+    );
+    Ok(numbers[0] as u32)
+}
+
+/// Parses a spatial filter: `gauss:SIGMA`, `box:SIZE` or `binomial:N`
+/// (ranges are checked by the bake).
+///
+/// # Errors
+/// An unknown name or a wrong number of parameters.
+pub fn parse_spatial(text: &str) -> Result<SpatialFilter> {
+    let (name, v) = parse_spec(text, "spatial filter")?;
+    Ok(match name.as_str() {
+        "gauss" | "gaussian" if v.len() == 1 => SpatialFilter::Gaussian { sigma: v[0] },
+        "box" => SpatialFilter::Box {
+            size: count(text, &v)?,
+        },
+        "binomial" => SpatialFilter::Binomial { n: count(text, &v)? },
+        _ => bail!("spatial filter {text:?} is not gauss:SIGMA, box:SIZE or binomial:N"),
+    })
+}
+
+/// Parses a temporal filter: `gauss:SIGMA`, `box:SIZE`, `binomial:N`,
+/// `exp:ALPHA` (the whole history) or `exp:ALPHA:BETA` (FAST's random
+/// history length).
+///
+/// # Errors
+/// An unknown name or a wrong number of parameters.
+pub fn parse_temporal(text: &str) -> Result<TemporalFilter> {
+    let (name, v) = parse_spec(text, "temporal filter")?;
+    Ok(match (name.as_str(), v.len()) {
+        ("gauss" | "gaussian", 1) => TemporalFilter::Gaussian { sigma: v[0] },
+        ("box", _) => TemporalFilter::Box {
+            size: count(text, &v)?,
+        },
+        ("binomial", _) => TemporalFilter::Binomial { n: count(text, &v)? },
+        ("exp" | "exponential", 1) => TemporalFilter::Exponential { alpha: v[0] },
+        ("exp" | "exponential", 2) => TemporalFilter::WeightedExponential {
+            alpha: v[0],
+            beta: v[1],
+        },
+        _ => bail!(
+            "temporal filter {text:?} is not gauss:SIGMA, box:SIZE, binomial:N, exp:ALPHA or exp:ALPHA:BETA"
+        ),
+    })
+}
+
+/// Parses `product` or `separate:SPATIAL_WEIGHT`.
+///
+/// # Errors
+/// Anything else.
+pub fn parse_combine(text: &str) -> Result<FilterCombine> {
+    let (name, v) = parse_spec(text, "combination")?;
+    Ok(match (name.as_str(), v.len()) {
+        ("product", 0) => FilterCombine::Product,
+        ("separate", 1) => FilterCombine::Separate { spatial_weight: v[0] },
+        _ => bail!("combination {text:?} is not product or separate:WEIGHT"),
+    })
 }
 
 /// Bakes the tables of every step for `tile`, in parallel (one rayon task
@@ -402,6 +540,10 @@ pub fn bake_default_set(set: DefaultSet, report: Report<'_>) -> Result<(NamedFil
             let (_, keys, _) = bake_keys_parallel(&default_key_params(), &|| {})?;
             (vec![(files[0], encode_u32(&keys))], Vec::new())
         }
+        DefaultSet::FilterAdapted => {
+            let mask = bake_filter_adapted(&default_filter_adapted_params(), report)?;
+            (vec![(files[0], encode_u16(&mask.ranks)?)], Vec::new())
+        }
     })
 }
 
@@ -426,6 +568,41 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("power of two"));
+    }
+
+    #[test]
+    fn filter_specs_parse_or_explain() {
+        assert_eq!(
+            parse_spatial("gauss:1.5").unwrap(),
+            SpatialFilter::Gaussian { sigma: 1.5 }
+        );
+        assert_eq!(parse_spatial("Box:3").unwrap(), SpatialFilter::Box { size: 3 });
+        assert_eq!(
+            parse_spatial("binomial:2").unwrap(),
+            SpatialFilter::Binomial { n: 2 }
+        );
+        assert_eq!(
+            parse_temporal("exp:0.1").unwrap(),
+            TemporalFilter::Exponential { alpha: 0.1 }
+        );
+        assert_eq!(
+            parse_temporal("exp:0.2:0.3").unwrap(),
+            TemporalFilter::WeightedExponential {
+                alpha: 0.2,
+                beta: 0.3
+            }
+        );
+        assert_eq!(parse_temporal("box:8").unwrap(), TemporalFilter::Box { size: 8 });
+        assert_eq!(parse_combine("product").unwrap(), FilterCombine::Product);
+        assert_eq!(
+            parse_combine("separate:0.5").unwrap(),
+            FilterCombine::Separate { spatial_weight: 0.5 }
+        );
+        for bad in ["gauss", "box:2.5", "tent:1", "box:x"] {
+            assert!(parse_spatial(bad).is_err(), "{bad}");
+        }
+        assert!(parse_temporal("exp:0.1:0.2:0.3").is_err());
+        assert!(parse_combine("separate").is_err());
     }
 
     #[test]

@@ -7,20 +7,22 @@
 //! bake retarget --tile tile.bin --out tables/
 //! bake keys --side 64 --out keys.bin
 //! bake vector-stbn --kind vec2 --size 64x64x32 --out vstbn/
+//! bake filter-adapted --size 128x128x64 --spatial gauss:1.3435 --temporal exp:0.1 --out fa/
 //! bake defaults --out sampler-core/data
 //! ```
 
 use anyhow::{ensure, Context, Result};
 use bake::{
     bake_default_set, bake_keys_parallel, bake_tables_parallel, create_dir, create_file, default_key_params,
-    encode_f32, encode_tables, encode_u16, encode_u32, parse_size, read_tile, write_all, write_png,
-    write_vector_png, DefaultSet,
+    encode_f32, encode_tables, encode_u16, encode_u32, parse_combine, parse_size, parse_spatial,
+    parse_temporal, read_tile, write_all, write_exr, write_png, write_vector_png, DefaultSet,
 };
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use sampler_core::bake::{
-    anneal_retarget_table, bake_mask, bake_stbn, bake_vector_stbn, mean_displacement, AnnealParams,
-    KeyParams, MaskParams, StbnParams, VectorKind, VectorStbnParams,
+    anneal_retarget_table, bake_filter_adapted, bake_mask, bake_stbn, bake_vector_stbn, mean_displacement,
+    refine_filter_adapted, AnnealParams, Distribution, FilterAdaptedParams, FilterValue, KeyParams,
+    MaskParams, StbnParams, VectorKind, VectorStbnParams,
 };
 use sampler_core::{DitherTile, STEP_COUNT};
 use std::path::{Path, PathBuf};
@@ -149,6 +151,44 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// A mask adapted to a spatial and a temporal filter (FAST-style): a `.bin`
+    /// of u16 ranks (scalars) and/or f32 values, PNG slices, and EXR slices
+    /// for float values.
+    FilterAdapted {
+        /// `WxHxD`, powers of two.
+        #[arg(long)]
+        size: String,
+        /// What the texels hold.
+        #[arg(long, value_enum, default_value = "scalar")]
+        value: ValueArg,
+        /// Distribution of scalar values.
+        #[arg(long, value_enum, default_value = "uniform")]
+        distribution: DistributionArg,
+        /// Spatial filter: gauss:SIGMA, box:SIZE or binomial:N.
+        #[arg(long, default_value = "gauss:1.3435")]
+        spatial: String,
+        /// Temporal filter: gauss:SIGMA, box:SIZE, binomial:N, exp:ALPHA or exp:ALPHA:BETA.
+        #[arg(long, default_value = "exp:0.1")]
+        temporal: String,
+        /// product, or separate:SPATIAL_WEIGHT.
+        #[arg(long, default_value = "product")]
+        combine: String,
+        /// Optimiser sweeps.
+        #[arg(long, default_value_t = 8)]
+        sweeps: u32,
+        /// Seed (scalars start from the STBN mask of this seed).
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Scalars: start from this u16 rank file (`stbn --out`) instead of baking STBN.
+        #[arg(long)]
+        start: Option<PathBuf>,
+        /// Output directory.
+        #[arg(long)]
+        out: PathBuf,
+        /// PNG bits per texel for scalar slices: 8 or 16.
+        #[arg(long, default_value_t = 16)]
+        bits: u32,
+    },
     /// Searches ZSobol's one-sample-per-pixel placement map (prints it; the
     /// defaults reproduce `sampler_core::zsobol::ZSOBOL_PLACEMENT`).
     ZsobolPlacement {
@@ -168,6 +208,54 @@ enum Command {
         #[arg(long, value_enum)]
         only: Vec<DefaultSet>,
     },
+}
+
+/// `--value` of `filter-adapted`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum ValueArg {
+    /// One value per texel (`--distribution`).
+    Scalar,
+    /// Points of [0, 1)^2.
+    Vec2,
+    /// Points of [0, 1)^3.
+    Vec3,
+    /// Unit vectors of the circle.
+    Circle,
+    /// Unit vectors of the sphere.
+    Sphere,
+    /// Cosine-weighted hemisphere directions (z up).
+    Cosine,
+}
+
+/// `--distribution` of `filter-adapted`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum DistributionArg {
+    /// Uniform on [0, 1).
+    Uniform,
+    /// Triangular on [-1, 1].
+    Tent,
+    /// Standard normal.
+    Gaussian,
+    /// Density (pi/4) cos(pi x / 2) on [-1, 1].
+    Cosine,
+}
+
+impl ValueArg {
+    fn value(self, d: DistributionArg) -> FilterValue {
+        match self {
+            ValueArg::Scalar => FilterValue::Scalar(match d {
+                DistributionArg::Uniform => Distribution::Uniform,
+                DistributionArg::Tent => Distribution::Tent,
+                DistributionArg::Gaussian => Distribution::Gaussian,
+                DistributionArg::Cosine => Distribution::Cosine,
+            }),
+            ValueArg::Vec2 => FilterValue::Vec2,
+            ValueArg::Vec3 => FilterValue::Vec3,
+            ValueArg::Circle => FilterValue::UnitCircle,
+            ValueArg::Sphere => FilterValue::UnitSphere,
+            ValueArg::Cosine => FilterValue::CosineHemisphere,
+        }
+    }
 }
 
 /// `--kind` of `vector-stbn`.
@@ -259,6 +347,37 @@ fn main() -> Result<()> {
             seed,
             out,
         } => vector_stbn(kind, &size, sigma, temporal_sigma, sweeps, seed, &out),
+        Command::FilterAdapted {
+            size,
+            value,
+            distribution,
+            spatial,
+            temporal,
+            combine,
+            sweeps,
+            seed,
+            start,
+            out,
+            bits,
+        } => {
+            let sides = parse_size(&size, 3)?;
+            ensure!(
+                sides.len() == 3,
+                "filter-adapted size must be WxHxD, got {size:?}"
+            );
+            let params = FilterAdaptedParams {
+                width: sides[0],
+                height: sides[1],
+                depth: sides[2],
+                value: value.value(distribution),
+                spatial: parse_spatial(&spatial)?,
+                temporal: parse_temporal(&temporal)?,
+                combine: parse_combine(&combine)?,
+                sweeps,
+                seed,
+            };
+            filter_adapted(&params, start.as_deref(), &out, bits)
+        }
         Command::ZsobolPlacement { draws, seed } => zsobol_placement(draws, seed),
         Command::Defaults { out, only } => defaults(&out, &only),
     }
@@ -494,6 +613,86 @@ fn vector_stbn(
     for (z, slice) in mask.values.chunks((width * height) as usize * c).enumerate() {
         let path = out.join(format!("slice_{z:03}.png"));
         write_vector_png(create_file(&path)?, &path, width, height, c, slice, signed)?;
+    }
+    Ok(())
+}
+
+fn filter_adapted(params: &FilterAdaptedParams, start: Option<&Path>, out: &Path, bits: u32) -> Result<()> {
+    let (width, height, depth) = (params.width, params.height, params.depth);
+    let scalar = matches!(params.value, FilterValue::Scalar(_));
+    ensure!(
+        !scalar || width as u64 * height as u64 <= 1 << 16,
+        "a {width}x{height} slice has more than 65536 texels: its ranks do not fit the u16 file format"
+    );
+    check_bits(bits)?;
+    let start_ranks = match start {
+        Some(path) => {
+            ensure!(scalar, "--start only applies to scalar masks");
+            let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+            ensure!(
+                bytes.len() == 2 * (width * height * depth) as usize,
+                "{} has {} bytes, not the 2 x {width}x{height}x{depth} of u16 ranks",
+                path.display(),
+                bytes.len()
+            );
+            Some(
+                bytes
+                    .chunks_exact(2)
+                    .map(|c| u16::from_le_bytes([c[0], c[1]]) as u32)
+                    .collect::<Vec<u32>>(),
+            )
+        }
+        None => None,
+    };
+    create_dir(out)?;
+    let pb = bar(0, "filter-adapted");
+    let start_time = Instant::now();
+    let mut report = |d, t| {
+        pb.set_length(t);
+        pb.set_position(d)
+    };
+    let mask = match &start_ranks {
+        Some(r) => refine_filter_adapted(params, r, &mut report)?,
+        None => bake_filter_adapted(params, &mut report)?,
+    };
+    pb.finish_and_clear();
+    println!(
+        "{width}x{height}x{depth} {:?}, {:?} x {:?} ({:?}), {} sweeps: baked in {:.3} s, energy {:.5} -> {:.5}, {} of {} swaps accepted",
+        params.value,
+        params.spatial,
+        params.temporal,
+        params.combine,
+        params.sweeps,
+        start_time.elapsed().as_secs_f64(),
+        mask.report.energy_before,
+        mask.report.energy_after,
+        mask.report.accepted,
+        mask.report.trials
+    );
+    let n = (width * height) as usize;
+    let c = params.value.channels() as usize;
+    let floats = !matches!(params.value, FilterValue::Scalar(Distribution::Uniform));
+    if scalar {
+        let path = out.join(format!("filter_adapted_{width}x{height}x{depth}.bin"));
+        write_all(create_file(&path)?, &path, &encode_u16(&mask.ranks)?)?;
+        for (z, slice) in mask.ranks.chunks(n).enumerate() {
+            let path = out.join(format!("slice_{z:03}.png"));
+            write_png(create_file(&path)?, &path, width, height, slice, bits)?;
+        }
+    } else {
+        let signed = !matches!(params.value, FilterValue::Vec2 | FilterValue::Vec3);
+        for (z, slice) in mask.values.chunks(n * c).enumerate() {
+            let path = out.join(format!("slice_{z:03}.png"));
+            write_vector_png(create_file(&path)?, &path, width, height, c, slice, signed)?;
+        }
+    }
+    if floats {
+        let path = out.join(format!("values_{width}x{height}x{depth}.bin"));
+        write_all(create_file(&path)?, &path, &encode_f32(&mask.values))?;
+        for (z, slice) in mask.values.chunks(n * c).enumerate() {
+            let path = out.join(format!("slice_{z:03}.exr"));
+            write_exr(create_file(&path)?, &path, width, height, c, slice)?;
+        }
     }
     Ok(())
 }

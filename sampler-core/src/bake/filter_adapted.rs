@@ -202,7 +202,7 @@ pub struct FilterAdaptedParams {
 
 impl Default for FilterAdaptedParams {
     /// 128x128x64 uniform scalars adapted to an exponential history
-    /// (alpha 0.1) times a Gaussian of sigma 1.3435 (product), 4 sweeps,
+    /// (alpha 0.1) times a Gaussian of sigma 1.3435 (product), 8 sweeps,
     /// seed 1.
     fn default() -> Self {
         FilterAdaptedParams {
@@ -213,7 +213,7 @@ impl Default for FilterAdaptedParams {
             spatial: SpatialFilter::Gaussian { sigma: 1.3435 },
             temporal: TemporalFilter::Exponential { alpha: 0.1 },
             combine: FilterCombine::Product,
-            sweeps: 4,
+            sweeps: 8,
             seed: 1,
         }
     }

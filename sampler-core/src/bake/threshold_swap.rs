@@ -20,9 +20,10 @@
 //! `t_k` is a constant per slice, which swaps cannot change). The cuts
 //! `c_k = k B + o` (`B = n / levels` ranks apart) move together: a sweep
 //! has `B / m` steps, each giving every slice and cut `2m` trials (`m =
-//! B / 4`) and then moving the offset `o` to a random value in `0..=B`
-//! (updating only the fields of the ranks the cuts pass), so every level
-//! of the mask is optimised and no lattice of levels is favoured.
+//! B / 4`) and then moving the offset `o` by a random step in `-m..=m`
+//! (reflected at 0 and `B`; only the fields of the ranks the cuts pass are
+//! updated), so every level of the mask is optimised and no lattice of
+//! levels is favoured.
 //!
 //! Moves: a rank `a` drawn in `[c - m, c)` and a rank `b` in `[c, c + m)`
 //! trade texels (`p` holds `a`, `q` holds `b`). Only the levels between `a`
@@ -357,8 +358,17 @@ impl ThresholdSwap {
                         throttle.tick(trials, total, progress);
                     }
                 }
-                // A fresh, random offset, so no lattice of levels is favoured.
-                let next = rng.below(spacing as u64 + 1) as i64;
+                // A random walk of the offset (steps up to m, reflected at 0
+                // and B), so no lattice of levels is favoured and a step only
+                // updates the fields of the few ranks the cuts pass.
+                let step = rng.below(2 * half as u64 + 1) as i64 - half as i64;
+                let mut next = self.offset as i64 + step;
+                if next < 0 {
+                    next = -next;
+                }
+                if next > spacing as i64 {
+                    next = 2 * spacing as i64 - next;
+                }
                 self.shift_cuts(next - self.offset as i64);
             }
         }
