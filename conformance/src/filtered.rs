@@ -7,7 +7,10 @@
 //! clamped history), which is the same for every method, so ratios to
 //! white noise are pulled towards 1 where the bias dominates.
 //! [`StudyResult::filter_bias`](crate::render_study::StudyResult) measures
-//! that floor: the reference itself sent through the same chain.
+//! that floor: the reference itself sent through the same chain. The
+//! *noise part* leaves the bias out: `luma(filter(frames)) -
+//! luma(filter(reference))`, what the seeds control after the filter
+//! ([`StudyResult::pooled_filtered_noise`]).
 
 use crate::regions::Region;
 use crate::render_study::{Method, MethodRun, StudyResult};
@@ -28,6 +31,9 @@ pub struct FilteredErrors {
     pub chain: FilterChain,
     /// Entry `t`: squared error sums of frame `t` per region.
     pub regions: Vec<[f64; 3]>,
+    /// Entry `t`: squared sums per region of the filtered frame minus the
+    /// filtered reference (empty where the filtered reference is not known).
+    pub noise: Vec<[f64; 3]>,
 }
 
 /// Runs every chain of [`STUDY_FILTERS`] over a method's frames and sums the
@@ -35,11 +41,17 @@ pub struct FilteredErrors {
 pub(crate) struct FilteredMeter {
     filters: Vec<FrameFilter>,
     errors: Vec<FilteredErrors>,
+    /// Per chain, the filtered reference's luma (for the noise part).
+    targets: Option<Vec<Vec<f32>>>,
+    /// Per chain, the luma of the last filtered frame.
+    last: Vec<Vec<f32>>,
 }
 
 impl FilteredMeter {
-    /// Filters for `width x height` frames with the default settings.
-    pub(crate) fn new(width: u32, height: u32) -> Result<Self> {
+    /// Filters for `width x height` frames with the default settings;
+    /// `targets`: per chain of [`STUDY_FILTERS`], the filtered reference's
+    /// luma, to also record the noise part.
+    pub(crate) fn new(width: u32, height: u32, targets: Option<Vec<Vec<f32>>>) -> Result<Self> {
         let filters = STUDY_FILTERS
             .iter()
             .map(|&c| FrameFilter::new(c, FilterSettings::default(), width, height))
@@ -49,9 +61,15 @@ impl FilteredMeter {
             .map(|&chain| FilteredErrors {
                 chain,
                 regions: Vec::new(),
+                noise: Vec::new(),
             })
             .collect();
-        Ok(FilteredMeter { filters, errors })
+        Ok(FilteredMeter {
+            filters,
+            errors,
+            targets,
+            last: vec![Vec::new(); STUDY_FILTERS.len()],
+        })
     }
 
     /// Filters the next frame (`motion`: backward motion per pixel, zeros
@@ -64,11 +82,20 @@ impl FilteredMeter {
         reference: &[f32],
         regions: &[Region],
     ) -> Result<()> {
-        for (filter, errors) in self.filters.iter_mut().zip(&mut self.errors) {
+        for (k, (filter, errors)) in self.filters.iter_mut().zip(&mut self.errors).enumerate() {
             let out = filter.apply(color, gbuffer, motion)?;
             errors.regions.push(region_sums(&out, reference, regions));
+            if let Some(targets) = &self.targets {
+                errors.noise.push(region_sums(&out, &targets[k], regions));
+            }
+            self.last[k] = out.iter().map(|c| c.intensity()).collect();
         }
         Ok(())
+    }
+
+    /// Per chain, the luma of the last filtered frame.
+    pub(crate) fn last_luma(&self) -> &[Vec<f32>] {
+        &self.last
     }
 
     /// The recorded errors, one entry per chain of [`STUDY_FILTERS`].
@@ -87,9 +114,10 @@ pub(crate) fn region_sums(frame: &[Vec4], reference: &[f32], regions: &[Region])
     sums
 }
 
-/// RMS over frames `from..` of a region's (or the whole image's) error sums.
-fn pooled_sum(errors: &FilteredErrors, region: Option<Region>, from: usize) -> Option<f64> {
-    let tail = errors.regions.get(from..).filter(|t| !t.is_empty())?;
+/// Sum over frames `from..` of a region's (or the whole image's) squared
+/// error sums `series`.
+fn pooled_sum(series: &[[f64; 3]], region: Option<Region>, from: usize) -> Option<f64> {
+    let tail = series.get(from..).filter(|t| !t.is_empty())?;
     Some(
         tail.iter()
             .map(|v| match region {
@@ -118,8 +146,22 @@ impl StudyResult {
         region: Option<Region>,
         from: usize,
     ) -> Option<f64> {
-        let m = pooled_sum(self.run(method)?.filtered(chain)?, region, from)?;
-        let w = pooled_sum(self.run(Method::White)?.filtered(chain)?, region, from)?;
+        let m = pooled_sum(&self.run(method)?.filtered(chain)?.regions, region, from)?;
+        let w = pooled_sum(&self.run(Method::White)?.filtered(chain)?.regions, region, from)?;
+        (w > 0.0).then(|| (m / w).sqrt())
+    }
+
+    /// As [`Self::pooled_filtered`] for the noise part: the filtered frame
+    /// minus the filtered reference (the filter's bias left out).
+    pub fn pooled_filtered_noise(
+        &self,
+        method: Method,
+        chain: FilterChain,
+        region: Option<Region>,
+        from: usize,
+    ) -> Option<f64> {
+        let m = pooled_sum(&self.run(method)?.filtered(chain)?.noise, region, from)?;
+        let w = pooled_sum(&self.run(Method::White)?.filtered(chain)?.noise, region, from)?;
         (w > 0.0).then(|| (m / w).sqrt())
     }
 
@@ -128,8 +170,8 @@ impl StudyResult {
     /// the study) over frames `from..`, divided by white's filtered RMSE.
     pub fn filter_bias(&self, chain: FilterChain, region: Option<Region>, from: usize) -> Option<f64> {
         let bias = self.filter_bias.iter().find(|f| f.chain == chain)?;
-        let b = pooled_sum(bias, region, from)?;
-        let w = pooled_sum(self.run(Method::White)?.filtered(chain)?, region, from)?;
+        let b = pooled_sum(&bias.regions, region, from)?;
+        let w = pooled_sum(&self.run(Method::White)?.filtered(chain)?.regions, region, from)?;
         (w > 0.0).then(|| (b / w).sqrt())
     }
 
@@ -142,8 +184,10 @@ impl StudyResult {
         for c in STUDY_FILTERS {
             s += &format!(" | {c} whole | {c} interior");
         }
+        let head = STUDY_FILTERS[0];
+        s += &format!(" | {head} noise part whole | noise part interior");
         s += " |\n|---";
-        s += &"|---|---".repeat(STUDY_FILTERS.len());
+        s += &"|---|---".repeat(STUDY_FILTERS.len() + 1);
         s += "|\n";
         for r in &self.runs {
             s += &format!("| {}", r.method.name());
@@ -154,6 +198,11 @@ impl StudyResult {
                     cell(self.pooled_filtered(r.method, c, Some(Region::Interior), from))
                 );
             }
+            s += &format!(
+                " | {} | {}",
+                cell(self.pooled_filtered_noise(r.method, head, None, from)),
+                cell(self.pooled_filtered_noise(r.method, head, Some(Region::Interior), from))
+            );
             s += " |\n";
         }
         s += "| *filter bias (reference filtered)*";
@@ -164,7 +213,7 @@ impl StudyResult {
                 cell(self.filter_bias(c, Some(Region::Interior), from))
             );
         }
-        s += " |\n";
+        s += " | - | - |\n";
         s
     }
 }
@@ -185,9 +234,11 @@ mod tests {
         let e = FilteredErrors {
             chain: FilterChain::Taa,
             regions: vec![[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]],
+            noise: Vec::new(),
         };
-        assert_eq!(pooled_sum(&e, None, 1), Some(15.0));
-        assert_eq!(pooled_sum(&e, Some(Region::Edge), 0), Some(7.0));
-        assert_eq!(pooled_sum(&e, None, 2), None);
+        assert_eq!(pooled_sum(&e.regions, None, 1), Some(15.0));
+        assert_eq!(pooled_sum(&e.regions, Some(Region::Edge), 0), Some(7.0));
+        assert_eq!(pooled_sum(&e.regions, None, 2), None);
+        assert_eq!(pooled_sum(&e.noise, None, 0), None);
     }
 }

@@ -414,9 +414,10 @@ impl Study {
     /// # Errors
     /// Rendering errors.
     pub fn run(&self, methods: &[Method], mut progress: impl FnMut(Method, u32)) -> Result<StudyResult> {
+        let (filter_bias, targets) = self.filter_bias()?;
         let mut runs = Vec::new();
         for &m in methods {
-            runs.push(self.run_method(m, |t| progress(m, t))?);
+            runs.push(self.run_method(m, targets.as_deref(), |t| progress(m, t))?);
         }
         Ok(StudyResult {
             config: self.config,
@@ -425,28 +426,37 @@ impl Study {
             region_shares: region_shares(&self.regions),
             features: self.feature_diagnostics()?,
             runs,
-            filter_bias: self.filter_bias()?,
+            filter_bias,
         })
     }
 
     /// The reference sent through each filter chain for the study's frame
-    /// count (empty without [`StudyConfig::filters`]).
-    fn filter_bias(&self) -> Result<Vec<FilteredErrors>> {
+    /// count, and the luma of its last filtered frame per chain (the target
+    /// of the noise part; a still reference converges in one frame). Empty
+    /// and `None` without [`StudyConfig::filters`].
+    #[allow(clippy::type_complexity)]
+    fn filter_bias(&self) -> Result<(Vec<FilteredErrors>, Option<Vec<Vec<f32>>>)> {
         if !self.config.filters {
-            return Ok(Vec::new());
+            return Ok((Vec::new(), None));
         }
         let size = self.config.size;
-        let mut meter = FilteredMeter::new(size, size)?;
+        let mut meter = FilteredMeter::new(size, size, None)?;
         let color: Vec<Vec4> = self.reference.rgb.iter().map(|c| c.extend(1.0)).collect();
         let still = vec![Vec2::ZERO; color.len()];
         for _ in 0..self.config.frames {
             meter.frame(&color, &self.gbuffer, &still, &self.reference.luma, &self.regions)?;
         }
-        Ok(meter.finish())
+        let targets = meter.last_luma().to_vec();
+        Ok((meter.finish(), Some(targets)))
     }
 
-    fn run_method(&self, method: Method, mut progress: impl FnMut(u32)) -> Result<MethodRun> {
-        let mut meter = Meter::new(self, method)?;
+    fn run_method(
+        &self,
+        method: Method,
+        filter_targets: Option<&[Vec<f32>]>,
+        mut progress: impl FnMut(u32),
+    ) -> Result<MethodRun> {
+        let mut meter = Meter::new(self, method, filter_targets)?;
         let mut tracker = SeedTracker::new(self, method)?;
         let mut tracker_error = None;
         let mut on_frame = |t: u32, color: &[Vec4]| {
@@ -551,7 +561,7 @@ struct Meter<'a> {
 }
 
 impl<'a> Meter<'a> {
-    fn new(study: &'a Study, method: Method) -> Result<Self> {
+    fn new(study: &'a Study, method: Method, filter_targets: Option<&[Vec<f32>]>) -> Result<Self> {
         let n = (study.config.size * study.config.size) as usize;
         let snapshot_frame = GOAL_FRAME.min(study.config.frames - 1);
         Ok(Meter {
@@ -589,7 +599,11 @@ impl<'a> Meter<'a> {
             inset_series: Vec::new(),
             filters: match study.config.filters {
                 true => Some((
-                    FilteredMeter::new(study.config.size, study.config.size)?,
+                    FilteredMeter::new(
+                        study.config.size,
+                        study.config.size,
+                        filter_targets.map(<[Vec<f32>]>::to_vec),
+                    )?,
                     vec![Vec2::ZERO; n],
                 )),
                 false => None,

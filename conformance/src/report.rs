@@ -542,7 +542,9 @@ luma(reference) over frames {t}.., relative to white noise after the same filter
 <i>taa</i>: exponential history (&alpha; 0.1) with 3x3 colour clamping; <i>atrous</i>: SVGF's edge-avoiding a-trous \
 wavelet filter, 5 iterations, guided by depth, normal and luminance; <i>taa+atrous</i>: both, in SVGF's order (the \
 headline). Both filter the illumination demodulated by the albedo. The last row is the filter's own error on the \
-reference (its bias): where it is close to 1 the filter's blur, not the noise, dominates. Best per column in bold.</p>\n\
+reference (its bias): where it is close to 1 the filter's blur, not the noise, dominates. The last two columns leave \
+that bias out: luma(filtered frame) - luma(filtered reference), what the seeds control after the filter. Best per \
+column in bold.</p>\n\
 {table}<p><a href=\"table-filtered-spp{spp}.csv\">table as CSV</a> &middot; <a href=\"#command\">command</a></p>\n",
             spp = r.config.spp,
             t = GOAL_FRAME.min(r.config.frames - 1),

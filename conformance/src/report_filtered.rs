@@ -19,10 +19,17 @@ fn first_frame(r: &StudyResult) -> usize {
 #[allow(clippy::type_complexity)]
 fn rows(r: &StudyResult) -> (Vec<String>, Vec<(Option<Method>, Vec<f64>)>) {
     let from = first_frame(r);
-    let header = STUDY_FILTERS
+    let head = STUDY_FILTERS[0];
+    let mut header: Vec<String> = STUDY_FILTERS
         .iter()
         .flat_map(|c| [format!("{c}, whole image"), format!("{c}, interior")])
         .collect();
+    header.push(format!("{head} noise part, whole image"));
+    header.push(format!("{head} noise part, interior"));
+    let noise = |m: Method| {
+        [None, Some(Region::Interior)]
+            .map(|reg| r.pooled_filtered_noise(m, head, reg, from).unwrap_or(f64::NAN))
+    };
     let values = |f: &dyn Fn(gpu_tracer::filter::FilterChain, Option<Region>) -> Option<f64>| -> Vec<f64> {
         STUDY_FILTERS
             .iter()
@@ -34,10 +41,14 @@ fn rows(r: &StudyResult) -> (Vec<String>, Vec<(Option<Method>, Vec<f64>)>) {
         .iter()
         .map(|run| {
             let m = run.method;
-            (Some(m), values(&|c, reg| r.pooled_filtered(m, c, reg, from)))
+            let mut v = values(&|c, reg| r.pooled_filtered(m, c, reg, from));
+            v.extend(noise(m));
+            (Some(m), v)
         })
         .collect();
-    rows.push((None, values(&|c, reg| r.filter_bias(c, reg, from))));
+    let mut bias = values(&|c, reg| r.filter_bias(c, reg, from));
+    bias.extend([f64::NAN; 2]);
+    rows.push((None, bias));
     (header, rows)
 }
 
@@ -95,7 +106,9 @@ pub fn html_table(r: &StudyResult, css: impl Fn(Method) -> String) -> String {
             None => h += "<tr><td><i>filter bias (reference filtered)</i></td>",
         }
         for (x, b) in v.iter().zip(&best) {
-            if m.is_some_and(|m| m != Method::White) && x == b {
+            if x.is_nan() {
+                h += "<td>-</td>";
+            } else if m.is_some_and(|m| m != Method::White) && x == b {
                 let _ = write!(h, "<td><b>{x:.3}</b></td>");
             } else {
                 let _ = write!(h, "<td>{x:.3}</td>");
