@@ -231,8 +231,8 @@ impl FilterSwap {
             return false;
         }
         let mut diff = [0.0f64; 4];
-        for k in 0..c {
-            diff[k] = self.values[j + k] - self.values[i + k];
+        for (k, dk) in diff.iter_mut().enumerate().take(c) {
+            *dk = self.values[j + k] - self.values[i + k];
             self.values.swap(i + k, j + k);
         }
         self.items.swap(p * d + z, q * d + z);

@@ -284,9 +284,9 @@ mod tests {
         }
         // Temporal box 8 on 64 slices: the triangle (8 - |d|) / 64.
         let t = TemporalFilter::Box { size: 8 }.autocorrelation(64);
-        for d in 0..64usize {
+        for (d, &v) in t.iter().enumerate() {
             let s = d.min(64 - d) as f64;
-            assert!(close(t[d], (8.0 - s).max(0.0) / 64.0), "offset {d}");
+            assert!(close(v, (8.0 - s).max(0.0) / 64.0), "offset {d}");
         }
         // A box wider than the torus wraps: 4 of 1/4 on 2 slices = [1/2 1/2] -> [1/2 1/2].
         let w = TemporalFilter::Box { size: 4 }.autocorrelation(2);
