@@ -39,9 +39,9 @@
 //!
 //! Scalars start from an STBN mask ([`bake_stbn`](super::bake_stbn), sigma
 //! [`START_SIGMA`] in space and time, the same seed): the threshold moves
-//! only trade nearby ranks, so a good start matters (32x32x16, box 3x3 x box
-//! 8, 128 sweeps: 0.0174 from a random start, 0.0127 from STBN, STBN alone
-//! 0.0159). [`refine_filter_adapted`] starts from given ranks instead.
+//! only trade nearby ranks, so a good start matters (measured during
+//! development, 32x32x16, box 3x3 x box 8, 128 sweeps: 0.0174 from a random
+//! start, 0.0127 from STBN, STBN alone 0.0159). [`refine_filter_adapted`] starts from given ranks instead.
 //! Vectors start from a random arrangement.
 //!
 //! Not built: FAST's `Vector4` sample space, its uniform-hemisphere
