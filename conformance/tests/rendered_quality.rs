@@ -242,3 +242,98 @@ fn four_spp_by_frame_8() {
         "4 spp: LF {lf:.3} (goal 0.15), blur1 {b:.3} (goal 0.6)"
     );
 }
+
+/// Issue 15: every method is measured after the real-time filters, and the
+/// figures behave as filters must: they lower white noise's error, TAA
+/// leaves a still reference unchanged (no bias), the a-trous filter has a
+/// bias of its own, and blue-noise error keeps an advantage in the noise part.
+#[test]
+fn every_method_is_measured_after_the_real_time_filters() {
+    use conformance::filtered::STUDY_FILTERS;
+    use conformance::regions::Region;
+    use gpu_tracer::filter::FilterChain;
+    let r = one_spp();
+    let from = GOAL_FRAME as usize;
+    for run in &r.runs {
+        assert_eq!(run.filtered.len(), STUDY_FILTERS.len(), "{}", run.method.name());
+        for f in &run.filtered {
+            assert_eq!(
+                f.regions.len(),
+                FRAMES as usize,
+                "{} {}",
+                run.method.name(),
+                f.chain
+            );
+            assert_eq!(
+                f.noise.len(),
+                FRAMES as usize,
+                "{} {}",
+                run.method.name(),
+                f.chain
+            );
+        }
+    }
+    let white = r.run(Method::White).unwrap();
+    let pixels = (SIZE * SIZE) as f64;
+    let filtered_rms = |c: FilterChain| {
+        let e = &white.filtered(c).unwrap().regions[from..];
+        (e.iter().map(|v| v.iter().sum::<f64>()).sum::<f64>() / (e.len() as f64 * pixels)).sqrt()
+    };
+    let raw_rms =
+        (white.rmse[from..].iter().map(|v| v * v).sum::<f64>() / (FRAMES as usize - from) as f64).sqrt();
+    let head = FilterChain::TaaAtrous;
+    let taa_bias = r.filter_bias(FilterChain::Taa, None, from).unwrap();
+    let atrous_bias = r.filter_bias(FilterChain::Atrous, None, from).unwrap();
+    println!(
+        "white RMSE raw {raw_rms:.4}, after taa {:.4}, atrous {:.4}, taa+atrous {:.4}; bias (white = 1) taa {taa_bias:.2e}, atrous {atrous_bias:.3}",
+        filtered_rms(FilterChain::Taa),
+        filtered_rms(FilterChain::Atrous),
+        filtered_rms(head)
+    );
+    for c in STUDY_FILTERS {
+        assert!(
+            filtered_rms(c) < raw_rms,
+            "{c} does not lower white noise's error"
+        );
+    }
+    assert!(taa_bias < 1e-3, "TAA changes a still reference: {taa_bias}");
+    assert!(
+        atrous_bias > 0.01,
+        "the a-trous filter should blur some detail: {atrous_bias}"
+    );
+    println!("{}", r.filtered_markdown(from));
+    let pj = r
+        .pooled_filtered_noise(Method::PermuteJitter, head, Some(Region::Interior), from)
+        .unwrap();
+    assert!(
+        pj < 1.0,
+        "permute-jitter's noise part after {head} on the interior is not below white's: {pj}"
+    );
+}
+
+/// Issue 15's rendered goal: after `taa+atrous` the best method's RMSE is at
+/// most 0.75 of white's on the whole image and on the interior, and no
+/// method is more than 2% worse than white. Missed (QUALITY.md, "What the
+/// viewer sees"): the a-trous filter's own bias is most of white's filtered
+/// error on the whole image.
+#[test]
+#[ignore = "issue 15 goal not met (see QUALITY.md); run with --ignored"]
+fn best_method_after_taa_atrous_is_at_most_three_quarters_of_white() {
+    use conformance::regions::Region;
+    use gpu_tracer::filter::FilterChain;
+    let r = one_spp();
+    let from = GOAL_FRAME as usize;
+    let head = FilterChain::TaaAtrous;
+    for region in [None, Some(Region::Interior)] {
+        let best = METHODS[1..]
+            .iter()
+            .filter_map(|&m| r.pooled_filtered(m, head, region, from))
+            .fold(f64::INFINITY, f64::min);
+        println!("{region:?}: best after {head} {best:.3} (goal <= 0.75)");
+        assert!(best <= 0.75, "{region:?}: best {best:.3}");
+    }
+    for &m in &METHODS[1..] {
+        let v = r.pooled_filtered(m, head, None, from).unwrap();
+        assert!(v <= 1.02, "{} after {head}: {v:.3} of white", m.name());
+    }
+}

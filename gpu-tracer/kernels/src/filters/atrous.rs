@@ -12,10 +12,14 @@
 //! estimates it from the 3x3 neighbourhood before the first iteration, and
 //! every iteration propagates it (`sum w^2 var / (sum w)^2`), so later
 //! iterations stop at smaller luminance differences. Pixels without a
-//! primary hit are passed through, and never used as taps.
+//! primary hit and pixels that see an emitter are passed through and never
+//! used as taps: an emitter's radiance is not noise to be shared with its
+//! surroundings, and a 3x3 variance that straddles a light's silhouette is
+//! so large that the luminance test would let the light bleed into the
+//! surfaces around it ([`filtered_surface`]).
 
 use super::{index, FilterParams};
-use crate::abi::{GBufferGpu, GBUFFER_HIT};
+use crate::abi::{GBufferGpu, GBUFFER_EMITTER, GBUFFER_HIT};
 use glam::{Vec3, Vec4};
 use sampler_core::sort::luma;
 
@@ -41,8 +45,8 @@ fn bspline(k: i32) -> f32 {
 }
 
 /// The colour of pixel `(x, y)` with `w` set to the variance of the luma
-/// over its 3x3 neighbourhood (pixels in the frame with a primary hit; 0 if
-/// it has none).
+/// over its 3x3 neighbourhood (pixels in the frame that are
+/// [`filtered_surface`]s; 0 if there is none).
 #[inline]
 pub fn variance_pixel(params: &FilterParams, x: u32, y: u32, color: &[Vec4], gbuffer: &[GBufferGpu]) -> Vec4 {
     let (w, h) = (params.width, params.height);
@@ -53,7 +57,7 @@ pub fn variance_pixel(params: &FilterParams, x: u32, y: u32, color: &[Vec4], gbu
         let mut dx = 0;
         while dx < 3 {
             let (qx, qy) = ((x + dx).wrapping_sub(1), (y + dy).wrapping_sub(1));
-            if qx < w && qy < h && gbuffer[index(qx, qy, w)].ids.w & GBUFFER_HIT != 0 {
+            if qx < w && qy < h && filtered_surface(&gbuffer[index(qx, qy, w)]) {
                 let l = luma(color[index(qx, qy, w)].truncate());
                 n += 1.0;
                 sum += l;
@@ -81,7 +85,7 @@ pub fn atrous_pixel(params: &FilterParams, x: u32, y: u32, src: &[Vec4], gbuffer
     let (w, h) = (params.width, params.height);
     let centre = src[index(x, y, w)];
     let g = &gbuffer[index(x, y, w)];
-    if g.ids.w & GBUFFER_HIT == 0 {
+    if !filtered_surface(g) {
         return centre;
     }
     let n_p = g.normal_depth.truncate();
@@ -102,7 +106,7 @@ pub fn atrous_pixel(params: &FilterParams, x: u32, y: u32, src: &[Vec4], gbuffer
             if qx >= 0 && qy >= 0 && qx < w as i32 && qy < h as i32 {
                 let q = index(qx as u32, qy as u32, w);
                 let gq = &gbuffer[q];
-                if gq.ids.w & GBUFFER_HIT != 0 {
+                if filtered_surface(gq) {
                     let c = src[q];
                     let expected = libm::fabsf(gx * (i * step) as f32 + gy * (j * step) as f32);
                     let w_z = -libm::fabsf(z_p - gq.normal_depth.w) / (SIGMA_Z * expected + 1e-4);
@@ -121,6 +125,13 @@ pub fn atrous_pixel(params: &FilterParams, x: u32, y: u32, src: &[Vec4], gbuffer
     }
     // The centre tap has weight (3/8)^2 > 0, so `total > 0`.
     (sum / total).extend(sum_var / (total * total))
+}
+
+/// Whether the filter smooths texel `g` and uses it as a tap: a primary hit
+/// that is not an emitter.
+#[inline]
+pub fn filtered_surface(g: &GBufferGpu) -> bool {
+    g.ids.w & (GBUFFER_HIT | GBUFFER_EMITTER) == GBUFFER_HIT
 }
 
 /// `d^SIGMA_N` for `d` in `[0, 1]` by seven squarings (`2^7 = 128`).
@@ -267,7 +278,7 @@ mod tests {
     }
 
     #[test]
-    fn background_passes_through_and_is_never_a_tap() {
+    fn background_and_emitters_pass_through_and_are_never_taps() {
         let (w, h) = (5u32, 5u32);
         let mut gbuffer = vec![surface(Vec3::Z, 1.0, 0); 25];
         gbuffer[12] = GBufferGpu::default();
@@ -277,6 +288,13 @@ mod tests {
         assert_eq!(atrous_pixel(&p, 2, 2, &color, &gbuffer), color[12]);
         let v = atrous_pixel(&p, 1, 2, &color, &gbuffer);
         assert!((v.x - 1.0).abs() < 1e-6, "{v}");
+        // An emitter likewise: kept as it is, and not bled into its neighbours.
+        gbuffer[12] = surface(Vec3::Z, 1.0, 0);
+        gbuffer[12].ids.w |= crate::abi::GBUFFER_EMITTER;
+        assert_eq!(atrous_pixel(&p, 2, 2, &color, &gbuffer), color[12]);
+        let v = atrous_pixel(&p, 1, 2, &color, &gbuffer);
+        assert!((v.x - 1.0).abs() < 1e-6, "{v}");
+        assert_eq!(variance_pixel(&p, 1, 2, &color, &gbuffer).w, 0.0);
     }
 
     #[test]
