@@ -56,7 +56,12 @@ fn main() {
     }
     let copy = median(&mut copy_ms);
     println!("{:<14} {:>9.3} ms (16 B/px)", "copy", copy);
-    for chain in [FilterChain::Taa, FilterChain::Gauss, FilterChain::Atrous, FilterChain::TaaAtrous] {
+    for chain in [
+        FilterChain::Taa,
+        FilterChain::Gauss,
+        FilterChain::Atrous,
+        FilterChain::TaaAtrous,
+    ] {
         let mut filter = FrameFilter::new(chain, FilterSettings::default(), w, h).expect("filter");
         let mut ms = Vec::new();
         for k in 0..rounds + 1 {
