@@ -122,6 +122,10 @@ pub enum Method {
     /// Fresh white seeds plus a spatiotemporal blue-noise mask driving the first
     /// bounce's direction.
     Dither,
+    /// [`Method::Dither`] with the filter-adapted mask
+    /// (`sampler_core::defaults::filter_adapted_128`, EMA 0.1 x Gaussian 1.3435,
+    /// issue 15) instead of STBN.
+    DitherFilterAdapted,
     /// Fresh white seeds, the path's 2D decisions from the screen-space Sobol
     /// sampler with our optimised keys (`--sampler screen-sobol`, issue 6).
     ScreenSobol,
@@ -138,13 +142,14 @@ pub enum Method {
 
 impl Method {
     /// Every method, white first.
-    pub const ALL: [Method; 10] = [
+    pub const ALL: [Method; 11] = [
         Method::White,
         Method::Sort,
         Method::Permute,
         Method::PermuteJitter,
         Method::FixedStep,
         Method::Dither,
+        Method::DitherFilterAdapted,
         Method::ScreenSobol,
         Method::ZSobol,
         Method::FeaturePermute,
@@ -174,6 +179,7 @@ impl Method {
             Method::PermuteJitter => "permute-jitter",
             Method::FixedStep => "fixed-step",
             Method::Dither => "bn-dither",
+            Method::DitherFilterAdapted => "bn-dither-fa",
             Method::ScreenSobol => "screen-sobol",
             Method::ZSobol => "zsobol",
             Method::FeaturePermute => "feature-permute",
@@ -190,6 +196,9 @@ impl Method {
             Method::PermuteJitter => "permute, with the pixel jitter from screen-space Sobol",
             Method::FixedStep => "sorting + retargeting, fixed integer step floor(W*(a1,a2))",
             Method::Dither => "white seeds + STBN mask on the first bounce direction",
+            Method::DitherFilterAdapted => {
+                "white seeds + the filter-adapted mask (EMA 0.1 x Gaussian) on the first bounce direction"
+            }
             Method::ScreenSobol => "white seeds + screen-space Sobol (our keys) on every 2D decision",
             Method::ZSobol => "white seeds + ZSobol on every 2D decision",
             Method::FeaturePermute => {
@@ -512,7 +521,10 @@ impl Study {
                 })?;
             }
             Method::FixedStep => render_walk(self, Walk::FixedStep, &mut on_frame)?,
-            Method::Dither => render_dither(self, &mut on_frame)?,
+            Method::Dither => render_dither(self, sampler_core::defaults::stbn_128(), &mut on_frame)?,
+            Method::DitherFilterAdapted => {
+                render_dither(self, sampler_core::defaults::filter_adapted_128(), &mut on_frame)?
+            }
             Method::ScreenSobol | Method::ZSobol => {
                 let mut settings = self.config.settings();
                 settings.sampler = if method == Method::ScreenSobol {

@@ -43,6 +43,7 @@ fn colour(m: Method) -> RGBColor {
         Method::PermuteJitter => RGBColor(0, 60, 110),
         Method::FixedStep => RGBColor(213, 94, 0),
         Method::Dither => RGBColor(0, 158, 115),
+        Method::DitherFilterAdapted => RGBColor(110, 190, 50),
         Method::ScreenSobol => RGBColor(204, 121, 167),
         Method::ZSobol => RGBColor(86, 180, 233),
         Method::FeaturePermute => RGBColor(0, 170, 170),

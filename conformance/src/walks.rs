@@ -11,7 +11,7 @@ use kernels::abi::{TraceParams, SEED_MODE_BLUE_NOISE_DITHER, SEED_MODE_FIXED};
 use rayon::prelude::*;
 use sampler_core::{
     retarget_pixel_at_offset, sort_block_at_offset, walk_offset, DitherTile, FrameLayout, Intensity,
-    RetargetTable,
+    RetargetTable, SpatiotemporalMask,
 };
 
 /// Offset sequence of the dither tile.
@@ -114,13 +114,17 @@ pub fn render_walk(study: &Study, walk: Walk, on_frame: &mut impl FnMut(u32, &[V
     Ok(())
 }
 
-/// The blue-noise-dither baseline (module docs), CPU only.
+/// The blue-noise-dither baseline (module docs) with `mask` (128x128x64: the
+/// STBN default or the filter-adapted one), CPU only.
 ///
 /// # Errors
 /// Rendering errors.
-pub fn render_dither(study: &Study, on_frame: &mut impl FnMut(u32, &[Vec4])) -> Result<()> {
+pub fn render_dither(
+    study: &Study,
+    mask: SpatiotemporalMask<'_>,
+    on_frame: &mut impl FnMut(u32, &[Vec4]),
+) -> Result<()> {
     let c = &study.config;
-    let mask = sampler_core::defaults::stbn_128();
     let mut settings = c.settings();
     settings.seed_mode = SEED_MODE_FIXED;
     let layout = c.layout()?;
