@@ -136,6 +136,8 @@ impl LinePlot<'_> {
                 .x_desc(self.x_title)
                 .y_desc(y_title)
                 .y_labels(14)
+                // About one numbered x tick per 80 px, so labels never overlap.
+                .x_labels((size.0 / 80).max(4) as usize)
                 .y_label_formatter(&y_label)
                 .x_label_formatter(&tick)
                 .draw()

@@ -490,8 +490,23 @@ low-frequency power on the flat insets (mean over frames {t}..) is {}",
             name(best(&|m| r.pooled_region(m, Some(region), t)))
         );
     }
-    h += " (0 would mean below the reference's own noise: not ranked). The permutation's \
-figures are in the rows <i>permute</i> and <i>permute-jitter</i>.</p>\n";
+    h += " (0 would mean below the reference's own noise: not ranked).";
+    let head = gpu_tracer::filter::FilterChain::TaaAtrous;
+    if crate::report_filtered::has_filters(r) {
+        let _ = write!(
+            h,
+            " After the real-time filter ({head}), the lowest error is {} on the whole image and {} on the interior; \
+the filter's own error on the reference is {} of white's filtered error on the whole image (interior {}), so where \
+that is near 1 the filter, not the noise, decides; without it (noise part) the lowest is {} (interior {}).",
+            name(best(&|m| r.pooled_filtered(m, head, None, t))),
+            name(best(&|m| r.pooled_filtered(m, head, Some(Region::Interior), t))),
+            r.filter_bias(head, None, t).map_or("n/a".into(), |v| format!("{v:.3}")),
+            r.filter_bias(head, Some(Region::Interior), t).map_or("n/a".into(), |v| format!("{v:.3}")),
+            name(best(&|m| r.pooled_filtered_noise(m, head, None, t))),
+            name(best(&|m| r.pooled_filtered_noise(m, head, Some(Region::Interior), t))),
+        );
+    }
+    h += " The permutation's figures are in the rows <i>permute</i> and <i>permute-jitter</i>.</p>\n";
     h
 }
 
