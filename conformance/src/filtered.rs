@@ -146,9 +146,7 @@ impl StudyResult {
         region: Option<Region>,
         from: usize,
     ) -> Option<f64> {
-        let m = pooled_sum(&self.run(method)?.filtered(chain)?.regions, region, from)?;
-        let w = pooled_sum(&self.run(Method::White)?.filtered(chain)?.regions, region, from)?;
-        (w > 0.0).then(|| (m / w).sqrt())
+        self.pooled_ratio(method, chain, region, from, |e| &e.regions)
     }
 
     /// As [`Self::pooled_filtered`] for the noise part: the filtered frame
@@ -160,8 +158,21 @@ impl StudyResult {
         region: Option<Region>,
         from: usize,
     ) -> Option<f64> {
-        let m = pooled_sum(&self.run(method)?.filtered(chain)?.noise, region, from)?;
-        let w = pooled_sum(&self.run(Method::White)?.filtered(chain)?.noise, region, from)?;
+        self.pooled_ratio(method, chain, region, from, |e| &e.noise)
+    }
+
+    /// `sqrt(sum of series(method) / sum of series(white))` over frames
+    /// `from..` after `chain`.
+    fn pooled_ratio(
+        &self,
+        method: Method,
+        chain: FilterChain,
+        region: Option<Region>,
+        from: usize,
+        series: impl Fn(&FilteredErrors) -> &[[f64; 3]],
+    ) -> Option<f64> {
+        let m = pooled_sum(series(self.run(method)?.filtered(chain)?), region, from)?;
+        let w = pooled_sum(series(self.run(Method::White)?.filtered(chain)?), region, from)?;
         (w > 0.0).then(|| (m / w).sqrt())
     }
 

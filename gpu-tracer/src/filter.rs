@@ -134,6 +134,27 @@ impl FilterSettings {
     }
 }
 
+/// Checks that the three inputs of a filter hold `n` pixels each.
+///
+/// # Errors
+/// [`Error::BufferSize`] naming the first that does not.
+pub fn check_inputs(n: usize, color: &[Vec4], gbuffer: &[GBufferGpu], motion: &[Vec2]) -> Result<()> {
+    for (buffer, len) in [
+        ("color", color.len()),
+        ("gbuffer", gbuffer.len()),
+        ("motion", motion.len()),
+    ] {
+        if len != n {
+            return Err(Error::BufferSize {
+                buffer,
+                expected: n,
+                actual: len,
+            });
+        }
+    }
+    Ok(())
+}
+
 /// A filter chain over a `width x height` frame sequence, with its history.
 #[derive(Clone, Debug)]
 pub struct FrameFilter {
@@ -190,19 +211,7 @@ impl FrameFilter {
     /// [`Error::BufferSize`] when a buffer is not `width * height` long.
     pub fn apply(&mut self, color: &[Vec4], gbuffer: &[GBufferGpu], motion: &[Vec2]) -> Result<Vec<Vec4>> {
         let n = self.width as usize * self.height as usize;
-        for (buffer, len) in [
-            ("color", color.len()),
-            ("gbuffer", gbuffer.len()),
-            ("motion", motion.len()),
-        ] {
-            if len != n {
-                return Err(Error::BufferSize {
-                    buffer,
-                    expected: n,
-                    actual: len,
-                });
-            }
-        }
+        check_inputs(n, color, gbuffer, motion)?;
         let params = FilterParams {
             width: self.width,
             height: self.height,

@@ -222,19 +222,7 @@ impl FrameFilterGpu {
         motion: &[Vec2],
     ) -> Result<(), GpuError> {
         let n = self.width as usize * self.height as usize;
-        for (buffer, len) in [
-            ("color", color.len()),
-            ("gbuffer", gbuffer.len()),
-            ("motion", motion.len()),
-        ] {
-            if len != n {
-                return Err(GpuError::Filter(crate::error::Error::BufferSize {
-                    buffer,
-                    expected: n,
-                    actual: len,
-                }));
-            }
-        }
+        crate::filter::check_inputs(n, color, gbuffer, motion).map_err(GpuError::Filter)?;
         gpu.queue
             .write_buffer(&self.color, 0, bytemuck::cast_slice(color));
         gpu.queue
