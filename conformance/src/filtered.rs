@@ -43,8 +43,8 @@ pub(crate) struct FilteredMeter {
     errors: Vec<FilteredErrors>,
     /// Per chain, the filtered reference's luma (for the noise part).
     targets: Option<Vec<Vec<f32>>>,
-    /// Per chain, the luma of the last filtered frame.
-    last: Vec<Vec<f32>>,
+    /// Per chain, the last filtered frame.
+    last: Vec<Vec<Vec4>>,
 }
 
 impl FilteredMeter {
@@ -88,14 +88,17 @@ impl FilteredMeter {
             if let Some(targets) = &self.targets {
                 errors.noise.push(region_sums(&out, &targets[k], regions));
             }
-            self.last[k] = out.iter().map(|c| c.intensity()).collect();
+            self.last[k] = out;
         }
         Ok(())
     }
 
     /// Per chain, the luma of the last filtered frame.
-    pub(crate) fn last_luma(&self) -> &[Vec<f32>] {
-        &self.last
+    pub(crate) fn last_luma(&self) -> Vec<Vec<f32>> {
+        self.last
+            .iter()
+            .map(|frame| frame.iter().map(|c| c.intensity()).collect())
+            .collect()
     }
 
     /// The recorded errors, one entry per chain of [`STUDY_FILTERS`].

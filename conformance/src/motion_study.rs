@@ -50,6 +50,7 @@
 //! was recycled (`sampler_core::ReprojectStats`) or stayed in its pixel, history resets,
 //! and the regions' shares of the image.
 
+use crate::filtered::region_sums;
 use crate::history::{ReprojectedHistory, HISTORY_ALPHA};
 use crate::insets::crop;
 use crate::insets::{check_inset, Inset};
@@ -637,15 +638,9 @@ impl MotionSequence {
                 .and_then(|g| Ok(filter.apply(f.color, g, &motion)?));
             match filtered {
                 Ok(out) => {
-                    let mut sums = [0.0f64; 2];
-                    for ((c, r), region) in out.iter().zip(reference).zip(&pose.regions) {
-                        let d = (c.intensity() - r) as f64;
-                        sums[0] += d * d;
-                        if *region == Region::Interior {
-                            sums[1] += d * d;
-                        }
-                    }
-                    run.filtered.push(sums);
+                    let sums = region_sums(&out, reference, &pose.regions);
+                    run.filtered
+                        .push([sums.iter().sum(), sums[Region::Interior as usize]]);
                 }
                 Err(e) => {
                     filter_error.get_or_insert(e);

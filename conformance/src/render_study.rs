@@ -455,7 +455,7 @@ impl Study {
         for _ in 0..self.config.frames {
             meter.frame(&color, &self.gbuffer, &still, &self.reference.luma, &self.regions)?;
         }
-        let targets = meter.last_luma().to_vec();
+        let targets = meter.last_luma();
         Ok((meter.finish(), Some(targets)))
     }
 

@@ -276,14 +276,7 @@ impl FilterSwap {
     /// slice-major order.
     pub(crate) fn items_slice_major(&self) -> Vec<u32> {
         let wh = self.width as usize * self.height as usize;
-        let d = self.depth as usize;
-        let mut out = vec![0u32; wh * d];
-        for p in 0..wh {
-            for z in 0..d {
-                out[z * wh + p] = self.items[p * d + z];
-            }
-        }
-        out
+        super::slice_major(&self.items, wh, self.depth as usize)
     }
 
     /// The maintained spatially filtered field (for tests).

@@ -73,6 +73,8 @@ pub use zsobol_placement::{
     DEFAULT_PLACEMENT_SEED, FINAL_TRIALS, PLACEMENT_BITS,
 };
 
+use alloc::vec;
+use alloc::vec::Vec;
 use core::fmt;
 
 /// Largest mask side (each of width, height, depth) the bakers accept.
@@ -195,6 +197,19 @@ pub type Progress<'a> = &'a mut dyn FnMut(u64, u64);
 pub fn no_progress(_done: u64, _total: u64) {}
 
 /// Checks that a mask of `width x height x depth` is bakeable.
+/// `pixel_major` (`texels * depth` values, texel `p`'s slice `z` at
+/// `p * depth + z`) rearranged slice-major (`z * texels + p`), the layout
+/// the bakes return.
+pub(crate) fn slice_major(pixel_major: &[u32], texels: usize, depth: usize) -> Vec<u32> {
+    let mut out = vec![0u32; texels * depth];
+    for p in 0..texels {
+        for z in 0..depth {
+            out[z * texels + p] = pixel_major[p * depth + z];
+        }
+    }
+    out
+}
+
 fn check_size(width: u32, height: u32, depth: u32) -> Result<(), BakeError> {
     let side_ok = |s: u32| s.is_power_of_two() && s <= MAX_MASK_SIDE;
     let texels = width as u64 * height as u64 * depth as u64;

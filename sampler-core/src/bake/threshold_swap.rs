@@ -380,14 +380,7 @@ impl ThresholdSwap {
 
     /// The ranks, slice-major.
     pub(crate) fn ranks_slice_major(&self) -> Vec<u32> {
-        let (n, d) = (self.texel_count(), self.depth as usize);
-        let mut out = vec![0u32; n * d];
-        for p in 0..n {
-            for z in 0..d {
-                out[z * n + p] = self.ranks[p * d + z];
-            }
-        }
-        out
+        super::slice_major(&self.ranks, self.texel_count(), self.depth as usize)
     }
 
     #[cfg(test)]
