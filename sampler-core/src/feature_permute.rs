@@ -311,9 +311,14 @@ pub fn retarget_features_pixel(
 /// against `D_frame`, then the retarget of step `frame -> frame + 1` cut at
 /// edges (module docs). `features` is the frame's [`SurfaceFeature`]
 /// buffer (`width * height`); `sorted` and `sources` are scratch
-/// (`seed_count` each). Output: a permutation of `seeds_in`; with
-/// features that make every pixel one surface, identical to
-/// [`crate::permute_frame`].
+/// (`seed_count` each; their contents afterwards are unspecified). Output:
+/// a permutation of `seeds_in`; with features that make every pixel one
+/// surface, identical to [`crate::permute_frame`].
+///
+/// Where the plain CPU fast path applies (block side 2, 4 or 8 dividing a
+/// tile of 16 to 128 texels) this runs a fast path (the plain fused
+/// permutation, then a repair of split blocks and cut edges); elsewhere
+/// [`permute_frame_features_reference`]. Both give identical output.
 ///
 /// # Errors
 /// [`Error::TileSize`] if the tile or tables do not match the layout;
@@ -364,21 +369,84 @@ pub fn permute_frame_features<T: Intensity>(
     sources: &mut [u32],
     seeds_out: &mut [u32],
 ) -> Result<(), Error> {
-    if tile.tile() != layout.tile() || tables.tile() != layout.tile() {
-        return Err(Error::TileSize { tile: tile.tile() });
+    check_feature_buffers(
+        layout,
+        intensities,
+        features,
+        tile,
+        tables,
+        seeds_in,
+        sorted,
+        sources,
+        seeds_out,
+    )?;
+    let params = layout.params(frame);
+    if crate::feature_permute_cpu::applies(&params) {
+        let table = tables.table(step_index(frame, params.tile_log2));
+        crate::feature_permute_cpu::permute_features_fast(
+            &params,
+            intensities,
+            features,
+            thresholds,
+            tile.values(),
+            table,
+            seeds_in,
+            sorted,
+            sources,
+            seeds_out,
+        );
+        return Ok(());
     }
-    layout.check_intensity_buffer(intensities.len())?;
-    if features.len() != layout.pixel_count() {
-        return Err(Error::BufferSize {
-            buffer: Buffer::Features,
-            expected: layout.pixel_count(),
-            actual: features.len(),
-        });
-    }
-    layout.check_seed_buffer(Buffer::SeedsIn, seeds_in.len())?;
-    layout.check_seed_buffer(Buffer::SeedsOut, seeds_out.len())?;
-    layout.check_seed_buffer(Buffer::Scratch, sorted.len())?;
-    layout.check_seed_buffer(Buffer::Scratch, sources.len())?;
+    permute_frame_features_reference(
+        layout,
+        frame,
+        intensities,
+        features,
+        thresholds,
+        tile,
+        tables,
+        seeds_in,
+        sorted,
+        sources,
+        seeds_out,
+    )
+}
+
+/// The reference form of [`permute_frame_features`]: [`sort_block_features_at_offset`]
+/// for every block into `sorted`, [`record_source`] for every seed into
+/// `sources` (the table's inverse), then [`retarget_features_pixel`] for every
+/// seed, as the GPU kernels run them. Identical output to
+/// [`permute_frame_features`], which takes a faster path on the CPU where
+/// it can; afterwards `sorted` holds the sorted seeds and `sources` the
+/// inverse.
+///
+/// # Errors
+/// As [`permute_frame_features`].
+#[allow(clippy::too_many_arguments)]
+pub fn permute_frame_features_reference<T: Intensity>(
+    layout: &FrameLayout,
+    frame: u32,
+    intensities: &[T],
+    features: &[SurfaceFeature],
+    thresholds: &FeatureThresholds,
+    tile: &DitherTile<'_>,
+    tables: &RetargetTables<'_>,
+    seeds_in: &[u32],
+    sorted: &mut [u32],
+    sources: &mut [u32],
+    seeds_out: &mut [u32],
+) -> Result<(), Error> {
+    check_feature_buffers(
+        layout,
+        intensities,
+        features,
+        tile,
+        tables,
+        seeds_in,
+        sorted,
+        sources,
+        seeds_out,
+    )?;
     let params = layout.params(frame);
     let offset = walk_offset(frame, params.tile_log2);
     for by in 0..params.blocks_y() {
@@ -406,5 +474,36 @@ pub fn permute_frame_features<T: Intensity>(
             &params, offset, table, sources, features, thresholds, p, sorted, seeds_out,
         );
     }
+    Ok(())
+}
+
+/// The checks of [`permute_frame_features`].
+#[allow(clippy::too_many_arguments)]
+fn check_feature_buffers<T>(
+    layout: &FrameLayout,
+    intensities: &[T],
+    features: &[SurfaceFeature],
+    tile: &DitherTile<'_>,
+    tables: &RetargetTables<'_>,
+    seeds_in: &[u32],
+    sorted: &[u32],
+    sources: &[u32],
+    seeds_out: &[u32],
+) -> Result<(), Error> {
+    if tile.tile() != layout.tile() || tables.tile() != layout.tile() {
+        return Err(Error::TileSize { tile: tile.tile() });
+    }
+    layout.check_intensity_buffer(intensities.len())?;
+    if features.len() != layout.pixel_count() {
+        return Err(Error::BufferSize {
+            buffer: Buffer::Features,
+            expected: layout.pixel_count(),
+            actual: features.len(),
+        });
+    }
+    layout.check_seed_buffer(Buffer::SeedsIn, seeds_in.len())?;
+    layout.check_seed_buffer(Buffer::SeedsOut, seeds_out.len())?;
+    layout.check_seed_buffer(Buffer::Scratch, sorted.len())?;
+    layout.check_seed_buffer(Buffer::Scratch, sources.len())?;
     Ok(())
 }

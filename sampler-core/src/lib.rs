@@ -49,6 +49,7 @@ pub mod defaults;
 pub mod dither;
 pub mod error;
 pub mod feature_permute;
+mod feature_permute_cpu;
 pub mod features;
 pub mod frame;
 pub mod layout;

@@ -1,0 +1,215 @@
+//! The second pass of the fast path, over every block once: each block's
+//! groups and cut edges, and the repair of what the plain permutation
+//! (the first pass) got wrong for it.
+//!
+//! After the first pass, `seeds_out[π(p)]` holds `plain(p)`, the seed the
+//! plain sort put at `p`. For a block of one group, `plain(p)` is the
+//! feature-aware sort's seed too, so only its cut edges need work: the
+//! seed at `p` must go to its chain's start instead of `π(p)` (the third
+//! pass, [`walks`](super::walks)), and it is read back from `π(p)` now,
+//! before anything overwrites it. For a block of several groups, the
+//! grouped sort is computed and its seeds stored again at `π(p)` (uncut
+//! edges) or kept for the third pass (cut edges).
+//!
+//! Nothing here overwrites a position another block reads back: a block
+//! stores only at `π(p)` for its own uncut `p`, and reads back only at
+//! `π(p)` for its own cut `p` (`π` is a bijection).
+
+use super::cuts::store_block;
+use super::groups::{groups_of, same_surface_fast, sort_grouped};
+use super::steps::Steps;
+use crate::dither::tile_texel;
+use crate::feature_permute::edge_is_cut;
+use crate::features::{FeatureThresholds, SurfaceFeature};
+use crate::layout::FrameParams;
+use crate::permute_cpu::prefetch;
+use crate::retarget::RETARGET_RADIUS;
+use crate::sort::{intensity_key, Intensity, MAX_BLOCK_PIXELS};
+use crate::walk::walk_offset;
+use glam::UVec2;
+
+/// How far ahead of the current block, in pixels, the features of the
+/// destination rows are prefetched.
+const PREFETCH_AHEAD: usize = 64;
+
+/// The inputs the second pass reads.
+pub(super) struct Inputs<'a, T> {
+    /// Frame geometry.
+    pub params: &'a FrameParams,
+    /// The frame's `π` and `π⁻¹`.
+    pub steps: &'a Steps<'a>,
+    /// Sort keys, `width * height`.
+    pub intensities: &'a [T],
+    /// Surface features, `width * height`.
+    pub features: &'a [SurfaceFeature],
+    /// The same-surface rule.
+    pub thresholds: &'a FeatureThresholds,
+    /// Dither tile values, `W * W`.
+    pub tile: &'a [u32],
+    /// Seeds before the permutation (padded).
+    pub seeds_in: &'a [u32],
+}
+
+/// Runs the second pass for block side `B` (`N = B * B`): writes every
+/// block's cut bits to `cut_words`, repairs `seeds_out` for blocks of
+/// several groups, and lists the seeds of cut edges, in cut-bit order, in
+/// `cut_seeds`. Returns how many were listed (`<= seed_count`).
+#[allow(clippy::needless_range_loop)]
+pub(super) fn repair_blocks<T: Intensity, const B: u32, const N: usize>(
+    inputs: &Inputs<'_, T>,
+    cut_words: &mut [u32],
+    cut_seeds: &mut [u32],
+    seeds_out: &mut [u32],
+) -> usize {
+    let params = inputs.params;
+    let (w, h, pw) = (params.width, params.height, params.padded_width);
+    let (wu, pwu) = (w as usize, pw as usize);
+    let radius = RETARGET_RADIUS as u32;
+    let thresholds = inputs.thresholds;
+    let features = inputs.features;
+    let steps = inputs.steps;
+    let mut listed = 0usize;
+    let blocks_x = params.blocks_x();
+    for by in 0..params.blocks_y() {
+        let y0 = by * B;
+        let rows_interior = y0 >= radius && y0 + B + radius <= h;
+        for bx in 0..blocks_x {
+            let x0 = bx * B;
+            let block = (by * blocks_x + bx) as usize;
+            let mut cut = 0u64;
+            let mut dest = [0u32; N];
+            if rows_interior {
+                // The feature rows this block row's destinations reach first
+                // (`y0 + B + radius - B ..= y0 + B - 1 + radius`) are read at
+                // scattered columns, which the hardware prefetchers do not
+                // follow: ask for them some blocks ahead.
+                for r in y0 + radius..(y0 + B + radius).min(h) {
+                    let at = r as usize * wu + x0 as usize + PREFETCH_AHEAD;
+                    prefetch(features, at, false);
+                }
+            }
+            if rows_interior && x0 >= radius && x0 + B + radius <= w {
+                // Every pixel and every destination is visible and none
+                // wraps: features are read at the pixel plus its offset.
+                let base = y0 as usize * wu + x0 as usize;
+                let first = &features[base];
+                let mut one = true;
+                for r in 0..B as usize {
+                    for c in 0..B as usize {
+                        let i = r * B as usize + c;
+                        let (x, y) = (x0 + c as u32, y0 + r as u32);
+                        let (dx, dy) = steps.forward_offset(x, y);
+                        let f = &features[base + r * wu + c];
+                        let at = (y as i32 + dy) as usize * wu + (x as i32 + dx) as usize;
+                        cut |= (!same_surface_fast(f, &features[at], thresholds) as u64) << i;
+                        if i > 0 {
+                            one &= same_surface_fast(f, first, thresholds);
+                        }
+                        dest[i] = ((y as i32 + dy) as usize * pwu + (x as i32 + dx) as usize) as u32;
+                    }
+                }
+                if one && cut == 0 {
+                    store_block::<N>(cut_words, block, 0);
+                    continue;
+                }
+                if one
+                    || !split_block::<T, B, N>(inputs, x0, y0, cut, &dest, cut_seeds, &mut listed, seeds_out)
+                {
+                    read_back::<N>(cut, &dest, cut_seeds, &mut listed, seeds_out);
+                }
+            } else {
+                for i in 0..N {
+                    let (x, y) = (x0 + i as u32 % B, y0 + i as u32 / B);
+                    let (qx, qy) = steps.forward(x, y);
+                    let (p, q) = (y * pw + x, qy * pw + qx);
+                    cut |= (edge_is_cut(params, features, thresholds, p, q) as u64) << i;
+                    dest[i] = q;
+                }
+                if !split_block::<T, B, N>(inputs, x0, y0, cut, &dest, cut_seeds, &mut listed, seeds_out) {
+                    read_back::<N>(cut, &dest, cut_seeds, &mut listed, seeds_out);
+                }
+            }
+            store_block::<N>(cut_words, block, cut);
+        }
+    }
+    listed
+}
+
+/// A block of one group: lists the seeds of its cut edges, read back from
+/// where the plain permutation put them.
+#[inline(always)]
+fn read_back<const N: usize>(
+    cut: u64,
+    dest: &[u32; N],
+    cut_seeds: &mut [u32],
+    listed: &mut usize,
+    seeds_out: &[u32],
+) {
+    let mut bits = cut;
+    while bits != 0 {
+        let i = bits.trailing_zeros() as usize;
+        bits &= bits - 1;
+        cut_seeds[*listed] = seeds_out[dest[i] as usize];
+        *listed += 1;
+    }
+}
+
+/// The block at `(x0, y0)` if its visible pixels form several groups: its
+/// grouped sort, each seed stored at `dest` (uncut) or listed (cut), and
+/// `true`. `false` (nothing done) for a block of one group.
+#[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
+#[inline(never)]
+fn split_block<T: Intensity, const B: u32, const N: usize>(
+    inputs: &Inputs<'_, T>,
+    x0: u32,
+    y0: u32,
+    cut: u64,
+    dest: &[u32; N],
+    cut_seeds: &mut [u32],
+    listed: &mut usize,
+    seeds_out: &mut [u32],
+) -> bool {
+    let params = inputs.params;
+    let (w, h, pw) = (params.width, params.height, params.padded_width);
+    let offset = walk_offset(params.frame, params.tile_log2);
+    let mut feats = [SurfaceFeature::default(); MAX_BLOCK_PIXELS];
+    let mut keys = [0u32; MAX_BLOCK_PIXELS];
+    let mut dither = [0u32; MAX_BLOCK_PIXELS];
+    let mut seeds = [0u32; MAX_BLOCK_PIXELS];
+    let mut pixel = [0u32; MAX_BLOCK_PIXELS];
+    // Seed sent from each block pixel: unsorted for padding pixels.
+    let mut value = [0u32; N];
+    let mut n = 0usize;
+    for i in 0..N {
+        let (x, y) = (x0 + i as u32 % B, y0 + i as u32 / B);
+        let s = inputs.seeds_in[(y * pw + x) as usize];
+        value[i] = s;
+        if x < w && y < h {
+            let v = (y * w + x) as usize;
+            feats[n] = inputs.features[v];
+            keys[n] = intensity_key(inputs.intensities[v].intensity());
+            dither[n] = inputs.tile[tile_texel(UVec2::new(x, y), offset, params.tile_log2) as usize];
+            seeds[n] = s;
+            pixel[n] = i as u32;
+            n += 1;
+        }
+    }
+    let mut groups = [0u32; MAX_BLOCK_PIXELS];
+    if groups_of(n, &feats, inputs.thresholds, &mut groups) {
+        return false;
+    }
+    let mut sorted = [0u32; MAX_BLOCK_PIXELS];
+    sort_grouped(n, &groups, &keys, &dither, &seeds, &mut sorted);
+    for j in 0..n {
+        value[pixel[j] as usize] = sorted[j];
+    }
+    for i in 0..N {
+        if cut >> i & 1 != 0 {
+            cut_seeds[*listed] = value[i];
+            *listed += 1;
+        } else {
+            seeds_out[dest[i] as usize] = value[i];
+        }
+    }
+    true
+}
