@@ -56,7 +56,45 @@ fn permute_4x4_avx2<T: Intensity>(
     permute_full_blocks::<T, Avx2Ranker, 4, 16>(params, intensities, tile, table, seeds_in, band, seeds_out);
 }
 
-/// Only instantiated inside [`permute_4x4_avx2`], i.e. with AVX2 present.
+/// The gather formulation ([`gather`](super::gather)) for 4x4 blocks with
+/// this ranker. Call only when the CPU has the instruction set.
+pub(super) fn gather_4x4<T: Intensity>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    band: Band,
+    seeds_out: &mut [u32],
+) {
+    assert!(available() && params.block == 4);
+    // SAFETY: the instruction set is available (checked above).
+    unsafe { gather_4x4_avx2(params, intensities, tile, table, seeds_in, band, seeds_out) }
+}
+
+#[target_feature(enable = "avx2")]
+fn gather_4x4_avx2<T: Intensity>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    band: Band,
+    seeds_out: &mut [u32],
+) {
+    super::gather::permute_gather::<T, Avx2Ranker, 4, 16>(
+        params,
+        intensities,
+        tile,
+        table,
+        seeds_in,
+        band,
+        seeds_out,
+    );
+}
+
+/// Only instantiated inside [`permute_4x4_avx2`] and [`gather_4x4_avx2`],
+/// i.e. with AVX2 present.
 struct Avx2Ranker;
 
 impl LaneRanker for Avx2Ranker {

@@ -64,7 +64,45 @@ fn permute_4x4_avx512<T: Intensity>(
     );
 }
 
-/// Only instantiated inside [`permute_4x4_avx512`], i.e. with AVX-512 present.
+/// The gather formulation ([`gather`](super::gather)) for 4x4 blocks with
+/// this ranker. Call only when the CPU has the instruction set.
+pub(super) fn gather_4x4<T: Intensity>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    band: Band,
+    seeds_out: &mut [u32],
+) {
+    assert!(Isa::Avx512.is_available() && params.block == 4);
+    // SAFETY: the instruction set is available (checked above).
+    unsafe { gather_4x4_avx512(params, intensities, tile, table, seeds_in, band, seeds_out) }
+}
+
+#[target_feature(enable = "avx2,avx512f")]
+fn gather_4x4_avx512<T: Intensity>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    band: Band,
+    seeds_out: &mut [u32],
+) {
+    super::gather::permute_gather::<T, Avx512Ranker, 4, 16>(
+        params,
+        intensities,
+        tile,
+        table,
+        seeds_in,
+        band,
+        seeds_out,
+    );
+}
+
+/// Only instantiated inside [`permute_4x4_avx512`] and [`gather_4x4_avx512`],
+/// i.e. with AVX-512 present.
 struct Avx512Ranker;
 
 impl LaneRanker for Avx512Ranker {

@@ -5,14 +5,8 @@
 //! Output is identical to the per-block reference ([`sort_block`](crate::sort_block)
 //! followed by [`retarget_pixel`](crate::retarget_pixel)); the speed comes from:
 //!
-//! - **Dither order and retarget offsets cached per frame.** With `B | W`,
-//!   screen block `(bx, by)` reads the tile window starting at
-//!   `((bx mod W/B) B + o_t) mod W`, so there are only `(W/B)^2` distinct
-//!   windows per frame. For each, the pixel of dither rank `k` and that
-//!   pixel's retarget offset are resolved once per frame into a stack array
-//!   of `W * W` offset pairs (32 KiB for W = 128).
 //! - **Eight or sixteen blocks ranked at once.** Full blocks side by side
-//!   are ranked together, one block per vector lane (`lane_ranks`): each of
+//!   are ranked together, one block per vector lane (`quad_ranks`): each of
 //!   the `N (N - 1) / 2` pixel pairs costs one comparison and two updates
 //!   per lane, ties rank by index for free, and no horizontal sums are
 //!   needed. Keys are converted row by row in memory order, then transposed
@@ -22,32 +16,51 @@
 //!   lanes are one register, transposed with two-source permutes and ranked
 //!   with mask registers ([`avx512`]); elsewhere the portable code
 //!   vectorises for the build's baseline (SSE2 on x86_64).
-//! - **Rows prefetched.** Each block row is the first to write `B` of the
-//!   output rows, and reads `B` seed rows and `B` intensity rows: more
-//!   streams than the hardware prefetchers follow. Their cache lines are
-//!   requested a few lane groups ahead, so neither the scattered stores nor
-//!   the loads wait on memory.
-//! - **Linear destinations, stored in increasing order.** For blocks whose
+//! - **Gathered, not scattered** ([`gather`], frames up to about 2032
+//!   seeds wide). Each block row is ranked into a ring of the last
+//!   `2 ceil(6 / B) + 1` block rows (at most 192 KiB, on the stack): a
+//!   block's sorted seeds as one line of `N` seeds, indexed by the dither
+//!   rank of the pixel they are sorted into. Then each output row is
+//!   written in order, every output pixel fetching its seed from the ring
+//!   through the inverse of the retarget table, resolved once per frame for
+//!   each of the `W x W` positions in the tile (`SourceCache`). The stores
+//!   are sequential (and non-temporal on x86_64: whole lines written
+//!   without first reading them); the scattered loads hit the ring, in the
+//!   L2 cache, at addresses that depend on the tables only. This replaced
+//!   the scatter below as the main path: 3-14% faster with AVX2 and a few
+//!   percent with the baseline instruction set (BENCHMARKS.md, issue 18).
+//! - **Or scattered, in increasing order** ([`blocks`], wider frames).
+//!   The dither order and retarget offsets are cached per frame: with
+//!   `B | W`, screen block `(bx, by)` reads the tile window starting at
+//!   `((bx mod W/B) B + o_t) mod W`, so there are only `(W/B)^2` distinct
+//!   windows per frame; for each, the pixel of dither rank `k` and its
+//!   retarget offset are resolved once ([`dest_cache`]). For blocks whose
 //!   destinations cannot wrap (at least `B + 6` pixels from the padded
-//!   frame's edge) the cached offsets are also kept as seed-index offsets,
-//!   sorted in increasing order within each window class ([`dest_cache`]).
-//!   A block's seeds are read straight from the input rows into
-//!   intensity-rank order (a 16-entry array for 4x4 blocks), then stored in
-//!   that increasing order of destination: the scattered stores are the
-//!   pass's largest cost, and this order, which keeps each block's stores
+//!   frame's edge) the offsets are also kept as seed-index offsets, sorted
+//!   in increasing order within each window class. A block's seeds are read
+//!   straight from the input rows into intensity-rank order, then stored in
+//!   that increasing order of destination: the scattered stores are this
+//!   form's largest cost, and this order, which keeps each block's stores
 //!   together and monotone, measured faster than pixel order (sorting a
-//!   whole lane group's stores by address was slower; BENCHMARKS.md). The edge
-//!   test is made once per lane group, with no per-seed test inside.
+//!   whole lane group's stores by address was slower; BENCHMARKS.md). The
+//!   edge test is made once per lane group, with no per-seed test inside.
+//! - **Rows prefetched.** Each block row reads `B` seed rows and `B`
+//!   intensity rows (and, scattered, is the first to write `B` output
+//!   rows): more streams than the hardware prefetchers follow. Their cache
+//!   lines are requested a few lane groups ahead.
 //! - **No division.** Positions come from shifts; near the edge the
 //!   toroidal wrap (`|offset| <= B + 6 < W <= padded size`) is one
-//!   conditional add.
+//!   conditional add (scattered) or a copy of the ring row's end lines to
+//!   its other end (gathered).
 //!
-//! Blocks clipped by the frame edge take the reference path ([`edge`]).
+//! Blocks clipped by the frame edge take the reference sort ([`edge`], or
+//! its gathered form in [`gather`]).
 //!
 //! **Bands.** The loop runs over a band of block rows and writes only the
 //! output rows of that band ([`rows`], [`Band`]): the blocks within
 //! `RETARGET_RADIUS` rows of the band are ranked too (their seeds may move
-//! into it), and stores that fall outside the band are dropped. Bands
+//! into it), and only the band's rows are written (gathered: the band's
+//! output rows; scattered: stores outside the band are dropped). Bands
 //! therefore write disjoint slices of the output and can run on any
 //! threads; the whole frame is the band of every block row.
 
@@ -59,6 +72,7 @@ mod blocks;
 mod dest_cache;
 pub(crate) mod detect;
 mod edge;
+mod gather;
 pub(crate) mod rows;
 
 pub use detect::Isa;
@@ -152,6 +166,25 @@ pub(crate) fn permute_band_cached<T: Intensity>(
     band: Band,
     seeds_out: &mut [u32],
 ) {
+    if gather::fits(params) {
+        permute_band_gather(isa, params, intensities, tile, table, seeds_in, band, seeds_out)
+    } else {
+        permute_band_scatter(isa, params, intensities, tile, table, seeds_in, band, seeds_out)
+    }
+}
+
+/// [`permute_band_cached`] in the scatter formulation ([`blocks`]).
+#[allow(clippy::too_many_arguments)]
+fn permute_band_scatter<T: Intensity>(
+    isa: Isa,
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    band: Band,
+    seeds_out: &mut [u32],
+) {
     #[cfg(target_arch = "x86_64")]
     if params.block == 4 {
         match isa.min(Isa::best()) {
@@ -165,12 +198,77 @@ pub(crate) fn permute_band_cached<T: Intensity>(
         }
     }
     let _ = isa;
-    type P = PortableRanker;
+    let (i, t, s) = (intensities, tile, seeds_in);
+    // One function per block size (never inlined here): each has its own
+    // stack frame (the caches are stack arrays), not the sum of all three.
+    match params.block {
+        2 => scatter_portable::<T, 2, 4>(params, i, t, table, s, band, seeds_out),
+        4 => scatter_portable::<T, 4, 16>(params, i, t, table, s, band, seeds_out),
+        _ => scatter_portable::<T, 8, 64>(params, i, t, table, s, band, seeds_out),
+    }
+}
+
+/// The scatter formulation with the portable ranker.
+#[inline(never)]
+fn scatter_portable<T: Intensity, const B: u32, const N: usize>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    band: Band,
+    seeds_out: &mut [u32],
+) {
+    let (i, t, s) = (intensities, tile, seeds_in);
+    blocks::permute_full_blocks::<T, PortableRanker, B, N>(params, i, t, table, s, band, seeds_out)
+}
+
+/// The gather formulation with the portable ranker.
+#[inline(never)]
+fn gather_portable<T: Intensity, const B: u32, const N: usize>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    band: Band,
+    seeds_out: &mut [u32],
+) {
+    let (i, t, s) = (intensities, tile, seeds_in);
+    gather::permute_gather::<T, PortableRanker, B, N>(params, i, t, table, s, band, seeds_out)
+}
+
+/// [`permute_band_cached`] in the gather formulation ([`gather`]);
+/// `gather::fits(params)` must hold.
+#[allow(clippy::too_many_arguments)]
+fn permute_band_gather<T: Intensity>(
+    isa: Isa,
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    band: Band,
+    seeds_out: &mut [u32],
+) {
+    #[cfg(target_arch = "x86_64")]
+    if params.block == 4 {
+        match isa.min(Isa::best()) {
+            Isa::Avx512 => {
+                return avx512::gather_4x4(params, intensities, tile, table, seeds_in, band, seeds_out)
+            }
+            Isa::Avx2 => {
+                return avx2::gather_4x4(params, intensities, tile, table, seeds_in, band, seeds_out)
+            }
+            Isa::Baseline => {}
+        }
+    }
+    let _ = isa;
     let (i, t, s) = (intensities, tile, seeds_in);
     match params.block {
-        2 => blocks::permute_full_blocks::<T, P, 2, 4>(params, i, t, table, s, band, seeds_out),
-        4 => blocks::permute_full_blocks::<T, P, 4, 16>(params, i, t, table, s, band, seeds_out),
-        _ => blocks::permute_full_blocks::<T, P, 8, 64>(params, i, t, table, s, band, seeds_out),
+        2 => gather_portable::<T, 2, 4>(params, i, t, table, s, band, seeds_out),
+        4 => gather_portable::<T, 4, 16>(params, i, t, table, s, band, seeds_out),
+        _ => gather_portable::<T, 8, 64>(params, i, t, table, s, band, seeds_out),
     }
 }
 
@@ -238,22 +336,68 @@ trait LaneRanker {
     fn rank_strips<const B: u32, const N: usize>(strips: &Strips, ranks: &mut [[u32; MAX_LANES]; N]);
 }
 
-/// Scalar transposition and [`lane_ranks`] over eight lanes; the compiler
-/// vectorises the lanes with whatever vector width the build targets.
+/// Scalar transposition and [`quad_ranks`] over two groups of four lanes;
+/// the compiler vectorises the lanes with whatever vector width the build
+/// targets (one SSE2 register for four lanes on baseline x86_64).
 struct PortableRanker;
 
 impl LaneRanker for PortableRanker {
     const LANES: usize = 8;
     #[inline(always)]
     fn rank_strips<const B: u32, const N: usize>(strips: &Strips, ranks: &mut [[u32; MAX_LANES]; N]) {
-        let lane_keys: [[i32; 8]; N] = core::array::from_fn(|i| {
-            let (r, c) = (i / B as usize, i % B as usize);
-            core::array::from_fn(|l| strips[r][l * B as usize + c])
-        });
-        for (out, lanes) in ranks.iter_mut().zip(lane_ranks(&lane_keys)) {
-            out[..8].copy_from_slice(&lanes);
+        // Four lanes at a time: one SSE2 register a pixel on x86_64, so a
+        // quad's keys and ranks stay in registers ([`quad_ranks`]).
+        for half in 0..2 {
+            let keys: [[i32; 4]; N] = core::array::from_fn(|i| {
+                let (r, c) = (i / B as usize, i % B as usize);
+                core::array::from_fn(|l| strips[r][(half * 4 + l) * B as usize + c])
+            });
+            for (out, lanes) in ranks.iter_mut().zip(quad_ranks(&keys)) {
+                out[half * 4..half * 4 + 4].copy_from_slice(&lanes);
+            }
         }
     }
+}
+
+/// Ranks of four independent blocks at once: `keys[i][l]` is pixel `i` of
+/// block `l` (`N` a multiple of 4); the result is each pixel's rank in its
+/// block's total order (key, then index). Each unordered pair `i < j` costs
+/// one comparison and two updates per lane: pixel `j` starts with rank `j`
+/// (every `i < j` counted as smaller) and gives one back to `i` when
+/// `key_i > key_j`, so ties rank by index with no extra work. Pixels are
+/// taken four at a time: a quad's keys and rank accumulators stay in
+/// registers while every later pixel is compared with them, so each later
+/// pixel's rank is read and written once per quad, not once per pair (the
+/// portable form of the AVX2 ranker's `rank_quad`; measured faster than
+/// eight lanes a pixel at a time, BENCHMARKS.md).
+#[inline(always)]
+fn quad_ranks<const N: usize>(keys: &[[i32; 4]; N]) -> [[u32; 4]; N] {
+    let mut ranks: [[u32; 4]; N] = core::array::from_fn(|j| [j as u32; 4]);
+    let greater = |a: [i32; 4], b: [i32; 4]| -> [u32; 4] { core::array::from_fn(|l| (a[l] > b[l]) as u32) };
+    let add = |a: [u32; 4], b: [u32; 4]| -> [u32; 4] { core::array::from_fn(|l| a[l].wrapping_add(b[l])) };
+    let sub = |a: [u32; 4], b: [u32; 4]| -> [u32; 4] { core::array::from_fn(|l| a[l].wrapping_sub(b[l])) };
+    for q in (0..N).step_by(4) {
+        let k: [[i32; 4]; 4] = core::array::from_fn(|a| keys[q + a]);
+        let mut acc: [[u32; 4]; 4] = core::array::from_fn(|a| ranks[q + a]);
+        for a in 0..4 {
+            for b in a + 1..4 {
+                let g = greater(k[a], k[b]);
+                acc[a] = add(acc[a], g);
+                acc[b] = sub(acc[b], g);
+            }
+        }
+        for j in q + 4..N {
+            let kj = keys[j];
+            let g: [[u32; 4]; 4] = core::array::from_fn(|a| greater(k[a], kj));
+            for a in 0..4 {
+                acc[a] = add(acc[a], g[a]);
+            }
+            let given = add(add(g[0], g[1]), add(g[2], g[3]));
+            ranks[j] = sub(ranks[j], given);
+        }
+        ranks[q..q + 4].copy_from_slice(&acc);
+    }
+    ranks
 }
 
 /// How far ahead of the current lane group, in seeds, the output rows are
@@ -289,32 +433,6 @@ pub(crate) fn prefetch<E>(buffer: &[E], at: usize, write: bool) {
 #[inline(always)]
 fn signed_key(value: f32) -> i32 {
     (intensity_key(value) ^ 0x8000_0000) as i32
-}
-
-/// Ranks of eight independent blocks at once: `keys[i][l]` is pixel `i`
-/// of block `l`; the result is each pixel's rank in its block's total order
-/// (key, then index). Each unordered pair `i < j` costs one comparison and
-/// two updates per lane: pixel `j` starts with rank `j` (every `i < j`
-/// counted as smaller) and gives one back to `i` when `key_i > key_j`. Ties
-/// therefore rank by index with no extra work.
-#[inline(always)]
-fn lane_ranks<const N: usize>(keys: &[[i32; 8]; N]) -> [[u32; 8]; N] {
-    let mut ranks: [[u32; 8]; N] = core::array::from_fn(|j| [j as u32; 8]);
-    for i in 0..N {
-        // Pixel i's rank stays in a register across the inner loop (an
-        // update through memory would chain store-to-load latencies).
-        let ki = keys[i];
-        let mut acc = ranks[i];
-        for j in i + 1..N {
-            for l in 0..8 {
-                let g = (ki[l] > keys[j][l]) as u32;
-                acc[l] += g;
-                ranks[j][l] -= g;
-            }
-        }
-        ranks[i] = acc;
-    }
-    ranks
 }
 
 /// `v mod m` for `v` in `-m..2m` (one conditional add or subtract).
@@ -355,18 +473,18 @@ mod tests {
     use super::*;
 
     #[test]
-    fn lane_ranks_equal_block_ranks() {
+    fn quad_ranks_equal_block_ranks() {
         let mut state = 99u32;
         for _ in 0..300 {
-            let mut lanes = [[0i32; 8]; 16];
+            let mut lanes = [[0i32; 4]; 16];
             for row in lanes.iter_mut() {
                 for k in row.iter_mut() {
                     state = crate::seed::hash_u32(state);
                     *k = ((state % 7) as i32 - 3).wrapping_add(if state & 8 != 0 { i32::MIN } else { 0 });
                 }
             }
-            let ranks = lane_ranks(&lanes);
-            for l in 0..8 {
+            let ranks = quad_ranks(&lanes);
+            for l in 0..4 {
                 let keys: [u32; 16] = core::array::from_fn(|i| lanes[i][l] as u32 ^ 0x8000_0000);
                 let want = block_ranks(&keys);
                 let got: [u32; 16] = core::array::from_fn(|i| ranks[i][l]);
