@@ -15,8 +15,8 @@
 //! stores only at `π(p)` for its own uncut `p`, and reads back only at
 //! `π(p)` for its own cut `p` (`π` is a bijection).
 
-use super::cuts::store_block;
-use super::groups::{groups_of, same_surface_fast, sort_grouped};
+use super::cuts::{store_block, store_raster};
+use super::groups::{groups_of, sort_grouped, SurfaceTest};
 use super::steps::Steps;
 use crate::dither::tile_texel;
 use crate::feature_permute::edge_is_cut;
@@ -51,13 +51,15 @@ pub(super) struct Inputs<'a, T> {
 }
 
 /// Runs the second pass for block side `B` (`N = B * B`): writes every
-/// block's cut bits to `cut_words`, repairs `seeds_out` for blocks of
+/// block's cut bits to `cut_words` (block order) and `raster_words`
+/// (raster order), repairs `seeds_out` for blocks of
 /// several groups, and lists the seeds of cut edges, in cut-bit order, in
 /// `cut_seeds`. Returns how many were listed (`<= seed_count`).
 #[allow(clippy::needless_range_loop)]
 pub(super) fn repair_blocks<T: Intensity, const B: u32, const N: usize>(
     inputs: &Inputs<'_, T>,
     cut_words: &mut [u32],
+    raster_words: &mut [u32],
     cut_seeds: &mut [u32],
     seeds_out: &mut [u32],
 ) -> usize {
@@ -66,6 +68,7 @@ pub(super) fn repair_blocks<T: Intensity, const B: u32, const N: usize>(
     let (wu, pwu) = (w as usize, pw as usize);
     let radius = RETARGET_RADIUS as u32;
     let thresholds = inputs.thresholds;
+    let mut test = SurfaceTest::new(thresholds);
     let features = inputs.features;
     let steps = inputs.steps;
     let mut listed = 0usize;
@@ -101,19 +104,30 @@ pub(super) fn repair_blocks<T: Intensity, const B: u32, const N: usize>(
                         let (dx, dy) = steps.forward_offset(x, y);
                         let f = &features[base + r * wu + c];
                         let at = (y as i32 + dy) as usize * wu + (x as i32 + dx) as usize;
-                        cut |= (!same_surface_fast(f, &features[at], thresholds) as u64) << i;
+                        cut |= (!test.same(f, &features[at]) as u64) << i;
                         if i > 0 {
-                            one &= same_surface_fast(f, first, thresholds);
+                            one &= test.same(f, first);
                         }
                         dest[i] = ((y as i32 + dy) as usize * pwu + (x as i32 + dx) as usize) as u32;
                     }
                 }
                 if one && cut == 0 {
                     store_block::<N>(cut_words, block, 0);
+                    store_raster::<B>(raster_words, pw, x0, y0, 0);
                     continue;
                 }
                 if one
-                    || !split_block::<T, B, N>(inputs, x0, y0, cut, &dest, cut_seeds, &mut listed, seeds_out)
+                    || !split_block::<T, B, N>(
+                        inputs,
+                        &mut test,
+                        x0,
+                        y0,
+                        cut,
+                        &dest,
+                        cut_seeds,
+                        &mut listed,
+                        seeds_out,
+                    )
                 {
                     read_back::<N>(cut, &dest, cut_seeds, &mut listed, seeds_out);
                 }
@@ -125,11 +139,22 @@ pub(super) fn repair_blocks<T: Intensity, const B: u32, const N: usize>(
                     cut |= (edge_is_cut(params, features, thresholds, p, q) as u64) << i;
                     dest[i] = q;
                 }
-                if !split_block::<T, B, N>(inputs, x0, y0, cut, &dest, cut_seeds, &mut listed, seeds_out) {
+                if !split_block::<T, B, N>(
+                    inputs,
+                    &mut test,
+                    x0,
+                    y0,
+                    cut,
+                    &dest,
+                    cut_seeds,
+                    &mut listed,
+                    seeds_out,
+                ) {
                     read_back::<N>(cut, &dest, cut_seeds, &mut listed, seeds_out);
                 }
             }
             store_block::<N>(cut_words, block, cut);
+            store_raster::<B>(raster_words, pw, x0, y0, cut);
         }
     }
     listed
@@ -161,6 +186,7 @@ fn read_back<const N: usize>(
 #[inline(never)]
 fn split_block<T: Intensity, const B: u32, const N: usize>(
     inputs: &Inputs<'_, T>,
+    test: &mut SurfaceTest<'_>,
     x0: u32,
     y0: u32,
     cut: u64,
@@ -195,7 +221,7 @@ fn split_block<T: Intensity, const B: u32, const N: usize>(
         }
     }
     let mut groups = [0u32; MAX_BLOCK_PIXELS];
-    if groups_of(n, &feats, inputs.thresholds, &mut groups) {
+    if groups_of(n, &feats, test, &mut groups) {
         return false;
     }
     let mut sorted = [0u32; MAX_BLOCK_PIXELS];

@@ -1,17 +1,25 @@
-//! The cut bits of a frame: bit `i` of block `k` (in the order the blocks
-//! are visited, row of blocks by row of blocks) is set when the retarget
-//! edge out of that block's pixel `i` (row-major inside the block) is cut
-//! ([`edge_is_cut`](crate::feature_permute::edge_is_cut)). `N = B * B` bits
-//! a block, packed little-endian into `u32` words: `N` divides 32 (B = 2,
-//! 4) or 32 divides `N` (B = 8).
+//! The cut bits of a frame, in two orders, each packed little-endian into
+//! `u32` words: bit `p` of the **raster** bits is set when the retarget
+//! edge out of seed `p` (padded index `y * padded_width + x`) is cut
+//! ([`edge_is_cut`](crate::feature_permute::edge_is_cut)); the walks test
+//! these. The **block-order** bits hold the same bits block by block (in
+//! the order the blocks are visited, row of blocks by row of blocks;
+//! `N = B * B` bits a block, pixels row-major inside it): the order in
+//! which the second pass lists the cut seeds. `N` divides 32 (B = 2, 4) or
+//! 32 divides `N` (B = 8); a block's row of `B` bits never straddles two
+//! raster words (`B` divides `x`, and 16 divides `padded_width`).
 
-/// Index of the cut bit of seed `(x, y)` for block side `B` (`N = B * B`)
-/// and `blocks_x` blocks a row.
+/// Writes block `(x0, y0)`'s cut bits (`mask`, bit `r * B + c` for pixel
+/// `(c, r)`) into the raster bits.
 #[inline(always)]
-pub(super) fn bit_index<const B: u32, const N: usize>(blocks_x: u32, x: u32, y: u32) -> usize {
-    let b_log2 = B.trailing_zeros();
-    let block = (y >> b_log2) as usize * blocks_x as usize + (x >> b_log2) as usize;
-    block * N + (((y & (B - 1)) << b_log2) | (x & (B - 1))) as usize
+pub(super) fn store_raster<const B: u32>(words: &mut [u32], padded_width: u32, x0: u32, y0: u32, mask: u64) {
+    let ones = (1u32 << B) - 1;
+    for r in 0..B {
+        let bit = ((y0 + r) * padded_width + x0) as usize;
+        let (w, shift) = (bit >> 5, bit & 31);
+        let row = (mask >> (r * B)) as u32 & ones;
+        words[w] = (words[w] & !(ones << shift)) | (row << shift);
+    }
 }
 
 /// Whether bit `bit` is set.

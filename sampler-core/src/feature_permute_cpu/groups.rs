@@ -3,7 +3,9 @@
 //! [`block_groups`](crate::feature_permute::block_groups) and
 //! [`sort_block_grouped`](crate::feature_permute::sort_block_grouped).
 
-use crate::features::{same_surface, FeatureThresholds, SurfaceFeature, NO_SURFACE};
+#[cfg(doc)]
+use crate::features::same_surface;
+use crate::features::{decode_normal, FeatureThresholds, SurfaceFeature, NO_SURFACE};
 use crate::sort::MAX_BLOCK_PIXELS;
 
 /// The connected components of `feats[..n]` under [`same_surface`], each
@@ -17,7 +19,7 @@ use crate::sort::MAX_BLOCK_PIXELS;
 pub(super) fn groups_of(
     n: usize,
     feats: &[SurfaceFeature; MAX_BLOCK_PIXELS],
-    thresholds: &FeatureThresholds,
+    test: &mut SurfaceTest<'_>,
     groups: &mut [u32; MAX_BLOCK_PIXELS],
 ) -> bool {
     let all: u64 = if n >= 64 { u64::MAX } else { (1u64 << n) - 1 };
@@ -45,7 +47,7 @@ pub(super) fn groups_of(
             while look != 0 {
                 let j = look.trailing_zeros() as usize;
                 look &= look - 1;
-                if same_surface_fast(&feats[j], &feats[m], thresholds) {
+                if test.same(&feats[j], &feats[m]) {
                     candidates &= !(1 << j);
                     assigned |= 1 << j;
                     frontier |= 1 << j;
@@ -114,26 +116,67 @@ pub(super) fn sort_grouped(
     }
 }
 
-/// [`same_surface`], identical result, with the usual case inlined: equal
-/// ids and equal normal encodings (a flat face) need only the depth test;
-/// other normals take [`same_surface`] itself.
-#[inline(always)]
-pub(super) fn same_surface_fast(
-    a: &SurfaceFeature,
-    b: &SurfaceFeature,
-    thresholds: &FeatureThresholds,
-) -> bool {
-    if a.id != b.id {
-        return false;
+/// Entries of [`SurfaceTest`]'s memo of normal pairs (a power of two).
+const MEMO: usize = 64;
+
+/// [`same_surface`] with an identical result, faster on the usual pairs:
+/// the id and depth tests inlined, equal normal encodings (a flat face)
+/// accepted at once, and the outcome of decoding two different normals
+/// remembered per pair of encodings (a frame has few: a crease's two
+/// faces, a box's six), in a small direct-mapped memo. The normal test is a
+/// pure function of the two encodings and `normal_cos`, so a remembered
+/// outcome is the outcome.
+pub(super) struct SurfaceTest<'a> {
+    thresholds: &'a FeatureThresholds,
+    /// `(a.normal, b.normal)` of each remembered pair; `(0, 0)` (equal
+    /// encodings, never looked up) marks an empty entry.
+    pairs: [u64; MEMO],
+    /// Whether the pair's normals are within `normal_cos`.
+    within: [bool; MEMO],
+}
+
+impl<'a> SurfaceTest<'a> {
+    /// An empty memo for `thresholds`.
+    #[inline]
+    pub fn new(thresholds: &'a FeatureThresholds) -> Self {
+        SurfaceTest {
+            thresholds,
+            pairs: [0; MEMO],
+            within: [false; MEMO],
+        }
     }
-    if a.id == NO_SURFACE {
-        return true;
+
+    /// `same_surface(a, b, thresholds)`.
+    #[inline(always)]
+    pub fn same(&mut self, a: &SurfaceFeature, b: &SurfaceFeature) -> bool {
+        if a.id != b.id {
+            return false;
+        }
+        if a.id == NO_SURFACE {
+            return true;
+        }
+        let larger = if a.depth > b.depth { a.depth } else { b.depth };
+        // `libm::fabsf`, as `same_surface` computes it: the sign bit cleared.
+        let difference = f32::from_bits((a.depth - b.depth).to_bits() & 0x7FFF_FFFF);
+        // Written as `same_surface` writes it, so that NaN depths fail.
+        let close = difference <= self.thresholds.depth_relative * larger;
+        if !close {
+            return false;
+        }
+        a.normal == b.normal || self.normals_within(a.normal, b.normal)
     }
-    if a.normal != b.normal {
-        return same_surface(a, b, thresholds);
+
+    /// `decode_normal(a).dot(decode_normal(b)) >= normal_cos`, remembered.
+    #[inline(never)]
+    fn normals_within(&mut self, a: u32, b: u32) -> bool {
+        let pair = (a as u64) << 32 | b as u64;
+        let slot = (pair.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 58) as usize & (MEMO - 1);
+        if self.pairs[slot] == pair {
+            return self.within[slot];
+        }
+        let within = decode_normal(a).dot(decode_normal(b)) >= self.thresholds.normal_cos;
+        self.pairs[slot] = pair;
+        self.within[slot] = within;
+        within
     }
-    let larger = if a.depth > b.depth { a.depth } else { b.depth };
-    // `libm::fabsf`, as `same_surface` computes it: the sign bit cleared.
-    let difference = f32::from_bits((a.depth - b.depth).to_bits() & 0x7FFF_FFFF);
-    difference <= thresholds.depth_relative * larger
 }

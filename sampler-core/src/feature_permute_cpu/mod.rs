@@ -25,8 +25,8 @@
 //!    the inverse is never scattered into a frame-sized buffer, and the
 //!    walk reads cut bits, not features.
 //!
-//! The caller's scratch buffers hold the cut bits (`sources`, one bit a
-//! seed) and the listed seeds (`sorted`, one `u32` a cut edge); their
+//! The caller's scratch buffers hold the cut bits (`sources`, two bits a
+//! seed: [`cuts`]) and the listed seeds (`sorted`, one `u32` a cut edge); their
 //! contents afterwards are unspecified.
 
 mod blocks;
@@ -51,7 +51,7 @@ pub(crate) fn applies(params: &FrameParams) -> bool {
 
 /// The feature-aware permutation of a frame on the CPU (see the module
 /// docs). Buffers are those of `permute_frame_features`, already checked;
-/// `applies(params)` must hold. `sources` needs `seed_count / 32` words,
+/// `applies(params)` must hold. `sources` needs `seed_count / 16` words,
 /// `sorted` one word per cut edge (at most `seed_count`).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn permute_features_fast<T: Intensity>(
@@ -78,20 +78,22 @@ pub(crate) fn permute_features_fast<T: Intensity>(
         tile,
         seeds_in,
     };
-    let words = &mut sources[..cuts::word_count(params.seed_count() as usize)];
+    let count = cuts::word_count(params.seed_count() as usize);
+    let (words, rest) = sources.split_at_mut(count);
+    let raster = &mut rest[..count];
     let (pw, blocks_x) = (params.padded_width, params.blocks_x());
     match params.block {
         2 => {
-            let listed = repair_blocks::<T, 2, 4>(&inputs, words, sorted, seeds_out);
-            walks::walk_chains::<2, 4>(&steps, pw, blocks_x, words, &sorted[..listed], seeds_out);
+            let listed = repair_blocks::<T, 2, 4>(&inputs, words, raster, sorted, seeds_out);
+            walks::walk_chains::<2, 4>(&steps, pw, blocks_x, words, raster, &sorted[..listed], seeds_out);
         }
         4 => {
-            let listed = repair_blocks::<T, 4, 16>(&inputs, words, sorted, seeds_out);
-            walks::walk_chains::<4, 16>(&steps, pw, blocks_x, words, &sorted[..listed], seeds_out);
+            let listed = repair_blocks::<T, 4, 16>(&inputs, words, raster, sorted, seeds_out);
+            walks::walk_chains::<4, 16>(&steps, pw, blocks_x, words, raster, &sorted[..listed], seeds_out);
         }
         _ => {
-            let listed = repair_blocks::<T, 8, 64>(&inputs, words, sorted, seeds_out);
-            walks::walk_chains::<8, 64>(&steps, pw, blocks_x, words, &sorted[..listed], seeds_out);
+            let listed = repair_blocks::<T, 8, 64>(&inputs, words, raster, sorted, seeds_out);
+            walks::walk_chains::<8, 64>(&steps, pw, blocks_x, words, raster, &sorted[..listed], seeds_out);
         }
     }
 }

@@ -20,10 +20,10 @@ pub(super) const MAX_TILE: u32 = 128;
 pub(super) struct Steps<'a> {
     /// The frame's packed table (`tile * tile`, row-major by texel).
     packed: &'a [u32],
-    /// `inverse[tq]`: the offset, packed as the table packs it, from a seed
+    /// `inverse[tq]`: the offset `(dx, dy)` from a seed
     /// whose texel is `tq` back to the seed that `π` sends there
     /// (`-R(tp)` where `(tp + R(tp)) mod W = tq`).
-    inverse: [u16; (MAX_TILE * MAX_TILE) as usize],
+    inverse: [(i8, i8); (MAX_TILE * MAX_TILE) as usize],
     /// The frame's tile offset `o_t`.
     offset: UVec2,
     /// `log2` of the tile side.
@@ -61,13 +61,12 @@ impl<'a> Steps<'a> {
         let w = 1u32 << log2;
         let mask = w - 1;
         let packed = table.packed();
-        let mut inverse = [0u16; (MAX_TILE * MAX_TILE) as usize];
+        let mut inverse = [(0i8, 0i8); (MAX_TILE * MAX_TILE) as usize];
         for (tp, &entry) in packed.iter().enumerate() {
             let (dx, dy) = offset_of(entry);
             let tx = (tp as u32 & mask).wrapping_add(dx as u32) & mask;
             let ty = ((tp as u32) >> log2).wrapping_add(dy as u32) & mask;
-            let back = crate::retarget::pack_offset(glam::IVec2::new(-dx, -dy));
-            inverse[((ty << log2) | tx) as usize] = back as u16;
+            inverse[((ty << log2) | tx) as usize] = (-dx as i8, -dy as i8);
         }
         Steps {
             packed,
@@ -100,7 +99,8 @@ impl<'a> Steps<'a> {
     #[inline(always)]
     pub fn inverse(&self, x: u32, y: u32) -> (u32, u32) {
         let t = tile_texel(UVec2::new(x, y), self.offset, self.log2);
-        let (dx, dy) = offset_of(self.inverse[t as usize] as u32);
+        let (dx, dy) = self.inverse[t as usize];
+        let (dx, dy) = (dx as i32, dy as i32);
         (
             wrap(x as i32 + dx, self.padded_width),
             wrap(y as i32 + dy, self.padded_height),

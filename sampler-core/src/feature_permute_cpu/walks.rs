@@ -10,7 +10,7 @@
 //! [`WALKS`] of them advance side by side: the steps of different walks
 //! overlap in the pipeline instead of waiting on each other.
 
-use super::cuts::{bit_index, is_set};
+use super::cuts::is_set;
 use super::steps::Steps;
 
 /// Walks in flight at once (measured: 8 to 16 hide a step's latency).
@@ -56,13 +56,15 @@ impl CutSeeds<'_> {
 }
 
 /// Sends each of the `cut_seeds` (listed in cut-bit order by the second
-/// pass) to its chain's start in `seeds_out`; `B` is the block side,
-/// `N = B * B`, `blocks_x` the blocks a row.
+/// pass in the order of the block-order bits `cut_words`) to its chain's
+/// start in `seeds_out`, testing the raster bits `raster_words`; `B` is the
+/// block side, `N = B * B`, `blocks_x` the blocks a row.
 pub(super) fn walk_chains<const B: u32, const N: usize>(
     steps: &Steps<'_>,
     padded_width: u32,
     blocks_x: u32,
     cut_words: &[u32],
+    raster_words: &[u32],
     cut_seeds: &[u32],
     seeds_out: &mut [u32],
 ) {
@@ -111,7 +113,7 @@ pub(super) fn walk_chains<const B: u32, const N: usize>(
             }
             any = true;
             let (rx, ry) = steps.inverse(walk.x, walk.y);
-            if is_set(cut_words, bit_index::<B, N>(blocks_x, rx, ry)) {
+            if is_set(raster_words, (ry * padded_width + rx) as usize) {
                 seeds_out[(walk.y * padded_width + walk.x) as usize] = walk.seed;
                 walk.live = false;
             } else {
