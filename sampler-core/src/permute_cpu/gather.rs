@@ -143,7 +143,7 @@ pub(super) fn permute_gather<T: Intensity, R: LaneRanker, const B: u32, const N:
     let pw = params.padded_width as usize;
     let mut strips: Strips = [[0; MAX_LANES * MAX_FAST_BLOCK]; MAX_FAST_BLOCK];
     let mut ranks = [[0u32; MAX_LANES]; N];
-    let mut row_sources = [0u32; MAX_CACHED_TILE as usize];
+    let mut row_sources = [[0u32; MAX_CACHED_TILE as usize]; MAX_FAST_BLOCK];
     let stream = (seeds_out.as_ptr() as usize).is_multiple_of(16);
     for s in 0..c1 - c0 + 2 * reach {
         let by = (c0 + blocks_y - reach + s) % blocks_y;
@@ -169,64 +169,82 @@ pub(super) fn permute_gather<T: Intensity, R: LaneRanker, const B: u32, const N:
         for (d, base) in slot_base.iter_mut().enumerate().take(slots) {
             *base = (((s - 2 * reach + d) % slots) * row_len) as u32;
         }
-        for r in 0..B as usize {
-            let y = c * B as usize + r;
-            let ty = y & (w - 1);
-            for (x, src) in row_sources[..w].iter_mut().enumerate() {
+        for (r, sources) in row_sources.iter_mut().enumerate().take(B as usize) {
+            let ty = (c * B as usize + r) & (w - 1);
+            for (x, src) in sources[..w].iter_mut().enumerate() {
                 let e = cache.source[ty * w + x];
                 *src = slot_base[(e >> 16) as usize & 7] + (e & 0xFFFF);
             }
-            let out_row = &mut seeds_out[(y - band.row0 as usize) * pw..][..pw];
-            gather_row::<B, N>(out_row, ring, &row_sources[..w], stream);
         }
+        let y0 = c * B as usize - band.row0 as usize;
+        let out_rows = &mut seeds_out[y0 * pw..(y0 + B as usize) * pw];
+        gather_block_row::<B, N>(out_rows, ring, &row_sources, w, stream);
     }
     if stream {
         end_streaming();
     }
 }
 
-/// Writes one output row: `out[x0 + x] = ring[(x0 / B) * N + sources[x]]`
-/// for each tile period `x0`. With `stream` (x86_64, `out` 16-byte
-/// aligned) the stores are non-temporal: whole lines written without
-/// reading them first ([`end_streaming`] must follow).
+/// Writes the `B` output rows of one block row (`out`, rows of `pw =
+/// out.len() / B` seeds): `out[r][x0 + x] = ring[(x0 / B) * N +
+/// sources[r][x]]` for each tile period `x0` (`w` seeds) and row `r`. The
+/// rows are written a tile period at a time, all `B` of them, so the ring
+/// lines a period reads are loaded into L1 once for all its rows. With
+/// `stream` (x86_64, `out` 16-byte aligned) the stores are non-temporal:
+/// whole lines written without reading them first ([`end_streaming`] must
+/// follow).
 #[inline(always)]
-fn gather_row<const B: u32, const N: usize>(out: &mut [u32], ring: &[u32], sources: &[u32], stream: bool) {
-    let w = sources.len();
+fn gather_block_row<const B: u32, const N: usize>(
+    out: &mut [u32],
+    ring: &[u32],
+    sources: &[[u32; MAX_CACHED_TILE as usize]; MAX_FAST_BLOCK],
+    w: usize,
+    stream: bool,
+) {
+    let pw = out.len() / B as usize;
     let chunk_step = w / B as usize * N;
+    for i in 0..pw / w {
+        let src = &ring[i * chunk_step..];
+        for (r, sources) in sources.iter().enumerate().take(B as usize) {
+            let chunk = &mut out[r * pw + i * w..][..w];
+            gather_chunk(chunk, src, &sources[..w], stream);
+        }
+    }
+}
+
+/// `out[x] = src[sources[x]]`, non-temporal with `stream` (see
+/// [`gather_block_row`]).
+#[inline(always)]
+fn gather_chunk(out: &mut [u32], src: &[u32], sources: &[u32], stream: bool) {
     #[cfg(target_arch = "x86_64")]
     if stream {
         use core::arch::x86_64::{__m128i, _mm_set_epi32, _mm_stream_si128};
-        debug_assert!((out.as_ptr() as usize).is_multiple_of(16) && w.is_multiple_of(4));
-        for (i, chunk) in out.chunks_exact_mut(w).enumerate() {
-            let src = &ring[i * chunk_step..];
-            for (o, s) in chunk.chunks_exact_mut(4).zip(sources.chunks_exact(4)) {
-                debug_assert!(s.iter().all(|&s| (s as usize) < src.len()));
-                // SAFETY: as below for the loads; `o` is four seeds at a
-                // 16-byte aligned address (`out` is aligned, `x` is a
-                // multiple of 4).
-                unsafe {
-                    let v = _mm_set_epi32(
-                        *src.get_unchecked(s[3] as usize) as i32,
-                        *src.get_unchecked(s[2] as usize) as i32,
-                        *src.get_unchecked(s[1] as usize) as i32,
-                        *src.get_unchecked(s[0] as usize) as i32,
-                    );
-                    _mm_stream_si128(o.as_mut_ptr() as *mut __m128i, v);
-                }
+        debug_assert!((out.as_ptr() as usize).is_multiple_of(16));
+        for (o, s) in out.chunks_exact_mut(4).zip(sources.chunks_exact(4)) {
+            debug_assert!(s.iter().all(|&s| (s as usize) < src.len()));
+            // SAFETY: as below for the loads; `o` is four seeds at a
+            // 16-byte aligned address (`out` is aligned, and its length
+            // and offset are multiples of 4).
+            unsafe {
+                let v = _mm_set_epi32(
+                    *src.get_unchecked(s[3] as usize) as i32,
+                    *src.get_unchecked(s[2] as usize) as i32,
+                    *src.get_unchecked(s[1] as usize) as i32,
+                    *src.get_unchecked(s[0] as usize) as i32,
+                );
+                _mm_stream_si128(o.as_mut_ptr() as *mut __m128i, v);
             }
         }
         return;
     }
     let _ = stream;
-    for (i, chunk) in out.chunks_exact_mut(w).enumerate() {
-        let src = &ring[i * chunk_step..];
-        for (o, &s) in chunk.iter_mut().zip(sources) {
-            debug_assert!((s as usize) < src.len());
-            // SAFETY: every source is below `(2 reach) * row_len + (W / B +
-            // 2 reach) * N` and `i * chunk_step <= (blocks_x - W / B) * N`,
-            // so the index is below `(2 reach + 1) * row_len = ring.len()`.
-            *o = unsafe { *src.get_unchecked(s as usize) };
-        }
+    for (o, &s) in out.iter_mut().zip(sources) {
+        debug_assert!((s as usize) < src.len());
+        // SAFETY: every source is below `(2 reach) * row_len + (W / B +
+        // 2 reach) * N`, and `src` starts `i * chunk_step <= (blocks_x -
+        // W / B) * N` into the ring, so the index is below `(2 reach + 1)
+        // * row_len = ring.len()`.
+        *o = unsafe { *src.get_unchecked(s as usize) };
     }
 }
 

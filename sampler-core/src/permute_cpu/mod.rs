@@ -26,9 +26,11 @@
 //!   each of the `W x W` positions in the tile (`SourceCache`). The stores
 //!   are sequential (and non-temporal on x86_64: whole lines written
 //!   without first reading them); the scattered loads hit the ring, in the
-//!   L2 cache, at addresses that depend on the tables only. This replaced
-//!   the scatter below as the main path: 3-14% faster with AVX2 and a few
-//!   percent with the baseline instruction set (BENCHMARKS.md, issue 18).
+//!   L2 cache, at addresses that depend on the tables only. A block row's
+//!   `B` output rows are written a tile period at a time, so the ring lines
+//!   a period reads come into L1 once for all of them. This replaced the
+//!   scatter below as the main path (faster with every instruction set:
+//!   BENCHMARKS.md, issue 18).
 //! - **Or scattered, in increasing order** ([`blocks`], wider frames).
 //!   The dither order and retarget offsets are cached per frame: with
 //!   `B | W`, screen block `(bx, by)` reads the tile window starting at
@@ -368,8 +370,7 @@ impl LaneRanker for PortableRanker {
 /// taken four at a time: a quad's keys and rank accumulators stay in
 /// registers while every later pixel is compared with them, so each later
 /// pixel's rank is read and written once per quad, not once per pair (the
-/// portable form of the AVX2 ranker's `rank_quad`; measured faster than
-/// eight lanes a pixel at a time, BENCHMARKS.md).
+/// portable form of the AVX2 ranker's `rank_quad`).
 #[inline(always)]
 fn quad_ranks<const N: usize>(keys: &[[i32; 4]; N]) -> [[u32; 4]; N] {
     let mut ranks: [[u32; 4]; N] = core::array::from_fn(|j| [j as u32; 4]);
