@@ -48,6 +48,7 @@ pub mod report_pictures;
 pub mod report_spectra;
 pub mod spectrum;
 pub mod study_result;
+pub mod study_scene;
 pub mod temporal;
 pub mod threshold;
 pub mod volume;

@@ -13,7 +13,7 @@ use anyhow::Result;
 use clap::{Parser, Subcommand};
 use conformance::motion_case::MotionCase;
 use conformance::motion_study::{markdown, run_study, MotionConfig, MotionMethod};
-use conformance::render_study::{default_cache_dir, Method, Study, StudyConfig};
+use conformance::render_study::{default_cache_dir, Method, Study, StudyConfig, StudyScene};
 use conformance::report::{write_report, ReportConfig};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
@@ -73,6 +73,11 @@ enum Command {
         /// far single runs can be trusted).
         #[arg(long, default_value_t = 1)]
         salt: u32,
+        /// Scene: cornell, cornell-textured (the checker-textured glTF of the
+        /// demodulation study) or cornell-untextured (the same with each texture
+        /// replaced by its mean colour).
+        #[arg(long, default_value = "cornell")]
+        scene: String,
         /// Also write the tables to this file.
         #[arg(long)]
         out: Option<PathBuf>,
@@ -167,9 +172,14 @@ fn main() -> Result<()> {
             max_depth,
             methods,
             salt,
+            scene,
             out,
             no_cache,
         } => {
+            let scene = StudyScene::from_name(&scene).ok_or_else(|| {
+                let known: Vec<&str> = StudyScene::ALL.iter().map(|s| s.name()).collect();
+                anyhow::anyhow!("unknown scene {scene:?} (known: {})", known.join(", "))
+            })?;
             let mut rows = vec![Method::White];
             if methods.is_empty() {
                 rows = Method::FEATURE_ROWS.to_vec();
@@ -186,6 +196,7 @@ fn main() -> Result<()> {
             let config = StudyConfig {
                 max_depth,
                 salt,
+                scene,
                 ..StudyConfig::new(size, 1, frames, ref_spp)
             };
             let cache = default_cache_dir();

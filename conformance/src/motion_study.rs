@@ -152,6 +152,7 @@ impl MotionMethod {
             gbuffer: false,
             reproject,
             features,
+            ..SequenceOptions::default()
         };
         (job, options)
     }

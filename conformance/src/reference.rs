@@ -51,7 +51,8 @@ impl Reference {
         progress: impl FnMut(u32, u32),
     ) -> Result<Reference> {
         let name = format!(
-            "cornell-ref-{s}x{s}-spp{r}-depth{d}-rr{rr}.bin",
+            "{scene}-ref-{s}x{s}-spp{r}-depth{d}-rr{rr}.bin",
+            scene = config.scene.name(),
             s = config.size,
             r = config.ref_spp / 2 * 2,
             d = config.max_depth,

@@ -79,6 +79,7 @@ pub use crate::feature_diagnostics::FeatureDiagnostics;
 pub use crate::insets::{crop, Inset, Surface};
 pub use crate::reference::{default_cache_dir, Reference};
 pub use crate::study_result::Metric;
+pub use crate::study_scene::StudyScene;
 pub use crate::walks::{permute_with_offset, render_dither, render_walk, Walk};
 
 use crate::feature_diagnostics::SeedTracker;
@@ -88,7 +89,7 @@ use crate::regions::{classify_regions, region_shares, Region};
 use crate::{low_frequency_ratio, radial_power, GaussianBlur, Grid, SpectrumAnalyzer};
 use anyhow::{ensure, Result};
 use glam::{Vec2, Vec3, Vec4};
-use gpu_tracer::cornell::cornell_box;
+use gpu_tracer::feature_keys::FeatureKey;
 use gpu_tracer::render::{render_sequence_cpu, FrameView, SequenceOptions};
 use gpu_tracer::scene::{SceneGpu, TraceSettings};
 use gpu_tracer::timeline::SceneSequence;
@@ -138,11 +139,36 @@ pub enum Method {
     /// [`Method::FeaturePermute`] with the pixel jitter from screen-space Sobol, as
     /// [`Method::PermuteJitter`].
     FeaturePermuteJitter,
+    /// [`Method::FeaturePermute`] ranking the raw radiance luma
+    /// (`gpu_tracer::feature_keys::FeatureKey::Raw`): what demodulation buys.
+    FeaturePermuteRawKey,
+    /// [`Method::FeaturePermute`] ranking the demodulated value minus its smoothed
+    /// running mean (`FeatureKey::HistoryResidual`): the noise without the signal.
+    FeaturePermuteHistoryKey,
 }
 
 impl Method {
     /// Every method, white first.
-    pub const ALL: [Method; 11] = [
+    pub const ALL: [Method; 13] = [
+        Method::White,
+        Method::Sort,
+        Method::Permute,
+        Method::PermuteJitter,
+        Method::FixedStep,
+        Method::Dither,
+        Method::DitherFilterAdapted,
+        Method::ScreenSobol,
+        Method::ZSobol,
+        Method::FeaturePermute,
+        Method::FeaturePermuteJitter,
+        Method::FeaturePermuteRawKey,
+        Method::FeaturePermuteHistoryKey,
+    ];
+
+    /// The rows of the report ([`crate::report`]): every method but the sort-key
+    /// variants of the feature-aware permutation, which `conformance study`
+    /// measures on request.
+    pub const REPORT: [Method; 11] = [
         Method::White,
         Method::Sort,
         Method::Permute,
@@ -184,6 +210,8 @@ impl Method {
             Method::ZSobol => "zsobol",
             Method::FeaturePermute => "feature-permute",
             Method::FeaturePermuteJitter => "feature-permute-jitter",
+            Method::FeaturePermuteRawKey => "feature-permute-raw-key",
+            Method::FeaturePermuteHistoryKey => "feature-permute-history-key",
         }
     }
 
@@ -206,6 +234,12 @@ impl Method {
             }
             Method::FeaturePermuteJitter => {
                 "feature-aware permute, with the pixel jitter from screen-space Sobol"
+            }
+            Method::FeaturePermuteRawKey => {
+                "feature-aware permute ranking the raw radiance (no demodulation)"
+            }
+            Method::FeaturePermuteHistoryKey => {
+                "feature-aware permute ranking the demodulated value minus its smoothed running mean"
             }
         }
     }
@@ -236,6 +270,8 @@ pub struct StudyConfig {
     /// Also measure every method after the real-time filters
     /// ([`crate::filtered::STUDY_FILTERS`]); on by default.
     pub filters: bool,
+    /// The scene ([`StudyScene`]; the Cornell box by default).
+    pub scene: StudyScene,
 }
 
 impl StudyConfig {
@@ -252,6 +288,7 @@ impl StudyConfig {
             max_depth: 8,
             salt: 1,
             filters: true,
+            scene: StudyScene::Cornell,
         }
     }
 
@@ -291,6 +328,11 @@ pub struct MethodRun {
     pub method: Method,
     /// Per frame, per inset: low-frequency power ratio of the error (white noise = 1).
     pub lf_insets: Vec<Vec<f64>>,
+    /// Per frame: mean over insets of the low-frequency power ratio of the error with
+    /// the albedo divided out (error / albedo luma of the pixel's primary hit, from the
+    /// frame-0 G-buffer): the irradiance error the seeds arrange, before the texture
+    /// multiplies it. Equal to [`Self::lf`] on untextured insets.
+    pub lf_demodulated: Vec<f64>,
     /// Per frame: RMS error, unblurred, whole image.
     pub rmse: Vec<f64>,
     /// Per frame: RMS error after a Gaussian blur of sigma 1.
@@ -371,7 +413,7 @@ pub struct StudyResult {
 pub struct Study {
     /// The configuration.
     pub config: StudyConfig,
-    /// The Cornell box buffers.
+    /// The scene's buffers ([`StudyConfig::scene`]).
     pub scene: SceneGpu,
     /// The reference.
     pub reference: Reference,
@@ -396,7 +438,7 @@ impl Study {
         ensure!(config.frames >= 1, "at least one frame");
         ensure!(config.size >= 32, "the insets need an image of at least 32x32");
         config.layout()?;
-        let scene = SceneGpu::build(&cornell_box())?;
+        let scene = SceneGpu::build(&config.scene.load()?)?;
         let reference = Reference::get(&scene, &config, cache_dir, progress)?;
         let mut insets = inset_layout(config.size);
         let params = scene.trace_params(&config.settings(), 0)?;
@@ -497,7 +539,10 @@ impl Study {
                 };
                 gpu_tracer::render_cpu(&self.scene, &job, &mut on_frame)?;
             }
-            Method::FeaturePermute | Method::FeaturePermuteJitter => {
+            Method::FeaturePermute
+            | Method::FeaturePermuteJitter
+            | Method::FeaturePermuteRawKey
+            | Method::FeaturePermuteHistoryKey => {
                 let mut settings = self.config.settings();
                 if method == Method::FeaturePermuteJitter {
                     settings.sampler = kernels::abi::SAMPLER_SCREEN_SOBOL | kernels::abi::SAMPLER_JITTER_ONLY;
@@ -514,6 +559,11 @@ impl Study {
                     gbuffer: false,
                     reproject: false,
                     features: true,
+                    feature_key: match method {
+                        Method::FeaturePermuteRawKey => FeatureKey::Raw,
+                        Method::FeaturePermuteHistoryKey => FeatureKey::HistoryResidual,
+                        _ => FeatureKey::Demodulated,
+                    },
                 };
                 let mut sequence = SceneSequence::still(&self.scene, self.config.size);
                 render_sequence_cpu(&mut sequence, &job, options, |f: &FrameView<'_>| {
@@ -581,6 +631,7 @@ impl<'a> Meter<'a> {
             run: MethodRun {
                 method,
                 lf_insets: Vec::new(),
+                lf_demodulated: Vec::new(),
                 rmse: Vec::new(),
                 blur1: Vec::new(),
                 blur2: Vec::new(),
@@ -663,6 +714,26 @@ impl<'a> Meter<'a> {
             }
         }
         self.run.lf_insets.push(lf);
+        let demodulated: Vec<f32> = error
+            .iter()
+            .zip(&self.study.gbuffer)
+            .map(|(e, g)| {
+                let a = sampler_core::luma(g.albedo.truncate());
+                if a >= sampler_core::features::ALBEDO_FLOOR {
+                    e / a
+                } else {
+                    *e
+                }
+            })
+            .collect();
+        let mut lf_demodulated = 0.0;
+        for inset in &self.study.insets {
+            let sub = crop(&demodulated, size, inset);
+            lf_demodulated += low_frequency_ratio(&self.analyzer.power_spectrum(&sub));
+        }
+        self.run
+            .lf_demodulated
+            .push(lf_demodulated / self.study.insets.len().max(1) as f64);
         // Accumulation.
         let n = (t + 1) as f64;
         let mut mse = 0.0;

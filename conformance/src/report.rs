@@ -48,6 +48,8 @@ fn colour(m: Method) -> RGBColor {
         Method::ZSobol => RGBColor(86, 180, 233),
         Method::FeaturePermute => RGBColor(0, 170, 170),
         Method::FeaturePermuteJitter => RGBColor(0, 100, 100),
+        Method::FeaturePermuteRawKey => RGBColor(120, 120, 40),
+        Method::FeaturePermuteHistoryKey => RGBColor(150, 60, 150),
     }
 }
 
@@ -75,10 +77,10 @@ pub fn write_report(
         config.max_depth = cfg.max_depth;
         let label = format!("reference {} spp", cfg.ref_spp);
         let study = Study::new(config, cache_dir, |d, t| progress(&label, d as u64, t as u64))?;
-        let total = frames as u64 * Method::ALL.len() as u64;
+        let total = frames as u64 * Method::REPORT.len() as u64;
         let mut done = 0;
         let label = format!("{spp} spp");
-        let result = study.run(&Method::ALL, |_, _| {
+        let result = study.run(&Method::REPORT, |_, _| {
             done += 1;
             progress(&label, done, total);
         })?;
@@ -511,7 +513,7 @@ that is near 1 the filter, not the noise, decides; without it (noise part) the l
 }
 
 fn legend() -> String {
-    Method::ALL
+    Method::REPORT
         .iter()
         .map(|&m| format!("<span style=\"color:{}\">&#9632; {}</span>", css(m), m.name()))
         .collect::<Vec<_>>()

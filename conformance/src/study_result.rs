@@ -47,6 +47,19 @@ impl StudyResult {
         (w > 0.0).then(|| (m / w).sqrt())
     }
 
+    /// Mean over frames `from..` of `method`'s [`MethodRun::lf_demodulated`] divided by
+    /// white's at the same frame.
+    pub fn lf_demodulated_mean(&self, method: Method, from: usize) -> Option<f64> {
+        let (m, w) = (self.run(method)?, self.run(Method::White)?);
+        let n = m.lf_demodulated.len().min(w.lf_demodulated.len());
+        (n > from).then(|| {
+            (from..n)
+                .map(|i| m.lf_demodulated[i] / w.lf_demodulated[i])
+                .sum::<f64>()
+                / (n - from) as f64
+        })
+    }
+
     /// Markdown tables of the study (white = 1): whole-image figures, the blurred RMSE
     /// per region, and the feature diagnostics.
     pub fn markdown(&self) -> String {
@@ -59,7 +72,7 @@ impl StudyResult {
             .collect();
         let cell = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
         let mut s = format!(
-            "Cornell box {0}x{0}, {1} spp, depth {2}, {3} frames, reference {4} spp, block {5}, tile {6}, salt {7}; \
+            "{8} {0}x{0}, {1} spp, depth {2}, {3} frames, reference {4} spp, block {5}, tile {6}, salt {7}; \
              white = 1, pooled over frames {from}..\n\n",
             c.size,
             c.spp,
@@ -68,13 +81,14 @@ impl StudyResult {
             c.ref_spp,
             c.block,
             c.tile.side(),
-            c.salt
+            c.salt,
+            c.scene.name()
         );
-        s += "| method | LF @8 | LF mean 8.. | blur s1 8.. | blur s2 8..";
+        s += "| method | LF @8 | LF mean 8.. | LF demodulated mean 8.. | blur s1 8.. | blur s2 8..";
         for n in &points {
             s += &format!(" | acc {n}");
         }
-        s += " |\n|---|---|---|---|---";
+        s += " |\n|---|---|---|---|---|---";
         s += &"|---".repeat(points.len());
         s += "|\n";
         for r in &self.runs {
@@ -85,9 +99,10 @@ impl StudyResult {
                 .sum::<f64>()
                 / (frames - from).max(1) as f64;
             s += &format!(
-                "| {} | {} | {lf_mean:.3} | {} | {}",
+                "| {} | {} | {lf_mean:.3} | {} | {} | {}",
                 m.name(),
                 cell(self.relative(m, Metric::LowFrequency, from)),
+                cell(self.lf_demodulated_mean(m, from)),
                 cell(self.pooled(m, Metric::Blur1, from)),
                 cell(self.pooled(m, Metric::Blur2, from)),
             );
@@ -240,7 +255,7 @@ impl StudyResult {
         let c = &self.config;
         let t = (GOAL_FRAME.min(c.frames - 1)) as usize;
         let mut s = format!(
-            "Cornell box {0}x{0}, {1} spp, {2} frames, reference {3} spp (noise var {4:.3e}), block {5}, tile {6}, seed mode {7}\n",
+            "{8} {0}x{0}, {1} spp, {2} frames, reference {3} spp (noise var {4:.3e}), block {5}, tile {6}, seed mode {7}\n",
             c.size,
             c.spp,
             c.frames,
@@ -248,7 +263,8 @@ impl StudyResult {
             self.reference_noise_var,
             c.block,
             c.tile.side(),
-            c.seed_mode
+            c.seed_mode,
+            c.scene.name()
         );
         s += &format!(
             "{:<14} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",

@@ -13,7 +13,13 @@
 //!   LINEAR translation, and a camera with 3 LINEAR keys (translation and
 //!   rotation) over 2 seconds;
 //! - `hierarchy.glb`: a triangle under a translated, rotated and scaled
-//!   parent (plus a mirrored instance), with a STEP and a CUBICSPLINE channel.
+//!   parent (plus a mirrored instance), with a STEP and a CUBICSPLINE channel;
+//! - `cornell_textured.gltf` + `.bin`: the built-in Cornell box
+//!   (`gpu_tracer::cornell::cornell_box`, same triangles, object order,
+//!   material order and camera) with the checker on every surface but the
+//!   light: planar texture coordinates, one checker texel per
+//!   [`CORNELL_TEXEL`] world units (about 5 px at 256x256). The textured
+//!   scene of issue 14's demodulation study.
 //!
 //! Run with `cargo run -p gpu-tracer --example make_gltf_fixtures`.
 
@@ -28,6 +34,11 @@ const FLOAT: u32 = 5126;
 const UNSIGNED_SHORT: u32 = 5123;
 const ARRAY_BUFFER: u32 = 34962;
 const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+
+/// World units per checker texel in `cornell_textured` (the room is 556
+/// units wide and fills about 170 of 256 pixels: one texel is about 5 px,
+/// so most 4x4 sorting blocks straddle a texel edge).
+const CORNELL_TEXEL: f32 = 16.0;
 
 /// Light and dark texels of the checker (sRGB).
 const LIGHT: [u8; 3] = [230, 220, 200];
@@ -507,6 +518,95 @@ fn hierarchy(dir: &Path) {
     write_glb(dir, "hierarchy", doc, bin);
 }
 
+/// Planar texture coordinates of a point on a face with normal `n`: the two
+/// world axes across the face's dominant axis, [`CORNELL_TEXEL`] units per
+/// texel of the 4-texel checker.
+fn planar_uv(p: Vec3, n: Vec3) -> Vec2 {
+    let a = n.abs();
+    let (u, v) = if a.x >= a.y && a.x >= a.z {
+        (p.z, p.y)
+    } else if a.y >= a.z {
+        (p.x, p.z)
+    } else {
+        (p.x, p.y)
+    };
+    Vec2::new(u, v) / (4.0 * CORNELL_TEXEL)
+}
+
+fn cornell_textured(dir: &Path) {
+    use gpu_tracer::cornell::{cornell_box, LIGHT};
+    let scene = cornell_box();
+    let mut bin = Bin::default();
+    let objects = scene
+        .triangles
+        .iter()
+        .map(|t| t.object)
+        .max()
+        .map_or(0, |m| m + 1);
+    let mut meshes = Vec::new();
+    let mut nodes = Vec::new();
+    for object in 0..objects {
+        let tris: Vec<_> = scene.triangles.iter().filter(|t| t.object == object).collect();
+        let material = tris[0].material;
+        assert!(
+            tris.iter().all(|t| t.material == material),
+            "object {object} has one material"
+        );
+        let mut mesh = MeshData::default();
+        for t in &tris {
+            let [a, b, c] = t.vertices;
+            let n = (b - a).cross(c - a);
+            for p in t.vertices {
+                mesh.indices.push(mesh.positions.len() as u16);
+                mesh.positions.push(p);
+                mesh.uvs.push(planar_uv(p, n));
+            }
+        }
+        let textured = material != LIGHT;
+        meshes.push(json!({
+            "name": format!("object_{object}"),
+            "primitives": [bin.primitive(&mesh, Some(material as usize), textured)]
+        }));
+        nodes.push(json!({"name": format!("object_{object}"), "mesh": object}));
+    }
+    let materials: Vec<Value> = scene
+        .materials
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            if i as u32 == LIGHT {
+                let e = m.emission;
+                let strength = e.max_element();
+                let mut v = emissive(&m.name, (e / strength).to_array(), strength);
+                v["pbrMetallicRoughness"]["baseColorFactor"] =
+                    json!([m.albedo.x, m.albedo.y, m.albedo.z, 1.0]);
+                v
+            } else {
+                material(&m.name, m.albedo.to_array(), Some(0))
+            }
+        })
+        .collect();
+    let cam = scene.camera;
+    nodes.push(json!({
+        "name": "camera", "camera": 0,
+        "translation": cam.origin.to_array(),
+        "rotation": look_rotation(cam.origin, cam.target).to_array()
+    }));
+    let mut doc = checker_texture_parts();
+    doc["asset"] = asset();
+    doc["extensionsUsed"] = json!(["KHR_materials_emissive_strength"]);
+    doc["materials"] = json!(materials);
+    doc["meshes"] = json!(meshes);
+    doc["cameras"] = json!([{
+        "name": "cornell", "type": "perspective",
+        "perspective": {"yfov": cam.fov_y_degrees.to_radians(), "znear": 1.0, "aspectRatio": 1.0}
+    }]);
+    doc["nodes"] = json!(nodes);
+    doc["scenes"] = json!([{"name": "cornell_textured", "nodes": (0..=objects).collect::<Vec<_>>()}]);
+    doc["scene"] = json!(0);
+    write_gltf(dir, "cornell_textured", doc, bin);
+}
+
 fn main() {
     let dir = std::env::args_os().nth(1).map_or_else(
         || Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gltf"),
@@ -518,4 +618,5 @@ fn main() {
     emissive_quad(&dir);
     animated_room(&dir);
     hierarchy(&dir);
+    cornell_textured(&dir);
 }

@@ -44,6 +44,7 @@ pub mod camera_path;
 pub mod cornell;
 pub mod cpu;
 pub mod error;
+pub mod feature_keys;
 pub mod filter;
 pub mod gltf_scene;
 pub mod gpu;

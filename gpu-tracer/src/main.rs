@@ -11,6 +11,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use gpu_tracer::animation::Rig;
 use gpu_tracer::aov::write_aovs;
 use gpu_tracer::camera_path::{CameraPath, CameraPathKind};
+use gpu_tracer::feature_keys::FeatureKey;
 use gpu_tracer::filter::{FilterChain, FilterSettings, SequenceFilter};
 use gpu_tracer::gpu::{Gpu, GpuError};
 use gpu_tracer::image_out::{write_exr, write_png, ToneMap};
@@ -92,6 +93,12 @@ struct RenderArgs {
     /// G-buffer).
     #[arg(long, value_enum, default_value = "off")]
     features: OnOff,
+    /// What the feature-aware sorting pass ranks (with `--features on`):
+    /// `demodulated` (radiance luma / albedo luma; the default and the only
+    /// key the GPU computes), `raw` (radiance luma), `history` (demodulated
+    /// value minus its smoothed running mean; CPU only).
+    #[arg(long, value_enum, default_value = "demodulated")]
+    feature_key: FeatureKeyArg,
     /// Real-time filter after each frame, as a renderer shows it: `taa`
     /// (reprojected exponential history, 3x3 colour clamp), `gauss`
     /// (Gaussian, sigma 1 px), `atrous` (SVGF's edge-avoiding a-trous, 5
@@ -207,6 +214,13 @@ enum OnOff {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum FeatureKeyArg {
+    Demodulated,
+    Raw,
+    History,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 enum CameraPathArg {
     Orbit,
     Dolly,
@@ -307,6 +321,9 @@ fn render(args: RenderArgs) -> Result<()> {
         args.height,
     )
     .context("--filter / --taa-alpha")?;
+    if args.features == OnOff::Off && args.feature_key != FeatureKeyArg::Demodulated {
+        bail!("--feature-key applies to the feature-aware permutation: add --features on");
+    }
     prepare_out_dir(&args.out)?;
     let frames_dir = args.out.join("frames");
     let aovs_dir = args.out.join("aovs");
@@ -381,6 +398,11 @@ fn render(args: RenderArgs) -> Result<()> {
         gbuffer: want_gbuffer,
         reproject,
         features,
+        feature_key: match args.feature_key {
+            FeatureKeyArg::Demodulated => FeatureKey::Demodulated,
+            FeatureKeyArg::Raw => FeatureKey::Raw,
+            FeatureKeyArg::History => FeatureKey::HistoryResidual,
+        },
     };
     let mut save_error: Option<anyhow::Error> = None;
     let mut on_frame = |f: &FrameView<'_>| {
@@ -464,7 +486,11 @@ fn render(args: RenderArgs) -> Result<()> {
         job.mode,
         args.sampler.name(),
         if reproject { "on" } else { "off" },
-        if features { "on" } else { "off" },
+        if features {
+            format!("on, {} key", options.feature_key.name())
+        } else {
+            "off".to_string()
+        },
         args.filter,
         files
             .iter()

@@ -3,6 +3,7 @@
 //! according to the [`PermuteMode`].
 
 use crate::cpu;
+use crate::feature_keys::{FeatureKey, FeatureKeys};
 use crate::gpu::{
     Gpu, GpuError, PermuteMode, PermutePipelines, ReprojectPipelines, SeedPermuter, SeedReprojector,
     TracePipelines, Tracer,
@@ -12,8 +13,7 @@ use crate::scene::{SceneGpu, TraceSettings};
 use crate::timeline::SceneSequence;
 use glam::{UVec2, Vec4};
 use kernels::abi::GBufferGpu;
-use kernels::surface_features::{demodulated_intensity, surface_feature};
-use sampler_core::{DitherTile, FeatureThresholds, FrameLayout, RetargetTables, SurfaceFeature};
+use sampler_core::{DitherTile, FeatureThresholds, FrameLayout, RetargetTables};
 use std::fmt;
 
 /// Which baked dither tile (and its retarget tables) the permutation uses.
@@ -87,6 +87,10 @@ pub struct SequenceOptions {
     /// edges, all from each frame's G-buffer. [`PermuteMode::Permute`]
     /// only; the GPU runs the same code (`SeedPermuter::enable_features`).
     pub features: bool,
+    /// The sort key of the feature-aware permutation
+    /// ([`FeatureKey`]; demodulated by default). The GPU computes the
+    /// demodulated key only and refuses the others.
+    pub feature_key: FeatureKey,
 }
 
 /// Receives every frame of a sequence render.
@@ -133,6 +137,9 @@ pub enum RenderError {
     Gpu(GpuError),
     /// `frames == 0`.
     NoFrames,
+    /// A sequence option the GPU loop does not implement (e.g. a
+    /// [`FeatureKey`] other than the demodulated one); names it.
+    Unsupported(String),
 }
 
 impl fmt::Display for RenderError {
@@ -142,6 +149,7 @@ impl fmt::Display for RenderError {
             RenderError::Trace(e) => write!(f, "{e}"),
             RenderError::Gpu(e) => write!(f, "{e}"),
             RenderError::NoFrames => write!(f, "the number of frames must be at least 1"),
+            RenderError::Unsupported(what) => write!(f, "not supported on the GPU: {what}"),
         }
     }
 }
@@ -152,7 +160,7 @@ impl std::error::Error for RenderError {
             RenderError::Layout(e) => Some(e),
             RenderError::Trace(e) => Some(e),
             RenderError::Gpu(e) => Some(e),
-            RenderError::NoFrames => None,
+            RenderError::NoFrames | RenderError::Unsupported(_) => None,
         }
     }
 }
@@ -259,8 +267,12 @@ pub fn render_sequence_cpu(
     let mut previous_vis = vec![UVec2::ZERO; if reproject { n } else { 0 }];
     let feature_scratch = if features { layout.seed_count() } else { 0 };
     let (mut sorted, mut sources) = (vec![0u32; feature_scratch], vec![0u32; feature_scratch]);
-    let mut surface = vec![SurfaceFeature::default(); if features { n } else { 0 }];
-    let mut keys = vec![0f32; if features { n } else { 0 }];
+    let (w, h) = if features {
+        (layout.width(), layout.height())
+    } else {
+        (0, 0)
+    };
+    let mut keys = FeatureKeys::new(options.feature_key, w, h, FeatureThresholds::DEFAULT);
     let mut claims = vec![0u32; if reproject { layout.seed_count() } else { 0 }];
     let mut seeds = cpu::white_seeds(layout.padded_width(), layout.padded_height(), job.salt);
     let mut next = vec![0u32; seeds.len()];
@@ -304,15 +316,12 @@ pub fn render_sequence_cpu(
                 std::mem::swap(&mut seeds, &mut next);
             }
             PermuteMode::Permute if features => {
-                for (((f, k), g), c) in surface.iter_mut().zip(&mut keys).zip(&gbuf).zip(&color) {
-                    *f = surface_feature(g);
-                    *k = demodulated_intensity(*c, g);
-                }
+                keys.update(&color, &gbuf);
                 sampler_core::permute_frame_features(
                     &layout,
                     t,
-                    &keys,
-                    &surface,
+                    keys.keys(),
+                    keys.features(),
                     &FeatureThresholds::DEFAULT,
                     &tile,
                     &tables,
@@ -398,6 +407,12 @@ pub fn render_sequence_gpu(
     let (layout, settings, tile, tables) = job.prepare()?;
     let reproject = options.reproject && job.mode != PermuteMode::White;
     let features = options.features && job.mode == PermuteMode::Permute;
+    if features && options.feature_key != FeatureKey::Demodulated {
+        return Err(RenderError::Unsupported(format!(
+            "the {} feature key (the GPU's feature pass computes the demodulated key)",
+            options.feature_key.name()
+        )));
+    }
     let gbuffer = options.gbuffer || reproject || features;
     let params0 = sequence.scene().trace_params(&settings, 0)?;
     let trace_pipelines = TracePipelines::new(gpu)?;

@@ -144,6 +144,85 @@ fn feature_aware_permutation_renders_on_cpu_and_gpu() {
     }
 }
 
+/// `--feature-key`: the textured glTF Cornell box with each key on the CPU;
+/// a key the GPU does not compute, or a key without `--features on`, is a
+/// clear error before anything is written.
+#[test]
+fn feature_keys_render_the_textured_gltf_scene() {
+    let exe = tracer();
+    let dir = tempfile::tempdir().unwrap();
+    let scene =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../gpu-tracer/tests/data/gltf/cornell_textured.gltf");
+    let scene = scene.to_str().unwrap();
+    let args = |key: &str, device: &str, features: &str, out: &Path| -> Vec<String> {
+        [
+            "render",
+            "--scene",
+            scene,
+            "--width",
+            "32",
+            "--height",
+            "32",
+            "--frames",
+            "3",
+            "--mode",
+            "permute",
+            "--features",
+            features,
+            "--feature-key",
+            key,
+            "--device",
+            device,
+            "--out",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .chain([out.to_str().unwrap().to_string()])
+        .collect()
+    };
+    let mut means = Vec::new();
+    for key in ["demodulated", "raw", "history"] {
+        let out = dir.path().join(key);
+        let a = args(key, "cpu", "on", &out);
+        let o = run(&exe, &a.iter().map(String::as_str).collect::<Vec<_>>());
+        let t = text(&o);
+        assert!(
+            o.status.success() && t.contains(&format!("features on, {key} key")),
+            "{key}: {t}"
+        );
+        let img = image::open(out.join("mean.exr")).unwrap().into_rgb32f();
+        means.push(img.into_raw());
+    }
+    // The keys change the seeds' order, so the frames after the first differ.
+    assert_ne!(means[0], means[1]);
+    assert_ne!(means[0], means[2]);
+
+    let out = dir.path().join("no-features");
+    let a = args("raw", "cpu", "off", &out);
+    let o = run(&exe, &a.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(
+        !o.status.success() && text(&o).contains("--features on"),
+        "{}",
+        text(&o)
+    );
+    assert!(!out.exists(), "nothing is written for a refused command line");
+
+    let out = dir.path().join("gpu-history");
+    let a = args("history", "gpu", "on", &out);
+    let o = run(&exe, &a.iter().map(String::as_str).collect::<Vec<_>>());
+    let t = text(&o);
+    assert!(!o.status.success(), "{t}");
+    if t.contains("no GPU adapter") {
+        assert!(!gpu_required(), "BLUENOISE_REQUIRE_GPU=1 and no GPU: {t}");
+        eprintln!("SKIPPED (GPU feature key): {t}");
+    } else {
+        assert!(
+            t.contains("not supported on the GPU") && t.contains("history"),
+            "{t}"
+        );
+    }
+}
+
 #[test]
 fn auto_device_renders_on_gpu_or_says_it_fell_back() {
     let exe = tracer();
