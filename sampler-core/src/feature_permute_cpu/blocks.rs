@@ -20,7 +20,7 @@ use super::groups::{groups_of, sort_grouped, SurfaceTest};
 use super::steps::Steps;
 use crate::dither::tile_texel;
 use crate::feature_permute::edge_is_cut;
-use crate::features::{FeatureThresholds, SurfaceFeature};
+use crate::features::{FeatureThresholds, SurfaceFeature, NO_SURFACE};
 use crate::layout::FrameParams;
 use crate::permute_cpu::prefetch;
 use crate::retarget::RETARGET_RADIUS;
@@ -95,22 +95,21 @@ pub(super) fn repair_blocks<T: Intensity, const B: u32, const N: usize>(
                 // Every pixel and every destination is visible and none
                 // wraps: features are read at the pixel plus its offset.
                 let base = y0 as usize * wu + x0 as usize;
-                let first = &features[base];
-                let mut one = true;
+                // Each pixel's feature index and its destination's.
+                let mut own_at = [0usize; N];
+                let mut dest_at = [0usize; N];
                 for r in 0..B as usize {
                     for c in 0..B as usize {
                         let i = r * B as usize + c;
                         let (x, y) = (x0 + c as u32, y0 + r as u32);
                         let (dx, dy) = steps.forward_offset(x, y);
-                        let f = &features[base + r * wu + c];
-                        let at = (y as i32 + dy) as usize * wu + (x as i32 + dx) as usize;
-                        cut |= (!test.same(f, &features[at]) as u64) << i;
-                        if i > 0 {
-                            one &= test.same(f, first);
-                        }
+                        own_at[i] = base + r * wu + c;
+                        dest_at[i] = (y as i32 + dy) as usize * wu + (x as i32 + dx) as usize;
                         dest[i] = ((y as i32 + dy) as usize * pwu + (x as i32 + dx) as usize) as u32;
                     }
                 }
+                let (cut_mask, one) = block_tests::<N>(features, &own_at, &dest_at, &mut test);
+                cut = cut_mask;
                 if one && cut == 0 {
                     store_block::<N>(cut_words, block, 0);
                     store_raster::<B>(raster_words, pw, x0, y0, 0);
@@ -158,6 +157,57 @@ pub(super) fn repair_blocks<T: Intensity, const B: u32, const N: usize>(
         }
     }
     listed
+}
+
+/// The cut bits of an interior block's edges (`features[own_at[i]]` to
+/// `features[dest_at[i]]`) and whether every pixel is the same surface as
+/// the first (`block_groups`' one-group test), as [`SurfaceTest::same`]
+/// decides them. The usual block, whose pixels and destinations all share
+/// the first pixel's id and normal encoding, needs only the depth tests
+/// (or none, for `NO_SURFACE`), done branch-free over the block; any other
+/// block is tested pixel by pixel.
+#[inline(always)]
+fn block_tests<const N: usize>(
+    features: &[SurfaceFeature],
+    own_at: &[usize; N],
+    dest_at: &[usize; N],
+    test: &mut SurfaceTest<'_>,
+) -> (u64, bool) {
+    let own: [SurfaceFeature; N] = core::array::from_fn(|i| features[own_at[i]]);
+    let dst: [SurfaceFeature; N] = core::array::from_fn(|i| features[dest_at[i]]);
+    let (id, normal) = (own[0].id, own[0].normal);
+    let mut flat = true;
+    for i in 0..N {
+        flat &= (own[i].id == id) & (own[i].normal == normal) & (dst[i].id == id) & (dst[i].normal == normal);
+    }
+    if flat {
+        if id == NO_SURFACE {
+            return (0, true);
+        }
+        // `same_surface`'s depth test for equal ids and normals, in its
+        // argument order (the pixel first).
+        let relative = test.depth_relative();
+        let close = |a: f32, b: f32| {
+            let larger = if a > b { a } else { b };
+            f32::from_bits((a - b).to_bits() & 0x7FFF_FFFF) <= relative * larger
+        };
+        let mut cut = 0u64;
+        let mut one = true;
+        for i in 0..N {
+            cut |= (!close(own[i].depth, dst[i].depth) as u64) << i;
+            one &= (i == 0) | close(own[i].depth, own[0].depth);
+        }
+        return (cut, one);
+    }
+    let mut cut = 0u64;
+    let mut one = true;
+    for i in 0..N {
+        cut |= (!test.same(&own[i], &dst[i]) as u64) << i;
+        if i > 0 {
+            one &= test.same(&own[i], &own[0]);
+        }
+    }
+    (cut, one)
 }
 
 /// A block of one group: lists the seeds of its cut edges, read back from
@@ -225,7 +275,12 @@ fn split_block<T: Intensity, const B: u32, const N: usize>(
         return false;
     }
     let mut sorted = [0u32; MAX_BLOCK_PIXELS];
-    sort_grouped(n, &groups, &keys, &dither, &seeds, &mut sorted);
+    if n == N {
+        // A whole block: the rank loops with a constant count unroll.
+        sort_grouped(N, &groups, &keys, &dither, &seeds, &mut sorted);
+    } else {
+        sort_grouped(n, &groups, &keys, &dither, &seeds, &mut sorted);
+    }
     for j in 0..n {
         value[pixel[j] as usize] = sorted[j];
     }

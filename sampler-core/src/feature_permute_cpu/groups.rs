@@ -90,7 +90,7 @@ fn ranks_distinct(n: usize, values: &[u32; MAX_BLOCK_PIXELS]) -> [u32; MAX_BLOCK
 /// (group, key, index) are ranks by (group, rank by (key, index)), which
 /// pack into one distinct `u32` (group `< 64` above 8 bits of rank).
 #[allow(clippy::needless_range_loop)]
-#[inline]
+#[inline(always)]
 pub(super) fn sort_grouped(
     n: usize,
     groups: &[u32; MAX_BLOCK_PIXELS],
@@ -144,6 +144,12 @@ impl<'a> SurfaceTest<'a> {
             pairs: [0; MEMO],
             within: [false; MEMO],
         }
+    }
+
+    /// The thresholds' `depth_relative`.
+    #[inline(always)]
+    pub fn depth_relative(&self) -> f32 {
+        self.thresholds.depth_relative
     }
 
     /// `same_surface(a, b, thresholds)`.
