@@ -24,7 +24,9 @@ const ENTRIES: usize = (MAX_CACHED_TILE * MAX_CACHED_TILE) as usize;
 
 /// Seeds the ring holds (192 KiB): `2 reach + 1` block rows of
 /// `blocks_x + 2 reach` lines of `B * B` seeds, i.e. a padded width of up
-/// to 2040 (B = 2), 2032 (B = 4) or 2032 (B = 8) seeds.
+/// to 3498 (B = 2: 7 rows of `2 pw + 24`), 2441 (B = 4: 5 rows of
+/// `4 pw + 64`) or 2032 (B = 8: 3 rows of `8 pw + 128`) seeds: 1920-wide
+/// frames with every block size, 2560-wide ones with 2x2 blocks.
 pub(super) const RING_SEEDS: usize = 48 * 1024;
 
 /// Block rows (and columns) a seed can move: `ceil(RETARGET_RADIUS / B)`.

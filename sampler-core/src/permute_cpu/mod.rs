@@ -16,8 +16,8 @@
 //!   lanes are one register, transposed with two-source permutes and ranked
 //!   with mask registers ([`avx512`]); elsewhere the portable code
 //!   vectorises for the build's baseline (SSE2 on x86_64).
-//! - **Gathered, not scattered** ([`gather`], frames up to about 2032
-//!   seeds wide). Each block row is ranked into a ring of the last
+//! - **Gathered, not scattered** ([`gather`], padded widths up to 3498,
+//!   2441 and 2032 seeds for 2x2, 4x4 and 8x8 blocks). Each block row is ranked into a ring of the last
 //!   `2 ceil(6 / B) + 1` block rows (at most 192 KiB, on the stack): a
 //!   block's sorted seeds as one line of `N` seeds, indexed by the dither
 //!   rank of the pixel they are sorted into. Then each output row is
