@@ -66,6 +66,18 @@
 //! plain permutation, and [`MethodRun::seed_repeats`] (from a mirror of the seeds,
 //! checked against frame 1) how often a pixel gets a seed it already had.
 //!
+//! [`Method::FeaturePermuteRawKey`] and [`Method::FeaturePermuteHistoryKey`] are the same
+//! loop with another sort key (`gpu_tracer::feature_keys::FeatureKey`); they are not in
+//! [`Method::REPORT`] and are measured by `conformance study --methods ...`.
+//!
+//! # Scenes
+//!
+//! [`StudyConfig::scene`] picks the Cornell box (default) or the checker-textured glTF
+//! Cornell box and its untextured twin ([`StudyScene`]); all three share the camera,
+//! the insets and the region definition. [`MethodRun::lf_demodulated`] measures the
+//! insets' error with the albedo divided out, which separates the texture's share of a
+//! textured inset's error from the irradiance noise the seeds arrange.
+//!
 //! # The blue-noise-dither baseline
 //!
 //! [`Method::Dither`]: fresh white-noise seeds every frame (as [`Method::White`]) and

@@ -5,8 +5,8 @@
 //! `cornell-textured` is `gpu-tracer/tests/data/gltf/cornell_textured.gltf`
 //! (written by `cargo run -p gpu-tracer --example make_gltf_fixtures`): the
 //! Cornell box's triangles, object ids, material order and camera, with a
-//! high-contrast 4-texel checker (linear albedo about 0.79 / 0.04, a contrast
-//! of about 20) on every surface but the light, one texel per 16 world units
+//! high-contrast 4-texel checker (albedo luma about 0.72 / 0.044, a contrast
+//! of about 16) on every surface but the light, one texel per 16 world units
 //! (about 5 px at 256x256, so most 4x4 sorting blocks straddle a texel edge).
 //! `cornell-untextured` is that file with every texture replaced by its mean
 //! linear colour: the same room, reflecting the same light on average, with
