@@ -337,3 +337,45 @@ fn best_method_after_taa_atrous_is_at_most_three_quarters_of_white() {
         assert!(v <= 1.02, "{} after {head}: {v:.3} of white", m.name());
     }
 }
+
+/// Issue 14's textured-scene goal, at this file's CI size: the flat-inset LF of the
+/// feature-aware permutation (demodulated keys) on the checker-textured glTF Cornell
+/// box is within 1.2x of the same on its untextured twin. Missed (QUALITY.md, "The
+/// textured scene and the sort keys": 2.87x at 256x256; about 1.5x here): at texel
+/// edges the estimate follows the pixel's jitter across a 15:1 albedo step, and that
+/// part of the error stays with the pixel when its seed moves.
+#[test]
+#[ignore = "issue 14 textured-scene goal not met (see QUALITY.md); run with --ignored"]
+fn textured_inset_lf_is_within_1_2x_of_the_untextured_twin() {
+    use conformance::render_study::StudyScene;
+    let from = GOAL_FRAME as usize;
+    let mut lf = Vec::new();
+    for scene in [StudyScene::CornellTextured, StudyScene::CornellUntextured] {
+        let config = StudyConfig {
+            scene,
+            filters: false,
+            ..StudyConfig::new(SIZE, 1, 48, 128)
+        };
+        let study = Study::new(config, Some(&default_cache_dir()), |_, _| {}).expect("study setup");
+        let r = study
+            .run(&[Method::White, Method::FeaturePermute], |_, _| {})
+            .expect("study run");
+        let frames = r.run(Method::White).unwrap().lf_insets.len();
+        let mean = (from..frames)
+            .map(|i| {
+                r.relative(Method::FeaturePermute, Metric::LowFrequency, i)
+                    .unwrap()
+            })
+            .sum::<f64>()
+            / (frames - from) as f64;
+        let demodulated = r.lf_demodulated_mean(Method::FeaturePermute, from).unwrap();
+        println!(
+            "{}: feature-permute LF mean {mean:.3}, with the albedo divided out {demodulated:.3}",
+            scene.name()
+        );
+        lf.push(mean);
+    }
+    let ratio = lf[0] / lf[1];
+    println!("textured / untextured: {ratio:.2} (goal <= 1.2)");
+    assert!(ratio <= 1.2, "textured / untextured LF {ratio:.2}");
+}
