@@ -392,9 +392,12 @@ fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
                 passes.encode(gpu, &mut encoder, pass, buffers, n);
             }
             gpu.queue.submit([encoder.finish()]);
+            // The per-pass intermediates are the reference form's: the fast
+            // path behind `permute_frame_features` leaves its scratch buffers
+            // unspecified (its output is checked against the same passes below).
             let (mut f_sorted, mut f_sources, mut f_next) =
                 (vec![0; n_seeds], vec![0; n_seeds], vec![0; n_seeds]);
-            permute_frame_features(
+            feature_permute::permute_frame_features_reference(
                 &layout,
                 frame,
                 &values,
@@ -423,6 +426,23 @@ fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
                 f_next,
                 "retarget_features, {what}"
             );
+            let (mut scratch_a, mut scratch_b, mut fast_next) =
+                (vec![0; n_seeds], vec![0; n_seeds], vec![0; n_seeds]);
+            permute_frame_features(
+                &layout,
+                frame,
+                &values,
+                &features,
+                &FeatureThresholds::DEFAULT,
+                &tile,
+                &tables,
+                &cpu,
+                &mut scratch_a,
+                &mut scratch_b,
+                &mut fast_next,
+            )
+            .unwrap();
+            assert_eq!(fast_next, f_next, "CPU fast path against the passes, {what}");
 
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             passes.encode(
