@@ -632,6 +632,10 @@ struct Meter<'a> {
     /// zero motion, and the first filter error.
     filters: Option<(FilteredMeter, Vec<Vec2>)>,
     filter_error: Option<anyhow::Error>,
+    /// Per inset: `1 / luma(albedo)` of each pixel's primary hit (1 below
+    /// `ALBEDO_FLOOR`), from the still camera's G-buffer, for
+    /// [`MethodRun::lf_demodulated`].
+    inset_inverse_albedo: Vec<Grid>,
 }
 
 impl<'a> Meter<'a> {
@@ -684,6 +688,22 @@ impl<'a> Meter<'a> {
                 false => None,
             },
             filter_error: None,
+            inset_inverse_albedo: {
+                let inverse: Vec<f32> = study
+                    .gbuffer
+                    .iter()
+                    .map(|g| {
+                        let a = sampler_core::luma(g.albedo.truncate());
+                        if a >= sampler_core::features::ALBEDO_FLOOR {
+                            1.0 / a
+                        } else {
+                            1.0
+                        }
+                    })
+                    .collect();
+                let size = study.config.size as usize;
+                study.insets.iter().map(|i| crop(&inverse, size, i)).collect()
+            },
         })
     }
 
@@ -706,10 +726,15 @@ impl<'a> Meter<'a> {
         self.run.blur1_regions.push(sums);
         self.run.blur2.push(self.blur2.apply(&grid).rms());
         let mut lf = Vec::with_capacity(self.study.insets.len());
+        let mut lf_demodulated = 0.0;
         for (k, inset) in self.study.insets.iter().enumerate() {
             let sub = crop(&error, size, inset);
             let spectrum = self.analyzer.power_spectrum(&sub);
             lf.push(low_frequency_ratio(&spectrum));
+            let scale = &self.inset_inverse_albedo[k];
+            let divided = Grid::from_fn(sub.width(), sub.height(), |x, y| sub.get(x, y) * scale.get(x, y))
+                .expect("inset size");
+            lf_demodulated += low_frequency_ratio(&self.analyzer.power_spectrum(&divided));
             if k == 0 && t >= self.snapshot_frame {
                 let r = radial_power(&spectrum);
                 if self.run.radial.is_empty() {
@@ -726,23 +751,6 @@ impl<'a> Meter<'a> {
             }
         }
         self.run.lf_insets.push(lf);
-        let demodulated: Vec<f32> = error
-            .iter()
-            .zip(&self.study.gbuffer)
-            .map(|(e, g)| {
-                let a = sampler_core::luma(g.albedo.truncate());
-                if a >= sampler_core::features::ALBEDO_FLOOR {
-                    e / a
-                } else {
-                    *e
-                }
-            })
-            .collect();
-        let mut lf_demodulated = 0.0;
-        for inset in &self.study.insets {
-            let sub = crop(&demodulated, size, inset);
-            lf_demodulated += low_frequency_ratio(&self.analyzer.power_spectrum(&sub));
-        }
         self.run
             .lf_demodulated
             .push(lf_demodulated / self.study.insets.len().max(1) as f64);
