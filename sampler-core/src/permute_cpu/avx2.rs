@@ -16,9 +16,13 @@ use crate::layout::FrameParams;
 use crate::retarget::RetargetTable;
 use crate::sort::Intensity;
 use core::arch::x86_64::{
-    __m128i, __m256i, _mm256_add_epi32, _mm256_cmpgt_epi32, _mm256_loadu2_m128i, _mm256_set1_epi32,
-    _mm256_storeu_si256, _mm256_sub_epi32, _mm256_unpackhi_epi32, _mm256_unpackhi_epi64,
-    _mm256_unpacklo_epi32, _mm256_unpacklo_epi64,
+    __m128i, __m256i, _mm256_add_epi32, _mm256_blendv_ps, _mm256_castps_si256, _mm256_castsi256_ps,
+    _mm256_castsi256_si128, _mm256_cmpgt_epi32, _mm256_cvtepu8_epi32, _mm256_extracti128_si256,
+    _mm256_i32gather_epi32, _mm256_loadu2_m128i, _mm256_loadu_si256, _mm256_or_si256,
+    _mm256_permutevar8x32_epi32, _mm256_set1_epi32, _mm256_setzero_si256, _mm256_slli_epi32,
+    _mm256_sllv_epi32, _mm256_storeu_si256, _mm256_sub_epi32, _mm256_unpackhi_epi32, _mm256_unpackhi_epi64,
+    _mm256_unpacklo_epi32, _mm256_unpacklo_epi64, _mm_and_si128, _mm_cvtsi64_si128, _mm_set1_epi8,
+    _mm_srli_epi16, _mm_srli_si128, _mm_stream_si128, _mm_unpacklo_epi8,
 };
 
 /// True when the CPU and the operating system support AVX2 (checked once,
@@ -106,6 +110,113 @@ impl LaneRanker for Avx2Ranker {
             // its instruction set, which is only called when the CPU has it.
             Ok(ranks) if B == 4 => unsafe { rank_4x4(strips, ranks) },
             _ => PortableRanker::rank_strips::<B, N>(strips, ranks),
+        }
+    }
+
+    #[inline(always)]
+    fn place_seeds<const B: u32, const N: usize>(
+        ranks: &[[u32; MAX_LANES]; N],
+        seeds: &[u32],
+        origin: usize,
+        pws: usize,
+        lines: &mut [u32],
+    ) {
+        match <&[[u32; MAX_LANES]; 16]>::try_from(&ranks[..]) {
+            // SAFETY: as for `rank_strips`.
+            Ok(ranks) if B == 4 => unsafe { place_seeds_4x4(ranks, seeds, origin, pws, lines) },
+            _ => super::place_seeds_scalar::<B, N>(ranks, seeds, origin, pws, lines),
+        }
+    }
+
+    #[inline(always)]
+    fn gather_chunk(out: &mut [u32], src: &[u32], sources: &[u32], stream: bool) {
+        // SAFETY: as for `rank_strips`.
+        unsafe { gather_chunk(out, src, sources, stream) }
+    }
+}
+
+/// [`LaneRanker::place_seeds`] for eight 4x4 blocks, with no scattered
+/// store: each block's inverse permutation (the pixel of rank `k`, for
+/// each `k`) is built as sixteen nibbles, eight blocks at a time (pixel
+/// `i` adds `i << 4 rank_i` to a low word for ranks 0..8 and to a high
+/// word for ranks 8..16; a variable shift by 32 or more gives 0), then
+/// each block's line is two in-register permutes of its sixteen seeds.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn place_seeds_4x4(
+    ranks: &[[u32; MAX_LANES]; 16],
+    seeds: &[u32],
+    origin: usize,
+    pws: usize,
+    lines: &mut [u32],
+) {
+    assert!(lines.len() == 8 * 16 && origin + 3 * pws + 8 * 4 <= seeds.len());
+    let (mut low, mut high) = (_mm256_setzero_si256(), _mm256_setzero_si256());
+    let word = _mm256_set1_epi32(32);
+    for (i, rank) in ranks.iter().enumerate().skip(1) {
+        // SAFETY: `rank` is sixteen u32, at least 32 readable bytes.
+        let shift = _mm256_slli_epi32::<2>(unsafe { _mm256_loadu_si256(rank.as_ptr() as *const __m256i) });
+        let pixel = _mm256_set1_epi32(i as i32);
+        low = _mm256_or_si256(low, _mm256_sllv_epi32(pixel, shift));
+        high = _mm256_or_si256(high, _mm256_sllv_epi32(pixel, _mm256_sub_epi32(shift, word)));
+    }
+    let (mut low_words, mut high_words) = ([0u32; 8], [0u32; 8]);
+    // SAFETY: each array is 32 writable bytes.
+    unsafe {
+        _mm256_storeu_si256(low_words.as_mut_ptr() as *mut __m256i, low);
+        _mm256_storeu_si256(high_words.as_mut_ptr() as *mut __m256i, high);
+    }
+    let nibble = _mm_set1_epi8(0x0F);
+    for (l, line) in lines.chunks_exact_mut(16).enumerate() {
+        let packed = low_words[l] as u64 | (high_words[l] as u64) << 32;
+        let x = _mm_cvtsi64_si128(packed as i64);
+        // Byte k: the pixel of rank k (low nibbles hold even ranks).
+        let order = _mm_unpacklo_epi8(
+            _mm_and_si128(x, nibble),
+            _mm_and_si128(_mm_srli_epi16::<4>(x), nibble),
+        );
+        let first = _mm256_cvtepu8_epi32(order);
+        let second = _mm256_cvtepu8_epi32(_mm_srli_si128::<8>(order));
+        // SAFETY: rows `origin + r pws + 4 l .. + 4` lie in `seeds`
+        // (asserted above); `line` is sixteen writable u32.
+        unsafe {
+            let p = seeds.as_ptr().add(origin + 4 * l) as *const __m128i;
+            let rows01 = _mm256_loadu2_m128i(p.byte_add(4 * pws), p);
+            let rows23 = _mm256_loadu2_m128i(p.byte_add(12 * pws), p.byte_add(8 * pws));
+            let pick = |index: __m256i| {
+                let from01 = _mm256_castsi256_ps(_mm256_permutevar8x32_epi32(rows01, index));
+                let from23 = _mm256_castsi256_ps(_mm256_permutevar8x32_epi32(rows23, index));
+                // Pixels 8..16 (index bit 3) come from rows 2 and 3.
+                let upper = _mm256_castsi256_ps(_mm256_slli_epi32::<28>(index));
+                _mm256_castps_si256(_mm256_blendv_ps(from01, from23, upper))
+            };
+            let out = line.as_mut_ptr() as *mut __m256i;
+            _mm256_storeu_si256(out, pick(first));
+            _mm256_storeu_si256(out.add(1), pick(second));
+        }
+    }
+}
+
+/// [`LaneRanker::gather_chunk`] eight seeds at a time with the AVX2 gather.
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(super) fn gather_chunk(out: &mut [u32], src: &[u32], sources: &[u32], stream: bool) {
+    debug_assert_eq!(out.len(), sources.len());
+    debug_assert!(sources.iter().all(|&s| (s as usize) < src.len()));
+    for (o, s) in out.chunks_exact_mut(8).zip(sources.chunks_exact(8)) {
+        // SAFETY: `s` is eight u32 and every one indexes `src` (the
+        // caller's contract); `o` is eight writable u32, 16-byte aligned
+        // with `stream`.
+        unsafe {
+            let index = _mm256_loadu_si256(s.as_ptr() as *const __m256i);
+            let v = _mm256_i32gather_epi32::<4>(src.as_ptr() as *const i32, index);
+            let o = o.as_mut_ptr() as *mut __m128i;
+            if stream {
+                _mm_stream_si128(o, _mm256_castsi256_si128(v));
+                _mm_stream_si128(o.add(1), _mm256_extracti128_si256::<1>(v));
+            } else {
+                _mm256_storeu_si256(o as *mut __m256i, v);
+            }
         }
     }
 }

@@ -10,13 +10,14 @@
 //! The ring is a stack array of [`RING_SEEDS`] seeds: frames whose ring
 //! does not fit ([`fits`]) take the scatter path.
 
-use super::{block_ranks, prefetch, signed_key, Band, LaneRanker, Strips, LINE_SEEDS, MAX_CACHED_TILE};
+use super::{block_ranks, prefetch_span, signed_key, Band, LaneRanker, Strips, MAX_CACHED_TILE};
 use super::{MAX_FAST_BLOCK, MAX_LANES, PREFETCH_AHEAD};
 use crate::dither::tile_texel;
 use crate::layout::FrameParams;
 use crate::retarget::{unpack_offset, RetargetTable, RETARGET_RADIUS};
 use crate::sort::{intensity_key, sort_block, Intensity, MAX_BLOCK_PIXELS};
 use crate::walk::walk_offset;
+use core::ops::Range;
 use glam::UVec2;
 
 /// Entries of the source cache: one per texel of the largest cached tile.
@@ -150,6 +151,43 @@ pub(super) fn permute_gather<T: Intensity, R: LaneRanker, const B: u32, const N:
     for s in 0..c1 - c0 + 2 * reach {
         let by = (c0 + blocks_y - reach + s) % blocks_y;
         let slot = s % slots;
+        // Output block row `c` reads the block rows of sequence numbers
+        // `s - 2 reach ..= s` (slot `s mod slots` held row `c - 1`, which
+        // it does not read).
+        let output = s >= 2 * reach;
+        let c = (c0 + s).wrapping_sub(2 * reach);
+        if output {
+            let mut slot_base = [0u32; 2 * 3 + 1];
+            for (d, base) in slot_base.iter_mut().enumerate().take(slots) {
+                *base = (((s - 2 * reach + d) % slots) * row_len) as u32;
+            }
+            for (r, sources) in row_sources.iter_mut().enumerate().take(B as usize) {
+                let ty = (c * B as usize + r) & (w - 1);
+                for (x, src) in sources[..w].iter_mut().enumerate() {
+                    let e = cache.source[ty * w + x];
+                    *src = slot_base[(e >> 16) as usize & 7] + (e & 0xFFFF);
+                }
+            }
+        }
+        let y0 = if output {
+            c * B as usize - band.row0 as usize
+        } else {
+            0
+        };
+        let out_rows = &mut seeds_out[y0 * pw..if output { (y0 + B as usize) * pw } else { 0 }];
+        // Tile periods 1.. are written as soon as row `s` is ranked past
+        // the blocks they read (`reach` beyond the period), so the output's
+        // stores overlap the ranking's loads; period 0 reads the wrap lines
+        // of the row's end, written last.
+        let periods = pw / w;
+        let period_blocks = w / B as usize;
+        let mut written = 1;
+        let mut write_ready = |ring: &[u32], ranked: usize| {
+            while output && written < periods && (written + 1) * period_blocks + reach <= ranked {
+                gather_period::<R, B, N>(out_rows, ring, &row_sources, w, written, stream);
+                written += 1;
+            }
+        };
         rank_block_row::<T, R, B, N>(
             params,
             &cache,
@@ -157,67 +195,51 @@ pub(super) fn permute_gather<T: Intensity, R: LaneRanker, const B: u32, const N:
             tile,
             seeds_in,
             by as u32,
-            &mut ring[slot * row_len..(slot + 1) * row_len],
+            ring,
+            slot * row_len..(slot + 1) * row_len,
             &mut strips,
             &mut ranks,
+            &mut write_ready,
         );
-        if s < 2 * reach {
-            continue;
-        }
-        // Output block row `c` reads the block rows of sequence numbers
-        // `s - 2 reach ..= s`.
-        let c = c0 + s - 2 * reach;
-        let mut slot_base = [0u32; 2 * 3 + 1];
-        for (d, base) in slot_base.iter_mut().enumerate().take(slots) {
-            *base = (((s - 2 * reach + d) % slots) * row_len) as u32;
-        }
-        for (r, sources) in row_sources.iter_mut().enumerate().take(B as usize) {
-            let ty = (c * B as usize + r) & (w - 1);
-            for (x, src) in sources[..w].iter_mut().enumerate() {
-                let e = cache.source[ty * w + x];
-                *src = slot_base[(e >> 16) as usize & 7] + (e & 0xFFFF);
+        if output {
+            for i in (0..1).chain(written..periods) {
+                gather_period::<R, B, N>(out_rows, ring, &row_sources, w, i, stream);
             }
         }
-        let y0 = c * B as usize - band.row0 as usize;
-        let out_rows = &mut seeds_out[y0 * pw..(y0 + B as usize) * pw];
-        gather_block_row::<B, N>(out_rows, ring, &row_sources, w, stream);
     }
     if stream {
         end_streaming();
     }
 }
 
-/// Writes the `B` output rows of one block row (`out`, rows of `pw =
-/// out.len() / B` seeds): `out[r][x0 + x] = ring[(x0 / B) * N +
-/// sources[r][x]]` for each tile period `x0` (`w` seeds) and row `r`. The
-/// rows are written a tile period at a time, all `B` of them, so the ring
-/// lines a period reads are loaded into L1 once for all its rows. With
-/// `stream` (x86_64, `out` 16-byte aligned) the stores are non-temporal:
-/// whole lines written without reading them first ([`end_streaming`] must
-/// follow).
+/// Writes tile period `i` of the `B` output rows of one block row (`out`,
+/// rows of `pw = out.len() / B` seeds): `out[r][x0 + x] = ring[(x0 / B) *
+/// N + sources[r][x]]` for `x0 = i w`, `x < w` and every row `r`, so the
+/// ring lines the period reads are loaded into L1 once for all `B` rows.
+/// With `stream` (x86_64, `out` 16-byte aligned) the stores are
+/// non-temporal: whole lines written without reading them first
+/// ([`end_streaming`] must follow).
 #[inline(always)]
-fn gather_block_row<const B: u32, const N: usize>(
+fn gather_period<R: LaneRanker, const B: u32, const N: usize>(
     out: &mut [u32],
     ring: &[u32],
     sources: &[[u32; MAX_CACHED_TILE as usize]; MAX_FAST_BLOCK],
     w: usize,
+    i: usize,
     stream: bool,
 ) {
     let pw = out.len() / B as usize;
-    let chunk_step = w / B as usize * N;
-    for i in 0..pw / w {
-        let src = &ring[i * chunk_step..];
-        for (r, sources) in sources.iter().enumerate().take(B as usize) {
-            let chunk = &mut out[r * pw + i * w..][..w];
-            gather_chunk(chunk, src, &sources[..w], stream);
-        }
+    let src = &ring[i * (w / B as usize) * N..];
+    for (r, sources) in sources.iter().enumerate().take(B as usize) {
+        let chunk = &mut out[r * pw + i * w..][..w];
+        R::gather_chunk(chunk, src, &sources[..w], stream);
     }
 }
 
 /// `out[x] = src[sources[x]]`, non-temporal with `stream` (see
 /// [`gather_block_row`]).
 #[inline(always)]
-fn gather_chunk(out: &mut [u32], src: &[u32], sources: &[u32], stream: bool) {
+pub(super) fn gather_chunk(out: &mut [u32], src: &[u32], sources: &[u32], stream: bool) {
     #[cfg(target_arch = "x86_64")]
     if stream {
         use core::arch::x86_64::{__m128i, _mm_set_epi32, _mm_stream_si128};
@@ -273,10 +295,13 @@ fn rank_block_row<T: Intensity, R: LaneRanker, const B: u32, const N: usize>(
     tile: &[u32],
     seeds_in: &[u32],
     by: u32,
-    row: &mut [u32],
+    ring: &mut [u32],
+    row: Range<usize>,
     strips: &mut Strips,
     ranks: &mut [[u32; MAX_LANES]; N],
+    after_group: &mut impl FnMut(&[u32], usize),
 ) {
+    let row_start = row.start;
     let reach = reach(B) as usize;
     let classes = (1u32 << params.tile_log2) / B;
     let lanes = R::LANES;
@@ -297,27 +322,23 @@ fn rank_block_row<T: Intensity, R: LaneRanker, const B: u32, const N: usize>(
                 }
             }
             for r in 0..B as usize {
-                let at = (y0 as usize + r) * pws + x_start + PREFETCH_AHEAD;
-                prefetch(seeds_in, at, false);
-                prefetch(seeds_in, at + LINE_SEEDS, false);
-                let at = (y0 as usize + r) * w + x_start + PREFETCH_AHEAD;
-                prefetch(intensities, at, false);
-                prefetch(intensities, at + LINE_SEEDS, false);
+                let span = lanes * B as usize;
+                prefetch_span(seeds_in, (y0 as usize + r) * pws + x_start + PREFETCH_AHEAD, span);
+                prefetch_span(
+                    intensities,
+                    (y0 as usize + r) * w + x_start + PREFETCH_AHEAD,
+                    span,
+                );
             }
             R::rank_strips::<B, N>(strips, ranks);
-            for l in 0..lanes {
-                let origin = y0 as usize * pws + x_start + l * B as usize;
-                let line = &mut row[(bx as usize + l + reach) * N..][..N];
-                let src = &seeds_in[origin..origin + (B as usize - 1) * pws + B as usize];
-                for r in 0..B as usize {
-                    for c in 0..B as usize {
-                        line[ranks[r * B as usize + c][l] as usize & (N - 1)] = src[r * pws + c];
-                    }
-                }
-            }
+            let origin = y0 as usize * pws + x_start;
+            let lines = &mut ring[row_start + (bx as usize + reach) * N..][..lanes * N];
+            R::place_seeds::<B, N>(ranks, seeds_in, origin, pws, lines);
             bx += lanes as u32;
+            after_group(ring, bx as usize);
         }
     }
+    let row = &mut ring[row];
     let class_row = (by & (classes - 1)) * classes;
     while (bx as usize) < blocks_x {
         let x0 = bx * B;

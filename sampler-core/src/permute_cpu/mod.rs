@@ -20,15 +20,21 @@
 //!   2441 and 2032 seeds for 2x2, 4x4 and 8x8 blocks). Each block row is ranked into a ring of the last
 //!   `2 ceil(6 / B) + 1` block rows (at most 192 KiB, on the stack): a
 //!   block's sorted seeds as one line of `N` seeds, indexed by the dither
-//!   rank of the pixel they are sorted into. Then each output row is
+//!   rank of the pixel they are sorted into (with AVX2 and AVX-512 a
+//!   line is built in registers: each block's inverse permutation as
+//!   sixteen nibbles, then one or two permutes of its seeds, no scattered
+//!   store: [`LaneRanker::place_seeds`]). Then each output row is
 //!   written in order, every output pixel fetching its seed from the ring
 //!   through the inverse of the retarget table, resolved once per frame for
 //!   each of the `W x W` positions in the tile (`SourceCache`). The stores
 //!   are sequential (and non-temporal on x86_64: whole lines written
 //!   without first reading them); the scattered loads hit the ring, in the
-//!   L2 cache, at addresses that depend on the tables only. A block row's
+//!   L2 cache, at addresses that depend on the tables only (eight at a
+//!   time with the AVX2 gather instruction). A block row's
 //!   `B` output rows are written a tile period at a time, so the ring lines
-//!   a period reads come into L1 once for all of them. This replaced the
+//!   a period reads come into L1 once for all of them, and each period as
+//!   soon as the block row being ranked has passed the blocks it reads, so
+//!   the output's stores overlap the ranking's loads. This replaced the
 //!   scatter below as the main path (faster with every instruction set:
 //!   BENCHMARKS.md, issue 18).
 //! - **Or scattered, in increasing order** ([`blocks`], wider frames).
@@ -49,7 +55,8 @@
 //! - **Rows prefetched.** Each block row reads `B` seed rows and `B`
 //!   intensity rows (and, scattered, is the first to write `B` output
 //!   rows): more streams than the hardware prefetchers follow. Their cache
-//!   lines are requested a few lane groups ahead.
+//!   lines are requested a few lane groups ahead, every line a lane group
+//!   reads (sixteen 4x4 blocks read four lines of each row).
 //! - **No division.** Positions come from shifts; near the edge the
 //!   toroidal wrap (`|offset| <= B + 6 < W <= padded size`) is one
 //!   conditional add (scattered) or a copy of the ring row's end lines to
@@ -336,6 +343,52 @@ trait LaneRanker {
     /// rank in its block's total order (key, then index) to `ranks[i][l]`
     /// (lanes `LANES..` are left as they are).
     fn rank_strips<const B: u32, const N: usize>(strips: &Strips, ranks: &mut [[u32; MAX_LANES]; N]);
+
+    /// Places a lane group's seeds by rank: block `l < LANES`, whose pixel
+    /// `(c, r)` holds seed `seeds[origin + l B + r pws + c]`, gets line
+    /// `lines[l N..(l + 1) N]`, where entry `ranks[i][l]` is the seed of
+    /// its pixel `i = r B + c` (`lines.len() == LANES * N`; the ranks of
+    /// each block are a permutation of `0..N`). The gather formulation's
+    /// ring rows ([`gather`]).
+    #[inline(always)]
+    fn place_seeds<const B: u32, const N: usize>(
+        ranks: &[[u32; MAX_LANES]; N],
+        seeds: &[u32],
+        origin: usize,
+        pws: usize,
+        lines: &mut [u32],
+    ) {
+        place_seeds_scalar::<B, N>(ranks, seeds, origin, pws, lines)
+    }
+
+    /// `out[x] = src[sources[x]]` for every `x` (`out.len() == sources.len()`,
+    /// a multiple of 16, every source below `src.len()`); with `stream`
+    /// (x86_64, `out` 16-byte aligned) the stores are non-temporal. The
+    /// gather formulation's output stage ([`gather`]).
+    #[inline(always)]
+    fn gather_chunk(out: &mut [u32], src: &[u32], sources: &[u32], stream: bool) {
+        gather::gather_chunk(out, src, sources, stream)
+    }
+}
+
+/// [`LaneRanker::place_seeds`] one seed at a time.
+#[inline(always)]
+fn place_seeds_scalar<const B: u32, const N: usize>(
+    ranks: &[[u32; MAX_LANES]; N],
+    seeds: &[u32],
+    origin: usize,
+    pws: usize,
+    lines: &mut [u32],
+) {
+    let b = B as usize;
+    for (l, line) in lines.chunks_exact_mut(N).enumerate() {
+        let src = &seeds[origin + l * b..origin + l * b + (b - 1) * pws + b];
+        for r in 0..b {
+            for c in 0..b {
+                line[ranks[r * b + c][l] as usize & (N - 1)] = src[r * pws + c];
+            }
+        }
+    }
 }
 
 /// Scalar transposition and [`quad_ranks`] over two groups of four lanes;
@@ -434,6 +487,19 @@ pub(crate) fn prefetch<E>(buffer: &[E], at: usize, write: bool) {
 #[inline(always)]
 fn signed_key(value: f32) -> i32 {
     (intensity_key(value) ^ 0x8000_0000) as i32
+}
+
+/// Hints that elements `at..at + len` of `buffer` will be read soon: one
+/// prefetch per 64-byte line they span (x86_64; a no-op elsewhere). A lane
+/// group of `LANES` blocks reads `LANES * B` elements of each of its rows,
+/// one to sixteen lines, so every line is requested, not just the first.
+#[inline(always)]
+pub(crate) fn prefetch_span<E>(buffer: &[E], at: usize, len: usize) {
+    let bytes = len * core::mem::size_of::<E>();
+    let per_line = (64 / core::mem::size_of::<E>().max(1)).max(1);
+    for line in 0..bytes.div_ceil(64) {
+        prefetch(buffer, at + line * per_line, false);
+    }
 }
 
 /// `v mod m` for `v` in `-m..2m` (one conditional add or subtract).
