@@ -468,7 +468,7 @@ fn main() {
         ));
     }
     rows.push((
-        "  same, baseline ISA (portable ranker)".to_string(),
+        "  same, baseline ISA (SSE2 ranker on x86_64)".to_string(),
         Some(median(&mut t_baseline)),
     ));
     if !permute_only {

@@ -83,6 +83,15 @@ pub(crate) mod detect;
 mod edge;
 mod gather;
 pub(crate) mod rows;
+#[cfg(target_arch = "x86_64")]
+mod sse2;
+
+/// The ranker of the baseline instruction set: SSE2 on x86_64, the
+/// portable one elsewhere.
+#[cfg(target_arch = "x86_64")]
+type BaselineRanker = sse2::Sse2Ranker;
+#[cfg(not(target_arch = "x86_64"))]
+type BaselineRanker = PortableRanker;
 
 pub use detect::Isa;
 
@@ -229,7 +238,7 @@ fn scatter_portable<T: Intensity, const B: u32, const N: usize>(
     seeds_out: &mut [u32],
 ) {
     let (i, t, s) = (intensities, tile, seeds_in);
-    blocks::permute_full_blocks::<T, PortableRanker, B, N>(params, i, t, table, s, band, seeds_out)
+    blocks::permute_full_blocks::<T, BaselineRanker, B, N>(params, i, t, table, s, band, seeds_out)
 }
 
 /// The gather formulation with the portable ranker.
@@ -244,7 +253,7 @@ fn gather_portable<T: Intensity, const B: u32, const N: usize>(
     seeds_out: &mut [u32],
 ) {
     let (i, t, s) = (intensities, tile, seeds_in);
-    gather::permute_gather::<T, PortableRanker, B, N>(params, i, t, table, s, band, seeds_out)
+    gather::permute_gather::<T, BaselineRanker, B, N>(params, i, t, table, s, band, seeds_out)
 }
 
 /// [`permute_band_cached`] in the gather formulation ([`gather`]);

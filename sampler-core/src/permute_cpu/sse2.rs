@@ -1,0 +1,118 @@
+//! The baseline x86_64 ranker for 4x4 blocks: SSE2, which every x86_64 CPU
+//! has, so it needs no detection. Eight blocks are ranked as two groups of
+//! four, one block per 32-bit lane of a 128-bit register: the same
+//! all-pairs ranking as [`avx2`](super::avx2), half as wide, with the
+//! strips transposed into lanes by unpacks (a 4x4 transposition per strip
+//! row and group) rather than the scalar moves the portable form leaves to
+//! the compiler. Output is bit-identical to the portable ranker
+//! ([`quad_ranks`](super::quad_ranks); tested below and by the conformance
+//! property tests).
+
+use super::{LaneRanker, PortableRanker, Strips, MAX_LANES};
+use core::arch::x86_64::{
+    __m128i, _mm_add_epi32, _mm_cmpgt_epi32, _mm_loadu_si128, _mm_set1_epi32, _mm_storeu_si128,
+    _mm_sub_epi32, _mm_unpackhi_epi32, _mm_unpackhi_epi64, _mm_unpacklo_epi32, _mm_unpacklo_epi64,
+};
+
+/// The ranker of the baseline instruction set on x86_64 (4x4 blocks; the
+/// portable ranker for the other sizes).
+pub(super) struct Sse2Ranker;
+
+impl LaneRanker for Sse2Ranker {
+    const LANES: usize = 8;
+    #[inline(always)]
+    fn rank_strips<const B: u32, const N: usize>(strips: &Strips, ranks: &mut [[u32; MAX_LANES]; N]) {
+        match <&mut [[u32; MAX_LANES]; 16]>::try_from(&mut ranks[..]) {
+            // SAFETY: SSE2 is part of every x86_64 CPU.
+            Ok(ranks) if B == 4 => unsafe {
+                rank_4x4::<0>(strips, ranks);
+                rank_4x4::<1>(strips, ranks);
+            },
+            _ => PortableRanker::rank_strips::<B, N>(strips, ranks),
+        }
+    }
+}
+
+/// Ranks of the four 4x4 blocks of group `G` (blocks `4 G..4 G + 4` of the
+/// strips, lanes `4 G..4 G + 4` of `out`); see [`LaneRanker::rank_strips`].
+#[target_feature(enable = "sse2")]
+#[inline]
+fn rank_4x4<const G: usize>(strips: &Strips, out: &mut [[u32; MAX_LANES]; 16]) {
+    let mut keys = [_mm_set1_epi32(0); 16];
+    for r in 0..4 {
+        let row = &strips[r][G * 16..G * 16 + 16];
+        // SAFETY: each load reads four i32 of `row` (16 entries).
+        let v: [__m128i; 4] =
+            core::array::from_fn(|l| unsafe { _mm_loadu_si128(row[l * 4..].as_ptr() as *const __m128i) });
+        let t0 = _mm_unpacklo_epi32(v[0], v[1]); // b0c0 b1c0 b0c1 b1c1
+        let t1 = _mm_unpackhi_epi32(v[0], v[1]); // b0c2 b1c2 b0c3 b1c3
+        let t2 = _mm_unpacklo_epi32(v[2], v[3]); // b2c0 b3c0 b2c1 b3c1
+        let t3 = _mm_unpackhi_epi32(v[2], v[3]);
+        keys[r * 4] = _mm_unpacklo_epi64(t0, t2); // column 0 of blocks 0..4
+        keys[r * 4 + 1] = _mm_unpackhi_epi64(t0, t2);
+        keys[r * 4 + 2] = _mm_unpacklo_epi64(t1, t3);
+        keys[r * 4 + 3] = _mm_unpackhi_epi64(t1, t3);
+    }
+    // As in the AVX2 ranker: pixel j starts at rank j and gives one back to
+    // i when key_i > key_j (the compare mask is -1 there).
+    let mut ranks: [__m128i; 16] = core::array::from_fn(|j| _mm_set1_epi32(j as i32));
+    rank_quad::<0>(&keys, &mut ranks);
+    rank_quad::<4>(&keys, &mut ranks);
+    rank_quad::<8>(&keys, &mut ranks);
+    rank_quad::<12>(&keys, &mut ranks);
+    for (o, r) in out.iter_mut().zip(&ranks) {
+        // SAFETY: `o[4 G..4 G + 4]` is four writable u32 (G < 2).
+        unsafe { _mm_storeu_si128(o[G * 4..G * 4 + 4].as_mut_ptr() as *mut __m128i, *r) };
+    }
+}
+
+/// Pixels `Q..Q + 4` against each other and every later pixel; see the
+/// AVX2 ranker's `rank_quad`.
+#[target_feature(enable = "sse2")]
+#[inline]
+fn rank_quad<const Q: usize>(keys: &[__m128i; 16], ranks: &mut [__m128i; 16]) {
+    let k: [__m128i; 4] = core::array::from_fn(|a| keys[Q + a]);
+    let mut acc: [__m128i; 4] = core::array::from_fn(|a| ranks[Q + a]);
+    for a in 0..4 {
+        for b in a + 1..4 {
+            let greater = _mm_cmpgt_epi32(k[a], k[b]);
+            acc[a] = _mm_sub_epi32(acc[a], greater);
+            acc[b] = _mm_add_epi32(acc[b], greater);
+        }
+    }
+    for j in Q + 4..16 {
+        let kj = keys[j];
+        let g: [__m128i; 4] = core::array::from_fn(|a| _mm_cmpgt_epi32(k[a], kj));
+        for a in 0..4 {
+            acc[a] = _mm_sub_epi32(acc[a], g[a]);
+        }
+        let given = _mm_add_epi32(_mm_add_epi32(g[0], g[1]), _mm_add_epi32(g[2], g[3]));
+        ranks[j] = _mm_add_epi32(ranks[j], given);
+    }
+    ranks[Q..Q + 4].copy_from_slice(&acc);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sse2_ranks_equal_portable_ranks() {
+        let mut state = 7u32;
+        for _ in 0..300 {
+            let mut strips: Strips =
+                [[0; MAX_LANES * super::super::MAX_FAST_BLOCK]; super::super::MAX_FAST_BLOCK];
+            for row in strips.iter_mut().take(4) {
+                for k in row.iter_mut().take(32) {
+                    state = crate::seed::hash_u32(state);
+                    // Few distinct keys (ties) across the whole i32 range.
+                    *k = ((state % 5) as i32 - 2).wrapping_add(if state & 16 != 0 { i32::MIN } else { 0 });
+                }
+            }
+            let (mut got, mut want) = ([[0u32; MAX_LANES]; 16], [[0u32; MAX_LANES]; 16]);
+            Sse2Ranker::rank_strips::<4, 16>(&strips, &mut got);
+            PortableRanker::rank_strips::<4, 16>(&strips, &mut want);
+            assert_eq!(got, want);
+        }
+    }
+}
