@@ -17,12 +17,11 @@ use crate::retarget::RetargetTable;
 use crate::sort::Intensity;
 use core::arch::x86_64::{
     __m128i, __m256i, _mm256_add_epi32, _mm256_blendv_ps, _mm256_castps_si256, _mm256_castsi256_ps,
-    _mm256_castsi256_si128, _mm256_cmpgt_epi32, _mm256_cvtepu8_epi32, _mm256_extracti128_si256,
-    _mm256_i32gather_epi32, _mm256_loadu2_m128i, _mm256_loadu_si256, _mm256_or_si256,
+    _mm256_cmpgt_epi32, _mm256_cvtepu8_epi32, _mm256_loadu2_m128i, _mm256_loadu_si256, _mm256_or_si256,
     _mm256_permutevar8x32_epi32, _mm256_set1_epi32, _mm256_setzero_si256, _mm256_slli_epi32,
     _mm256_sllv_epi32, _mm256_storeu_si256, _mm256_sub_epi32, _mm256_unpackhi_epi32, _mm256_unpackhi_epi64,
     _mm256_unpacklo_epi32, _mm256_unpacklo_epi64, _mm_and_si128, _mm_cvtsi64_si128, _mm_set1_epi8,
-    _mm_srli_epi16, _mm_srli_si128, _mm_stream_si128, _mm_unpacklo_epi8,
+    _mm_srli_epi16, _mm_srli_si128, _mm_unpacklo_epi8,
 };
 
 /// True when the CPU and the operating system support AVX2 (checked once,
@@ -127,12 +126,6 @@ impl LaneRanker for Avx2Ranker {
             _ => super::place_seeds_scalar::<B, N>(ranks, seeds, origin, pws, lines),
         }
     }
-
-    #[inline(always)]
-    fn gather_chunk(out: &mut [u32], src: &[u32], sources: &[u32], stream: bool) {
-        // SAFETY: as for `rank_strips`.
-        unsafe { gather_chunk(out, src, sources, stream) }
-    }
 }
 
 /// [`LaneRanker::place_seeds`] for eight 4x4 blocks, with no scattered
@@ -193,30 +186,6 @@ fn place_seeds_4x4(
             let out = line.as_mut_ptr() as *mut __m256i;
             _mm256_storeu_si256(out, pick(first));
             _mm256_storeu_si256(out.add(1), pick(second));
-        }
-    }
-}
-
-/// [`LaneRanker::gather_chunk`] eight seeds at a time with the AVX2 gather.
-#[target_feature(enable = "avx2")]
-#[inline]
-pub(super) fn gather_chunk(out: &mut [u32], src: &[u32], sources: &[u32], stream: bool) {
-    debug_assert_eq!(out.len(), sources.len());
-    debug_assert!(sources.iter().all(|&s| (s as usize) < src.len()));
-    for (o, s) in out.chunks_exact_mut(8).zip(sources.chunks_exact(8)) {
-        // SAFETY: `s` is eight u32 and every one indexes `src` (the
-        // caller's contract); `o` is eight writable u32, 16-byte aligned
-        // with `stream`.
-        unsafe {
-            let index = _mm256_loadu_si256(s.as_ptr() as *const __m256i);
-            let v = _mm256_i32gather_epi32::<4>(src.as_ptr() as *const i32, index);
-            let o = o.as_mut_ptr() as *mut __m128i;
-            if stream {
-                _mm_stream_si128(o, _mm256_castsi256_si128(v));
-                _mm_stream_si128(o.add(1), _mm256_extracti128_si256::<1>(v));
-            } else {
-                _mm256_storeu_si256(o as *mut __m256i, v);
-            }
         }
     }
 }

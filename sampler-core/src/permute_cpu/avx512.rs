@@ -134,13 +134,6 @@ impl LaneRanker for Avx512Ranker {
             _ => super::place_seeds_scalar::<B, N>(ranks, seeds, origin, pws, lines),
         }
     }
-
-    #[inline(always)]
-    fn gather_chunk(out: &mut [u32], src: &[u32], sources: &[u32], stream: bool) {
-        // SAFETY: as for `rank_strips` (AVX-512 F implies AVX2 here: the
-        // detection requires both).
-        unsafe { super::avx2::gather_chunk(out, src, sources, stream) }
-    }
 }
 
 /// [`LaneRanker::place_seeds`] for sixteen 4x4 blocks: each block's

@@ -232,14 +232,14 @@ fn gather_period<R: LaneRanker, const B: u32, const N: usize>(
     let src = &ring[i * (w / B as usize) * N..];
     for (r, sources) in sources.iter().enumerate().take(B as usize) {
         let chunk = &mut out[r * pw + i * w..][..w];
-        R::gather_chunk(chunk, src, &sources[..w], stream);
+        gather_chunk(chunk, src, &sources[..w], stream);
     }
 }
 
 /// `out[x] = src[sources[x]]`, non-temporal with `stream` (see
 /// [`gather_block_row`]).
 #[inline(always)]
-pub(super) fn gather_chunk(out: &mut [u32], src: &[u32], sources: &[u32], stream: bool) {
+fn gather_chunk(out: &mut [u32], src: &[u32], sources: &[u32], stream: bool) {
     #[cfg(target_arch = "x86_64")]
     if stream {
         use core::arch::x86_64::{__m128i, _mm_set_epi32, _mm_stream_si128};

@@ -29,8 +29,8 @@
 //!   each of the `W x W` positions in the tile (`SourceCache`). The stores
 //!   are sequential (and non-temporal on x86_64: whole lines written
 //!   without first reading them); the scattered loads hit the ring, in the
-//!   L2 cache, at addresses that depend on the tables only (eight at a
-//!   time with the AVX2 gather instruction). A block row's
+//!   L2 cache, at addresses that depend on the tables only (scalar loads:
+//!   the gather instruction measured no faster on Zen 5). A block row's
 //!   `B` output rows are written a tile period at a time, so the ring lines
 //!   a period reads come into L1 once for all of them, and each period as
 //!   soon as the block row being ranked has passed the blocks it reads, so
@@ -368,15 +368,6 @@ trait LaneRanker {
         lines: &mut [u32],
     ) {
         place_seeds_scalar::<B, N>(ranks, seeds, origin, pws, lines)
-    }
-
-    /// `out[x] = src[sources[x]]` for every `x` (`out.len() == sources.len()`,
-    /// a multiple of 16, every source below `src.len()`); with `stream`
-    /// (x86_64, `out` 16-byte aligned) the stores are non-temporal. The
-    /// gather formulation's output stage ([`gather`]).
-    #[inline(always)]
-    fn gather_chunk(out: &mut [u32], src: &[u32], sources: &[u32], stream: bool) {
-        gather::gather_chunk(out, src, sources, stream)
     }
 }
 
