@@ -249,12 +249,16 @@ fn gather_chunk(out: &mut [u32], src: &[u32], sources: &[u32], stream: bool) {
             // SAFETY: as below for the loads; `o` is four seeds at a
             // 16-byte aligned address (`out` is aligned, and its length
             // and offset are multiples of 4).
+            // The four sources are read as two 64-bit words (two loads,
+            // not four: the loads, not the arithmetic, bound this loop).
             unsafe {
+                let pair = |k: usize| (s.as_ptr().add(k) as *const u64).read_unaligned();
+                let (low, high) = (pair(0), pair(2));
                 let v = _mm_set_epi32(
-                    *src.get_unchecked(s[3] as usize) as i32,
-                    *src.get_unchecked(s[2] as usize) as i32,
-                    *src.get_unchecked(s[1] as usize) as i32,
-                    *src.get_unchecked(s[0] as usize) as i32,
+                    *src.get_unchecked((high >> 32) as usize) as i32,
+                    *src.get_unchecked(high as u32 as usize) as i32,
+                    *src.get_unchecked((low >> 32) as usize) as i32,
+                    *src.get_unchecked(low as u32 as usize) as i32,
                 );
                 _mm_stream_si128(o.as_mut_ptr() as *mut __m128i, v);
             }
