@@ -10,8 +10,9 @@
 
 use super::{LaneRanker, PortableRanker, Strips, MAX_LANES};
 use core::arch::x86_64::{
-    __m128i, _mm_add_epi32, _mm_cmpgt_epi32, _mm_loadu_si128, _mm_set1_epi32, _mm_storeu_si128,
-    _mm_sub_epi32, _mm_unpackhi_epi32, _mm_unpackhi_epi64, _mm_unpacklo_epi32, _mm_unpacklo_epi64,
+    __m128i, _mm_add_epi32, _mm_cmpgt_epi32, _mm_extract_epi16, _mm_loadu_si128, _mm_set1_epi32,
+    _mm_storeu_si128, _mm_sub_epi32, _mm_unpackhi_epi32, _mm_unpackhi_epi64, _mm_unpacklo_epi32,
+    _mm_unpacklo_epi64,
 };
 
 /// The ranker of the baseline instruction set on x86_64 (4x4 blocks; the
@@ -29,6 +30,60 @@ impl LaneRanker for Sse2Ranker {
                 rank_4x4::<1>(strips, ranks);
             },
             _ => PortableRanker::rank_strips::<B, N>(strips, ranks),
+        }
+    }
+
+    #[inline(always)]
+    fn place_seeds<const B: u32, const N: usize>(
+        ranks: &[[u32; MAX_LANES]; N],
+        seeds: &[u32],
+        origin: usize,
+        pws: usize,
+        lines: &mut [u32],
+    ) {
+        match <&[[u32; MAX_LANES]; 16]>::try_from(&ranks[..]) {
+            // SAFETY: SSE2 is part of every x86_64 CPU.
+            Ok(ranks) if B == 4 => unsafe { place_seeds_4x4(ranks, seeds, origin, pws, lines) },
+            _ => super::place_seeds_scalar::<B, N>(ranks, seeds, origin, pws, lines),
+        }
+    }
+}
+
+/// [`LaneRanker::place_seeds`] for eight 4x4 blocks. Each pixel's eight
+/// ranks are read as the two 128-bit words [`rank_4x4`] stored (a load at
+/// a store's own address is forwarded from it; a 32-bit load from inside
+/// it may wait for it to reach the cache) and taken apart in registers.
+#[target_feature(enable = "sse2")]
+#[inline]
+fn place_seeds_4x4(
+    ranks: &[[u32; MAX_LANES]; 16],
+    seeds: &[u32],
+    origin: usize,
+    pws: usize,
+    lines: &mut [u32],
+) {
+    assert!(lines.len() == 8 * 16 && origin + 3 * pws + 8 * 4 <= seeds.len());
+    for (i, rank) in ranks.iter().enumerate() {
+        let at = origin + (i / 4) * pws + i % 4;
+        // SAFETY: `rank` holds sixteen u32 (two 16-byte loads); `at + 4 l`
+        // for `l < 8` lies in `seeds` and `16 l + rank` (rank < 16) in
+        // `lines` (both asserted above).
+        unsafe {
+            let low = _mm_loadu_si128(rank.as_ptr() as *const __m128i);
+            let high = _mm_loadu_si128(rank.as_ptr().add(4) as *const __m128i);
+            let ranks: [usize; 8] = [
+                _mm_extract_epi16::<0>(low) as usize,
+                _mm_extract_epi16::<2>(low) as usize,
+                _mm_extract_epi16::<4>(low) as usize,
+                _mm_extract_epi16::<6>(low) as usize,
+                _mm_extract_epi16::<0>(high) as usize,
+                _mm_extract_epi16::<2>(high) as usize,
+                _mm_extract_epi16::<4>(high) as usize,
+                _mm_extract_epi16::<6>(high) as usize,
+            ];
+            for (l, &k) in ranks.iter().enumerate() {
+                *lines.get_unchecked_mut(16 * l + (k & 15)) = *seeds.get_unchecked(at + 4 * l);
+            }
         }
     }
 }
