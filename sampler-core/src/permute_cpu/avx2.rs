@@ -11,17 +11,16 @@
 //! conformance property tests).
 
 use super::blocks::permute_full_blocks;
-use super::{detect, Band, LaneRanker, PortableRanker, Strips, MAX_LANES};
+use super::inverse::{inverse_nibbles, rank_order};
+use super::{detect, Band, Strips, MAX_LANES};
 use crate::layout::FrameParams;
 use crate::retarget::RetargetTable;
 use crate::sort::Intensity;
 use core::arch::x86_64::{
-    __m128i, __m256i, _mm256_add_epi32, _mm256_blendv_ps, _mm256_castps_si256, _mm256_castsi256_ps,
-    _mm256_cmpgt_epi32, _mm256_cvtepu8_epi32, _mm256_loadu2_m128i, _mm256_loadu_si256, _mm256_or_si256,
-    _mm256_permutevar8x32_epi32, _mm256_set1_epi32, _mm256_setzero_si256, _mm256_slli_epi32,
-    _mm256_sllv_epi32, _mm256_storeu_si256, _mm256_sub_epi32, _mm256_unpackhi_epi32, _mm256_unpackhi_epi64,
-    _mm256_unpacklo_epi32, _mm256_unpacklo_epi64, _mm_and_si128, _mm_cvtsi64_si128, _mm_set1_epi8,
-    _mm_srli_epi16, _mm_srli_si128, _mm_unpacklo_epi8,
+    __m128i, __m256i, _mm256_blendv_ps, _mm256_castps_si256, _mm256_castsi256_ps, _mm256_cvtepu8_epi32,
+    _mm256_loadu2_m128i, _mm256_permutevar8x32_epi32, _mm256_set1_epi32, _mm256_slli_epi32,
+    _mm256_storeu_si256, _mm256_unpackhi_epi32, _mm256_unpackhi_epi64, _mm256_unpacklo_epi32,
+    _mm256_unpacklo_epi64, _mm_srli_si128,
 };
 
 /// True when the CPU and the operating system support AVX2 (checked once,
@@ -100,40 +99,12 @@ fn gather_4x4_avx2<T: Intensity>(
 /// i.e. with AVX2 present.
 struct Avx2Ranker;
 
-impl LaneRanker for Avx2Ranker {
-    const LANES: usize = 8;
-    #[inline(always)]
-    fn rank_strips<const B: u32, const N: usize>(strips: &Strips, ranks: &mut [[u32; MAX_LANES]; N]) {
-        match <&mut [[u32; MAX_LANES]; 16]>::try_from(&mut ranks[..]) {
-            // SAFETY: this ranker only runs inside the function compiled for
-            // its instruction set, which is only called when the CPU has it.
-            Ok(ranks) if B == 4 => unsafe { rank_4x4(strips, ranks) },
-            _ => PortableRanker::rank_strips::<B, N>(strips, ranks),
-        }
-    }
+super::ranker::lane_ranker!(Avx2Ranker, 8, rank_4x4, place_seeds_4x4);
 
-    #[inline(always)]
-    fn place_seeds<const B: u32, const N: usize>(
-        ranks: &[[u32; MAX_LANES]; N],
-        seeds: &[u32],
-        origin: usize,
-        pws: usize,
-        lines: &mut [u32],
-    ) {
-        match <&[[u32; MAX_LANES]; 16]>::try_from(&ranks[..]) {
-            // SAFETY: as for `rank_strips`.
-            Ok(ranks) if B == 4 => unsafe { place_seeds_4x4(ranks, seeds, origin, pws, lines) },
-            _ => super::place_seeds_scalar::<B, N>(ranks, seeds, origin, pws, lines),
-        }
-    }
-}
-
-/// [`LaneRanker::place_seeds`] for eight 4x4 blocks, with no scattered
-/// store: each block's inverse permutation (the pixel of rank `k`, for
-/// each `k`) is built as sixteen nibbles, eight blocks at a time (pixel
-/// `i` adds `i << 4 rank_i` to a low word for ranks 0..8 and to a high
-/// word for ranks 8..16; a variable shift by 32 or more gives 0), then
-/// each block's line is two in-register permutes of its sixteen seeds.
+/// [`LaneRanker::place_4x4`](super::LaneRanker::place_4x4) for eight 4x4
+/// blocks, with no scattered store: each block's inverse permutation as
+/// nibbles ([`inverse`](super::inverse)), then its line as two in-register
+/// permutes of its sixteen seeds.
 #[target_feature(enable = "avx2")]
 #[inline]
 fn place_seeds_4x4(
@@ -144,30 +115,10 @@ fn place_seeds_4x4(
     lines: &mut [u32],
 ) {
     assert!(lines.len() == 8 * 16 && origin + 3 * pws + 8 * 4 <= seeds.len());
-    let (mut low, mut high) = (_mm256_setzero_si256(), _mm256_setzero_si256());
-    let word = _mm256_set1_epi32(32);
-    for (i, rank) in ranks.iter().enumerate().skip(1) {
-        // SAFETY: `rank` is sixteen u32, at least 32 readable bytes.
-        let shift = _mm256_slli_epi32::<2>(unsafe { _mm256_loadu_si256(rank.as_ptr() as *const __m256i) });
-        let pixel = _mm256_set1_epi32(i as i32);
-        low = _mm256_or_si256(low, _mm256_sllv_epi32(pixel, shift));
-        high = _mm256_or_si256(high, _mm256_sllv_epi32(pixel, _mm256_sub_epi32(shift, word)));
-    }
-    let (mut low_words, mut high_words) = ([0u32; 8], [0u32; 8]);
-    // SAFETY: each array is 32 writable bytes.
-    unsafe {
-        _mm256_storeu_si256(low_words.as_mut_ptr() as *mut __m256i, low);
-        _mm256_storeu_si256(high_words.as_mut_ptr() as *mut __m256i, high);
-    }
-    let nibble = _mm_set1_epi8(0x0F);
+    // SAFETY: this function is compiled for AVX2.
+    let (low, high) = unsafe { inverse_nibbles::<__m256i>(ranks) };
     for (l, line) in lines.chunks_exact_mut(16).enumerate() {
-        let packed = low_words[l] as u64 | (high_words[l] as u64) << 32;
-        let x = _mm_cvtsi64_si128(packed as i64);
-        // Byte k: the pixel of rank k (low nibbles hold even ranks).
-        let order = _mm_unpacklo_epi8(
-            _mm_and_si128(x, nibble),
-            _mm_and_si128(_mm_srli_epi16::<4>(x), nibble),
-        );
+        let order = rank_order(low[l], high[l]);
         let first = _mm256_cvtepu8_epi32(order);
         let second = _mm256_cvtepu8_epi32(_mm_srli_si128::<8>(order));
         // SAFETY: rows `origin + r pws + 4 l .. + 4` lie in `seeds`
@@ -190,7 +141,7 @@ fn place_seeds_4x4(
     }
 }
 
-/// Ranks of eight 4x4 blocks; see [`LaneRanker::rank_strips`].
+/// Ranks of eight 4x4 blocks; see [`LaneRanker::rank_strips`](super::LaneRanker::rank_strips).
 #[target_feature(enable = "avx2")]
 #[inline]
 fn rank_4x4(strips: &Strips, out: &mut [[u32; MAX_LANES]; 16]) {
@@ -216,44 +167,10 @@ fn rank_4x4(strips: &Strips, out: &mut [[u32; MAX_LANES]; 16]) {
         keys[r * 4 + 2] = _mm256_unpacklo_epi64(t1, t3);
         keys[r * 4 + 3] = _mm256_unpackhi_epi64(t1, t3);
     }
-    // Pixel j starts at rank j (every i < j counted below it) and gives one
-    // back to i when key_i > key_j: the compare mask is -1 there. Pixels are
-    // taken four at a time, their keys and ranks kept in registers, so each
-    // later pixel's rank is read and written once per quad, not per pair.
-    let mut ranks: [__m256i; 16] = core::array::from_fn(|j| _mm256_set1_epi32(j as i32));
-    rank_quad::<0>(&keys, &mut ranks);
-    rank_quad::<4>(&keys, &mut ranks);
-    rank_quad::<8>(&keys, &mut ranks);
-    rank_quad::<12>(&keys, &mut ranks);
+    // SAFETY: this function is compiled for the vector's instruction set.
+    let ranks = unsafe { super::quad::rank_sixteen(&keys) };
     for (o, r) in out.iter_mut().zip(&ranks) {
         // SAFETY: `o` is sixteen u32, at least 32 writable bytes.
         unsafe { _mm256_storeu_si256(o.as_mut_ptr() as *mut __m256i, *r) };
     }
-}
-
-/// Pixels `Q..Q + 4` against each other and against every later pixel
-/// (`Q` a constant, so the loop over later pixels unrolls). The compare
-/// mask is -1 where `key_a > key_j`: `a` gains one, `j` gives one back.
-#[target_feature(enable = "avx2")]
-#[inline]
-fn rank_quad<const Q: usize>(keys: &[__m256i; 16], ranks: &mut [__m256i; 16]) {
-    let k: [__m256i; 4] = core::array::from_fn(|a| keys[Q + a]);
-    let mut acc: [__m256i; 4] = core::array::from_fn(|a| ranks[Q + a]);
-    for a in 0..4 {
-        for b in a + 1..4 {
-            let greater = _mm256_cmpgt_epi32(k[a], k[b]);
-            acc[a] = _mm256_sub_epi32(acc[a], greater);
-            acc[b] = _mm256_add_epi32(acc[b], greater);
-        }
-    }
-    for j in Q + 4..16 {
-        let kj = keys[j];
-        let g: [__m256i; 4] = core::array::from_fn(|a| _mm256_cmpgt_epi32(k[a], kj));
-        for a in 0..4 {
-            acc[a] = _mm256_sub_epi32(acc[a], g[a]);
-        }
-        let given = _mm256_add_epi32(_mm256_add_epi32(g[0], g[1]), _mm256_add_epi32(g[2], g[3]));
-        ranks[j] = _mm256_add_epi32(ranks[j], given);
-    }
-    ranks[Q..Q + 4].copy_from_slice(&acc);
 }

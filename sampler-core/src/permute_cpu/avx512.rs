@@ -15,17 +15,16 @@
 //! stable since Rust 1.89, the crate's `rust-version`.
 
 use super::blocks::permute_full_blocks;
-use super::{Band, Isa, LaneRanker, PortableRanker, Strips, MAX_LANES};
+use super::inverse::{inverse_nibbles, rank_order};
+use super::{Band, Isa, Strips, MAX_LANES};
 use crate::layout::FrameParams;
 use crate::retarget::RetargetTable;
 use crate::sort::Intensity;
 use core::arch::x86_64::{
     __m128i, __m512i, _mm256_loadu2_m128i, _mm512_add_epi32, _mm512_castsi256_si512, _mm512_castsi512_si256,
     _mm512_cmpgt_epi32_mask, _mm512_cvtepu8_epi32, _mm512_inserti64x4, _mm512_loadu_epi32,
-    _mm512_mask_add_epi32, _mm512_mask_sub_epi32, _mm512_or_si512, _mm512_permutex2var_epi32,
-    _mm512_permutexvar_epi32, _mm512_set1_epi32, _mm512_setr_epi32, _mm512_setzero_si512, _mm512_slli_epi32,
-    _mm512_sllv_epi32, _mm512_storeu_epi32, _mm512_sub_epi32, _mm_and_si128, _mm_cvtsi64_si128,
-    _mm_set1_epi8, _mm_srli_epi16, _mm_unpacklo_epi8,
+    _mm512_mask_add_epi32, _mm512_mask_sub_epi32, _mm512_permutex2var_epi32, _mm512_permutexvar_epi32,
+    _mm512_set1_epi32, _mm512_setr_epi32, _mm512_storeu_epi32,
 };
 
 /// The fast path for 4x4 blocks with the AVX-512 ranker.
@@ -108,35 +107,9 @@ fn gather_4x4_avx512<T: Intensity>(
 /// i.e. with AVX-512 present.
 struct Avx512Ranker;
 
-impl LaneRanker for Avx512Ranker {
-    const LANES: usize = 16;
-    #[inline(always)]
-    fn rank_strips<const B: u32, const N: usize>(strips: &Strips, ranks: &mut [[u32; MAX_LANES]; N]) {
-        match <&mut [[u32; MAX_LANES]; 16]>::try_from(&mut ranks[..]) {
-            // SAFETY: this ranker only runs inside the function compiled for
-            // its instruction set, which is only called when the CPU has it.
-            Ok(ranks) if B == 4 => unsafe { rank_4x4(strips, ranks) },
-            _ => PortableRanker::rank_strips::<B, N>(strips, ranks),
-        }
-    }
+super::ranker::lane_ranker!(Avx512Ranker, 16, rank_4x4, place_seeds_4x4);
 
-    #[inline(always)]
-    fn place_seeds<const B: u32, const N: usize>(
-        ranks: &[[u32; MAX_LANES]; N],
-        seeds: &[u32],
-        origin: usize,
-        pws: usize,
-        lines: &mut [u32],
-    ) {
-        match <&[[u32; MAX_LANES]; 16]>::try_from(&ranks[..]) {
-            // SAFETY: as for `rank_strips`.
-            Ok(ranks) if B == 4 => unsafe { place_seeds_4x4(ranks, seeds, origin, pws, lines) },
-            _ => super::place_seeds_scalar::<B, N>(ranks, seeds, origin, pws, lines),
-        }
-    }
-}
-
-/// [`LaneRanker::place_seeds`] for sixteen 4x4 blocks: each block's
+/// [`LaneRanker::place_4x4`](super::LaneRanker::place_4x4) for sixteen 4x4 blocks: each block's
 /// inverse permutation as sixteen nibbles (as in the AVX2 form, sixteen
 /// blocks at a time), then one in-register permute of its sixteen seeds.
 #[target_feature(enable = "avx2,avx512f")]
@@ -149,30 +122,10 @@ fn place_seeds_4x4(
     lines: &mut [u32],
 ) {
     assert!(lines.len() == 16 * 16 && origin + 3 * pws + 16 * 4 <= seeds.len());
-    let (mut low, mut high) = (_mm512_setzero_si512(), _mm512_setzero_si512());
-    let word = _mm512_set1_epi32(32);
-    for (i, rank) in ranks.iter().enumerate().skip(1) {
-        // SAFETY: `rank` is sixteen u32, 64 readable bytes.
-        let shift = _mm512_slli_epi32::<2>(unsafe { _mm512_loadu_epi32(rank.as_ptr() as *const i32) });
-        let pixel = _mm512_set1_epi32(i as i32);
-        low = _mm512_or_si512(low, _mm512_sllv_epi32(pixel, shift));
-        high = _mm512_or_si512(high, _mm512_sllv_epi32(pixel, _mm512_sub_epi32(shift, word)));
-    }
-    let (mut low_words, mut high_words) = ([0u32; 16], [0u32; 16]);
-    // SAFETY: each array is 64 writable bytes.
-    unsafe {
-        _mm512_storeu_epi32(low_words.as_mut_ptr() as *mut i32, low);
-        _mm512_storeu_epi32(high_words.as_mut_ptr() as *mut i32, high);
-    }
-    let nibble = _mm_set1_epi8(0x0F);
+    // SAFETY: this function is compiled for AVX-512 F.
+    let (low, high) = unsafe { inverse_nibbles::<__m512i>(ranks) };
     for (l, line) in lines.chunks_exact_mut(16).enumerate() {
-        let packed = low_words[l] as u64 | (high_words[l] as u64) << 32;
-        let x = _mm_cvtsi64_si128(packed as i64);
-        // Byte k: the pixel of rank k (low nibbles hold even ranks).
-        let order = _mm_unpacklo_epi8(
-            _mm_and_si128(x, nibble),
-            _mm_and_si128(_mm_srli_epi16::<4>(x), nibble),
-        );
+        let order = rank_order(low[l], high[l]);
         let index = _mm512_cvtepu8_epi32(order);
         // SAFETY: rows `origin + r pws + 4 l .. + 4` lie in `seeds`
         // (asserted above); `line` is sixteen writable u32.
@@ -190,7 +143,7 @@ fn place_seeds_4x4(
     }
 }
 
-/// Ranks of sixteen 4x4 blocks; see [`LaneRanker::rank_strips`].
+/// Ranks of sixteen 4x4 blocks; see [`LaneRanker::rank_strips`](super::LaneRanker::rank_strips).
 #[target_feature(enable = "avx512f")]
 #[inline]
 fn rank_4x4(strips: &Strips, out: &mut [[u32; MAX_LANES]; 16]) {

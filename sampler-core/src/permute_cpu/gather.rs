@@ -237,7 +237,7 @@ fn gather_period<R: LaneRanker, const B: u32, const N: usize>(
 }
 
 /// `out[x] = src[sources[x]]`, non-temporal with `stream` (see
-/// [`gather_block_row`]).
+/// [`gather_period`]).
 #[inline(always)]
 fn gather_chunk(out: &mut [u32], src: &[u32], sources: &[u32], stream: bool) {
     #[cfg(target_arch = "x86_64")]
@@ -276,7 +276,7 @@ fn gather_chunk(out: &mut [u32], src: &[u32], sources: &[u32], stream: bool) {
     }
 }
 
-/// Orders the non-temporal stores of [`gather_row`] before any later store
+/// Orders the non-temporal stores of [`gather_chunk`] before any later store
 /// (x86_64; a no-op elsewhere).
 #[inline(always)]
 fn end_streaming() {

@@ -82,6 +82,11 @@ mod dest_cache;
 pub(crate) mod detect;
 mod edge;
 mod gather;
+#[cfg(target_arch = "x86_64")]
+mod inverse;
+#[cfg(target_arch = "x86_64")]
+mod quad;
+mod ranker;
 pub(crate) mod rows;
 #[cfg(target_arch = "x86_64")]
 mod sse2;
@@ -91,9 +96,10 @@ mod sse2;
 #[cfg(target_arch = "x86_64")]
 type BaselineRanker = sse2::Sse2Ranker;
 #[cfg(not(target_arch = "x86_64"))]
-type BaselineRanker = PortableRanker;
+type BaselineRanker = ranker::PortableRanker;
 
 pub use detect::Isa;
+use ranker::{LaneRanker, Strips, MAX_FAST_BLOCK, MAX_LANES};
 
 use crate::layout::FrameParams;
 use crate::retarget::RetargetTable;
@@ -335,125 +341,6 @@ pub(crate) fn permute_blocks_portable<T: Intensity>(
     );
 }
 
-/// Largest number of lanes (blocks ranked at once) of a ranker.
-const MAX_LANES: usize = 16;
-/// Largest block side of the fast path.
-const MAX_FAST_BLOCK: usize = 8;
-/// Keys of a lane group: `strips[r][l * B + c]` is the signed key
-/// ([`signed_key`]) of pixel `(c, r)` of block `l`; rows `r >= B` and
-/// entries past `LANES * B` are unused.
-type Strips = [[i32; MAX_LANES * MAX_FAST_BLOCK]; MAX_FAST_BLOCK];
-
-/// Ranks `LANES` side-by-side `B x B` blocks at once.
-trait LaneRanker {
-    /// Blocks ranked at once (at most [`MAX_LANES`]).
-    const LANES: usize;
-    /// Writes, for pixel `i = r * B + c` and block `l < LANES`, the pixel's
-    /// rank in its block's total order (key, then index) to `ranks[i][l]`
-    /// (lanes `LANES..` are left as they are).
-    fn rank_strips<const B: u32, const N: usize>(strips: &Strips, ranks: &mut [[u32; MAX_LANES]; N]);
-
-    /// Places a lane group's seeds by rank: block `l < LANES`, whose pixel
-    /// `(c, r)` holds seed `seeds[origin + l B + r pws + c]`, gets line
-    /// `lines[l N..(l + 1) N]`, where entry `ranks[i][l]` is the seed of
-    /// its pixel `i = r B + c` (`lines.len() == LANES * N`; the ranks of
-    /// each block are a permutation of `0..N`). The gather formulation's
-    /// ring rows ([`gather`]).
-    #[inline(always)]
-    fn place_seeds<const B: u32, const N: usize>(
-        ranks: &[[u32; MAX_LANES]; N],
-        seeds: &[u32],
-        origin: usize,
-        pws: usize,
-        lines: &mut [u32],
-    ) {
-        place_seeds_scalar::<B, N>(ranks, seeds, origin, pws, lines)
-    }
-}
-
-/// [`LaneRanker::place_seeds`] one seed at a time.
-#[inline(always)]
-fn place_seeds_scalar<const B: u32, const N: usize>(
-    ranks: &[[u32; MAX_LANES]; N],
-    seeds: &[u32],
-    origin: usize,
-    pws: usize,
-    lines: &mut [u32],
-) {
-    let b = B as usize;
-    for (l, line) in lines.chunks_exact_mut(N).enumerate() {
-        let src = &seeds[origin + l * b..origin + l * b + (b - 1) * pws + b];
-        for r in 0..b {
-            for c in 0..b {
-                line[ranks[r * b + c][l] as usize & (N - 1)] = src[r * pws + c];
-            }
-        }
-    }
-}
-
-/// Scalar transposition and [`quad_ranks`] over two groups of four lanes;
-/// the compiler vectorises the lanes with whatever vector width the build
-/// targets (one SSE2 register for four lanes on baseline x86_64).
-struct PortableRanker;
-
-impl LaneRanker for PortableRanker {
-    const LANES: usize = 8;
-    #[inline(always)]
-    fn rank_strips<const B: u32, const N: usize>(strips: &Strips, ranks: &mut [[u32; MAX_LANES]; N]) {
-        // Four lanes at a time: one SSE2 register a pixel on x86_64, so a
-        // quad's keys and ranks stay in registers ([`quad_ranks`]).
-        for half in 0..2 {
-            let keys: [[i32; 4]; N] = core::array::from_fn(|i| {
-                let (r, c) = (i / B as usize, i % B as usize);
-                core::array::from_fn(|l| strips[r][(half * 4 + l) * B as usize + c])
-            });
-            for (out, lanes) in ranks.iter_mut().zip(quad_ranks(&keys)) {
-                out[half * 4..half * 4 + 4].copy_from_slice(&lanes);
-            }
-        }
-    }
-}
-
-/// Ranks of four independent blocks at once: `keys[i][l]` is pixel `i` of
-/// block `l` (`N` a multiple of 4); the result is each pixel's rank in its
-/// block's total order (key, then index). Each unordered pair `i < j` costs
-/// one comparison and two updates per lane: pixel `j` starts with rank `j`
-/// (every `i < j` counted as smaller) and gives one back to `i` when
-/// `key_i > key_j`, so ties rank by index with no extra work. Pixels are
-/// taken four at a time: a quad's keys and rank accumulators stay in
-/// registers while every later pixel is compared with them, so each later
-/// pixel's rank is read and written once per quad, not once per pair (the
-/// portable form of the AVX2 ranker's `rank_quad`).
-#[inline(always)]
-fn quad_ranks<const N: usize>(keys: &[[i32; 4]; N]) -> [[u32; 4]; N] {
-    let mut ranks: [[u32; 4]; N] = core::array::from_fn(|j| [j as u32; 4]);
-    let greater = |a: [i32; 4], b: [i32; 4]| -> [u32; 4] { core::array::from_fn(|l| (a[l] > b[l]) as u32) };
-    let add = |a: [u32; 4], b: [u32; 4]| -> [u32; 4] { core::array::from_fn(|l| a[l].wrapping_add(b[l])) };
-    let sub = |a: [u32; 4], b: [u32; 4]| -> [u32; 4] { core::array::from_fn(|l| a[l].wrapping_sub(b[l])) };
-    for q in (0..N).step_by(4) {
-        let k: [[i32; 4]; 4] = core::array::from_fn(|a| keys[q + a]);
-        let mut acc: [[u32; 4]; 4] = core::array::from_fn(|a| ranks[q + a]);
-        for a in 0..4 {
-            for b in a + 1..4 {
-                let g = greater(k[a], k[b]);
-                acc[a] = add(acc[a], g);
-                acc[b] = sub(acc[b], g);
-            }
-        }
-        for j in q + 4..N {
-            let kj = keys[j];
-            let g: [[u32; 4]; 4] = core::array::from_fn(|a| greater(k[a], kj));
-            for a in 0..4 {
-                acc[a] = add(acc[a], g[a]);
-            }
-            let given = add(add(g[0], g[1]), add(g[2], g[3]));
-            ranks[j] = sub(ranks[j], given);
-        }
-        ranks[q..q + 4].copy_from_slice(&acc);
-    }
-    ranks
-}
-
 /// How far ahead of the current lane group, in seeds, the output rows are
 /// prefetched (measured best of 128 / 256 / 512 / 1024 at 1920x1080).
 const PREFETCH_AHEAD: usize = 128;
@@ -538,27 +425,6 @@ fn block_ranks<const N: usize>(keys: &[u32; N]) -> [u32; N] {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn quad_ranks_equal_block_ranks() {
-        let mut state = 99u32;
-        for _ in 0..300 {
-            let mut lanes = [[0i32; 4]; 16];
-            for row in lanes.iter_mut() {
-                for k in row.iter_mut() {
-                    state = crate::seed::hash_u32(state);
-                    *k = ((state % 7) as i32 - 3).wrapping_add(if state & 8 != 0 { i32::MIN } else { 0 });
-                }
-            }
-            let ranks = quad_ranks(&lanes);
-            for l in 0..4 {
-                let keys: [u32; 16] = core::array::from_fn(|i| lanes[i][l] as u32 ^ 0x8000_0000);
-                let want = block_ranks(&keys);
-                let got: [u32; 16] = core::array::from_fn(|i| ranks[i][l]);
-                assert_eq!(got, want, "lane {l}");
-            }
-        }
-    }
 
     #[test]
     fn block_ranks_follow_key_then_index() {

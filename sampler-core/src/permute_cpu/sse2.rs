@@ -5,51 +5,22 @@
 //! strips transposed into lanes by unpacks (a 4x4 transposition per strip
 //! row and group) rather than the scalar moves the portable form leaves to
 //! the compiler. Output is bit-identical to the portable ranker
-//! ([`quad_ranks`](super::quad_ranks); tested below and by the conformance
+//! (`quad_ranks` in [`ranker`](super::ranker); tested below and by the conformance
 //! property tests).
 
-use super::{LaneRanker, PortableRanker, Strips, MAX_LANES};
+use super::{Strips, MAX_LANES};
 use core::arch::x86_64::{
-    __m128i, _mm_add_epi32, _mm_cmpgt_epi32, _mm_extract_epi16, _mm_loadu_si128, _mm_set1_epi32,
-    _mm_storeu_si128, _mm_sub_epi32, _mm_unpackhi_epi32, _mm_unpackhi_epi64, _mm_unpacklo_epi32,
-    _mm_unpacklo_epi64,
+    __m128i, _mm_extract_epi16, _mm_loadu_si128, _mm_set1_epi32, _mm_storeu_si128, _mm_unpackhi_epi32,
+    _mm_unpackhi_epi64, _mm_unpacklo_epi32, _mm_unpacklo_epi64,
 };
 
 /// The ranker of the baseline instruction set on x86_64 (4x4 blocks; the
 /// portable ranker for the other sizes).
 pub(super) struct Sse2Ranker;
 
-impl LaneRanker for Sse2Ranker {
-    const LANES: usize = 8;
-    #[inline(always)]
-    fn rank_strips<const B: u32, const N: usize>(strips: &Strips, ranks: &mut [[u32; MAX_LANES]; N]) {
-        match <&mut [[u32; MAX_LANES]; 16]>::try_from(&mut ranks[..]) {
-            // SAFETY: SSE2 is part of every x86_64 CPU.
-            Ok(ranks) if B == 4 => unsafe {
-                rank_4x4::<0>(strips, ranks);
-                rank_4x4::<1>(strips, ranks);
-            },
-            _ => PortableRanker::rank_strips::<B, N>(strips, ranks),
-        }
-    }
+super::ranker::lane_ranker!(Sse2Ranker, 8, rank_4x4_both, place_seeds_4x4);
 
-    #[inline(always)]
-    fn place_seeds<const B: u32, const N: usize>(
-        ranks: &[[u32; MAX_LANES]; N],
-        seeds: &[u32],
-        origin: usize,
-        pws: usize,
-        lines: &mut [u32],
-    ) {
-        match <&[[u32; MAX_LANES]; 16]>::try_from(&ranks[..]) {
-            // SAFETY: SSE2 is part of every x86_64 CPU.
-            Ok(ranks) if B == 4 => unsafe { place_seeds_4x4(ranks, seeds, origin, pws, lines) },
-            _ => super::place_seeds_scalar::<B, N>(ranks, seeds, origin, pws, lines),
-        }
-    }
-}
-
-/// [`LaneRanker::place_seeds`] for eight 4x4 blocks. Each pixel's eight
+/// [`LaneRanker::place_4x4`](super::LaneRanker::place_4x4) for eight 4x4 blocks. Each pixel's eight
 /// ranks are read as the two 128-bit words [`rank_4x4`] stored (a load at
 /// a store's own address is forwarded from it; a 32-bit load from inside
 /// it may wait for it to reach the cache) and taken apart in registers.
@@ -88,8 +59,17 @@ fn place_seeds_4x4(
     }
 }
 
+/// Ranks of eight 4x4 blocks, as two groups of four; see
+/// [`LaneRanker::rank_strips`](super::LaneRanker::rank_strips).
+#[target_feature(enable = "sse2")]
+#[inline]
+fn rank_4x4_both(strips: &Strips, out: &mut [[u32; MAX_LANES]; 16]) {
+    rank_4x4::<0>(strips, out);
+    rank_4x4::<1>(strips, out);
+}
+
 /// Ranks of the four 4x4 blocks of group `G` (blocks `4 G..4 G + 4` of the
-/// strips, lanes `4 G..4 G + 4` of `out`); see [`LaneRanker::rank_strips`].
+/// strips, lanes `4 G..4 G + 4` of `out`); see [`LaneRanker::rank_strips`](super::LaneRanker::rank_strips).
 #[target_feature(enable = "sse2")]
 #[inline]
 fn rank_4x4<const G: usize>(strips: &Strips, out: &mut [[u32; MAX_LANES]; 16]) {
@@ -108,47 +88,26 @@ fn rank_4x4<const G: usize>(strips: &Strips, out: &mut [[u32; MAX_LANES]; 16]) {
         keys[r * 4 + 2] = _mm_unpacklo_epi64(t1, t3);
         keys[r * 4 + 3] = _mm_unpackhi_epi64(t1, t3);
     }
-    // As in the AVX2 ranker: pixel j starts at rank j and gives one back to
-    // i when key_i > key_j (the compare mask is -1 there).
-    let mut ranks: [__m128i; 16] = core::array::from_fn(|j| _mm_set1_epi32(j as i32));
-    rank_quad::<0>(&keys, &mut ranks);
-    rank_quad::<4>(&keys, &mut ranks);
-    rank_quad::<8>(&keys, &mut ranks);
-    rank_quad::<12>(&keys, &mut ranks);
+    let ranks = rank_sixteen(&keys);
     for (o, r) in out.iter_mut().zip(&ranks) {
         // SAFETY: `o[4 G..4 G + 4]` is four writable u32 (G < 2).
         unsafe { _mm_storeu_si128(o[G * 4..G * 4 + 4].as_mut_ptr() as *mut __m128i, *r) };
     }
 }
 
-/// Pixels `Q..Q + 4` against each other and every later pixel; see the
-/// AVX2 ranker's `rank_quad`.
+/// [`rank_sixteen`](super::quad::rank_sixteen) for SSE2, kept out of line:
+/// inlined into [`rank_4x4`], with sixteen XMM registers, it measured 5-8%
+/// slower on the whole frame (spills).
 #[target_feature(enable = "sse2")]
-#[inline]
-fn rank_quad<const Q: usize>(keys: &[__m128i; 16], ranks: &mut [__m128i; 16]) {
-    let k: [__m128i; 4] = core::array::from_fn(|a| keys[Q + a]);
-    let mut acc: [__m128i; 4] = core::array::from_fn(|a| ranks[Q + a]);
-    for a in 0..4 {
-        for b in a + 1..4 {
-            let greater = _mm_cmpgt_epi32(k[a], k[b]);
-            acc[a] = _mm_sub_epi32(acc[a], greater);
-            acc[b] = _mm_add_epi32(acc[b], greater);
-        }
-    }
-    for j in Q + 4..16 {
-        let kj = keys[j];
-        let g: [__m128i; 4] = core::array::from_fn(|a| _mm_cmpgt_epi32(k[a], kj));
-        for a in 0..4 {
-            acc[a] = _mm_sub_epi32(acc[a], g[a]);
-        }
-        let given = _mm_add_epi32(_mm_add_epi32(g[0], g[1]), _mm_add_epi32(g[2], g[3]));
-        ranks[j] = _mm_add_epi32(ranks[j], given);
-    }
-    ranks[Q..Q + 4].copy_from_slice(&acc);
+#[inline(never)]
+fn rank_sixteen(keys: &[__m128i; 16]) -> [__m128i; 16] {
+    // SAFETY: this function is compiled for SSE2.
+    unsafe { super::quad::rank_sixteen(keys) }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::ranker::{LaneRanker, PortableRanker};
     use super::*;
 
     #[test]
