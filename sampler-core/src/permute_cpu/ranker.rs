@@ -81,6 +81,7 @@ pub(super) trait LaneRanker {
 /// `unsafe`. Sound because a ranker built with this macro is only used
 /// inside functions compiled for its instruction set, themselves called
 /// only when the CPU has it ([`Isa`](super::Isa)).
+#[cfg(target_arch = "x86_64")]
 macro_rules! lane_ranker {
     ($ranker:ty, $lanes:expr, $rank:path, $place:path) => {
         impl $crate::permute_cpu::ranker::LaneRanker for $ranker {
