@@ -24,8 +24,9 @@ use core::sync::atomic::{AtomicU8, Ordering};
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Isa {
-    /// The build's baseline (SSE2 on x86-64, whatever the target has
-    /// elsewhere): eight blocks ranked per lane group by portable code.
+    /// The build's baseline: on x86-64, SSE2 (eight 4x4 blocks ranked as
+    /// two groups of four 128-bit lanes); elsewhere portable code that the
+    /// compiler vectorises for whatever the target has.
     Baseline,
     /// x86-64 with AVX2 (most x86-64 CPUs since 2013-2015): eight 4x4 blocks
     /// in one 256-bit register.

@@ -5,25 +5,27 @@
 //! Output is identical to the per-block reference ([`sort_block`](crate::sort_block)
 //! followed by [`retarget_pixel`](crate::retarget_pixel)); the speed comes from:
 //!
-//! - **Eight or sixteen blocks ranked at once.** Full blocks side by side
-//!   are ranked together, one block per vector lane (`quad_ranks`): each of
+//! - **Eight or sixteen blocks ranked at once** ([`ranker`]). Full blocks
+//!   side by side are ranked together, one block per vector lane: each of
 //!   the `N (N - 1) / 2` pixel pairs costs one comparison and two updates
 //!   per lane, ties rank by index for free, and no horizontal sums are
-//!   needed. Keys are converted row by row in memory order, then transposed
-//!   into lanes. For 4x4 blocks the instruction set is chosen at run time
-//!   ([`Isa`], [`detect`]): with AVX2 eight lanes are one register and the
-//!   transposition is done with unpacks ([`avx2`]); with AVX-512 sixteen
-//!   lanes are one register, transposed with two-source permutes and ranked
-//!   with mask registers ([`avx512`]); elsewhere the portable code
-//!   vectorises for the build's baseline (SSE2 on x86_64).
+//!   needed ([`quad`]). Keys are converted row by row in memory order, then
+//!   transposed into lanes. For 4x4 blocks the instruction set is chosen at
+//!   run time ([`Isa`], [`detect`]): with AVX2 eight lanes are one register
+//!   and the transposition is done with unpacks ([`avx2`]); with AVX-512
+//!   sixteen lanes are one register, transposed with two-source permutes
+//!   and ranked with mask registers ([`avx512`]); the baseline instruction
+//!   set on x86_64 ranks two groups of four lanes with SSE2 ([`sse2`]);
+//!   other block sizes and targets take the portable ranker, which the
+//!   compiler vectorises for the build's baseline.
 //! - **Gathered, not scattered** ([`gather`], padded widths up to 3498,
 //!   2441 and 2032 seeds for 2x2, 4x4 and 8x8 blocks). Each block row is ranked into a ring of the last
 //!   `2 ceil(6 / B) + 1` block rows (at most 192 KiB, on the stack): a
 //!   block's sorted seeds as one line of `N` seeds, indexed by the dither
 //!   rank of the pixel they are sorted into (with AVX2 and AVX-512 a
 //!   line is built in registers: each block's inverse permutation as
-//!   sixteen nibbles, then one or two permutes of its seeds, no scattered
-//!   store: [`LaneRanker::place_seeds`]). Then each output row is
+//!   sixteen nibbles ([`inverse`]), then one or two permutes of its seeds,
+//!   no scattered store: [`LaneRanker::place_seeds`]). Then each output row is
 //!   written in order, every output pixel fetching its seed from the ring
 //!   through the inverse of the retarget table, resolved once per frame for
 //!   each of the `W x W` positions in the tile (`SourceCache`). The stores
