@@ -246,11 +246,11 @@ fn gather_chunk(out: &mut [u32], src: &[u32], sources: &[u32], stream: bool) {
         debug_assert!((out.as_ptr() as usize).is_multiple_of(16));
         for (o, s) in out.chunks_exact_mut(4).zip(sources.chunks_exact(4)) {
             debug_assert!(s.iter().all(|&s| (s as usize) < src.len()));
-            // SAFETY: as below for the loads; `o` is four seeds at a
-            // 16-byte aligned address (`out` is aligned, and its length
-            // and offset are multiples of 4).
             // The four sources are read as two 64-bit words (two loads,
             // not four: the loads, not the arithmetic, bound this loop).
+            // SAFETY: as below for the loads; `s` is four u32 (16 readable
+            // bytes); `o` is four seeds at a 16-byte aligned address (`out`
+            // is aligned, and its length and offset are multiples of 4).
             unsafe {
                 let pair = |k: usize| (s.as_ptr().add(k) as *const u64).read_unaligned();
                 let (low, high) = (pair(0), pair(2));
