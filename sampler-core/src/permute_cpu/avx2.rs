@@ -12,6 +12,7 @@
 
 use super::blocks::permute_full_blocks;
 use super::inverse::{inverse_nibbles, rank_order};
+use super::ranker::GroupSeeds;
 use super::{detect, Band, Strips, MAX_LANES};
 use crate::layout::FrameParams;
 use crate::retarget::RetargetTable;
@@ -107,14 +108,13 @@ super::ranker::lane_ranker!(Avx2Ranker, 8, rank_4x4, place_seeds_4x4);
 /// permutes of its sixteen seeds.
 #[target_feature(enable = "avx2")]
 #[inline]
-fn place_seeds_4x4(
-    ranks: &[[u32; MAX_LANES]; 16],
-    seeds: &[u32],
-    origin: usize,
-    pws: usize,
-    lines: &mut [u32],
-) {
-    assert!(lines.len() == 8 * 16 && origin + 3 * pws + 8 * 4 <= seeds.len());
+fn place_seeds_4x4(ranks: &[[u32; MAX_LANES]; 16], group: GroupSeeds<'_>, lines: &mut [u32]) {
+    assert!(lines.len() == 8 * 16 && group.covers(8, 4));
+    let GroupSeeds {
+        seeds,
+        origin,
+        pitch: pws,
+    } = group;
     // SAFETY: this function is compiled for AVX2.
     let (low, high) = unsafe { inverse_nibbles::<__m256i>(ranks) };
     for (l, line) in lines.chunks_exact_mut(16).enumerate() {

@@ -16,6 +16,7 @@
 
 use super::blocks::permute_full_blocks;
 use super::inverse::{inverse_nibbles, rank_order};
+use super::ranker::GroupSeeds;
 use super::{Band, Isa, Strips, MAX_LANES};
 use crate::layout::FrameParams;
 use crate::retarget::RetargetTable;
@@ -114,14 +115,13 @@ super::ranker::lane_ranker!(Avx512Ranker, 16, rank_4x4, place_seeds_4x4);
 /// blocks at a time), then one in-register permute of its sixteen seeds.
 #[target_feature(enable = "avx2,avx512f")]
 #[inline]
-fn place_seeds_4x4(
-    ranks: &[[u32; MAX_LANES]; 16],
-    seeds: &[u32],
-    origin: usize,
-    pws: usize,
-    lines: &mut [u32],
-) {
-    assert!(lines.len() == 16 * 16 && origin + 3 * pws + 16 * 4 <= seeds.len());
+fn place_seeds_4x4(ranks: &[[u32; MAX_LANES]; 16], group: GroupSeeds<'_>, lines: &mut [u32]) {
+    assert!(lines.len() == 16 * 16 && group.covers(16, 4));
+    let GroupSeeds {
+        seeds,
+        origin,
+        pitch: pws,
+    } = group;
     // SAFETY: this function is compiled for AVX-512 F.
     let (low, high) = unsafe { inverse_nibbles::<__m512i>(ranks) };
     for (l, line) in lines.chunks_exact_mut(16).enumerate() {

@@ -10,6 +10,7 @@
 //! The ring is a stack array of [`RING_SEEDS`] seeds: frames whose ring
 //! does not fit ([`fits`]) take the scatter path.
 
+use super::ranker::GroupSeeds;
 use super::{block_ranks, prefetch_span, signed_key, Band, LaneRanker, Strips, MAX_CACHED_TILE};
 use super::{MAX_FAST_BLOCK, MAX_LANES, PREFETCH_AHEAD};
 use crate::dither::tile_texel;
@@ -337,7 +338,12 @@ fn rank_block_row<T: Intensity, R: LaneRanker, const B: u32, const N: usize>(
             R::rank_strips::<B, N>(strips, ranks);
             let origin = y0 as usize * pws + x_start;
             let lines = &mut ring[row_start + (bx as usize + reach) * N..][..lanes * N];
-            R::place_seeds::<B, N>(ranks, seeds_in, origin, pws, lines);
+            let group = GroupSeeds {
+                seeds: seeds_in,
+                origin,
+                pitch: pws,
+            };
+            R::place_seeds::<B, N>(ranks, group, lines);
             bx += lanes as u32;
             after_group(ring, bx as usize);
         }

@@ -32,14 +32,8 @@ pub(super) trait LaneRanker {
 
     /// [`place_seeds`](Self::place_seeds) for 4x4 blocks.
     #[inline(always)]
-    fn place_4x4(
-        ranks: &[[u32; MAX_LANES]; 16],
-        seeds: &[u32],
-        origin: usize,
-        pws: usize,
-        lines: &mut [u32],
-    ) {
-        place_seeds_scalar::<4, 16>(ranks, seeds, origin, pws, lines)
+    fn place_4x4(ranks: &[[u32; MAX_LANES]; 16], group: GroupSeeds<'_>, lines: &mut [u32]) {
+        place_seeds_scalar::<4, 16>(ranks, group, lines)
     }
 
     /// Writes, for pixel `i = r * B + c` and block `l < LANES`, the pixel's
@@ -53,24 +47,42 @@ pub(super) trait LaneRanker {
         }
     }
 
-    /// Places a lane group's seeds by rank: block `l < LANES`, whose pixel
-    /// `(c, r)` holds seed `seeds[origin + l B + r pws + c]`, gets line
-    /// `lines[l N..(l + 1) N]`, where entry `ranks[i][l]` is the seed of
-    /// its pixel `i = r B + c` (`lines.len() == LANES * N`; the ranks of
-    /// each block are a permutation of `0..N`). The gather formulation's
+    /// Places a lane group's seeds by rank: block `l < LANES` (its seeds
+    /// in `group`) gets line `lines[l N..(l + 1) N]`, where entry
+    /// `ranks[i][l]` is the seed of its pixel `i = r B + c`
+    /// (`lines.len() == LANES * N`; the ranks of each block are a
+    /// permutation of `0..N`). The gather formulation's
     /// ring rows ([`gather`](super::gather)).
     #[inline(always)]
     fn place_seeds<const B: u32, const N: usize>(
         ranks: &[[u32; MAX_LANES]; N],
-        seeds: &[u32],
-        origin: usize,
-        pws: usize,
+        group: GroupSeeds<'_>,
         lines: &mut [u32],
     ) {
         match <&[[u32; MAX_LANES]; 16]>::try_from(&ranks[..]) {
-            Ok(ranks) if B == 4 => Self::place_4x4(ranks, seeds, origin, pws, lines),
-            _ => place_seeds_scalar::<B, N>(ranks, seeds, origin, pws, lines),
+            Ok(ranks) if B == 4 => Self::place_4x4(ranks, group, lines),
+            _ => place_seeds_scalar::<B, N>(ranks, group, lines),
         }
+    }
+}
+
+/// Where a lane group's seeds are: pixel `(c, r)` of block `l` (blocks of
+/// side `B`, side by side) holds `seeds[origin + l B + r pitch + c]`.
+#[derive(Clone, Copy)]
+pub(super) struct GroupSeeds<'a> {
+    /// The frame's seeds (row-major, `pitch` seeds a row).
+    pub seeds: &'a [u32],
+    /// Index of the group's first seed: pixel `(0, 0)` of block 0.
+    pub origin: usize,
+    /// Seeds per row (the padded width).
+    pub pitch: usize,
+}
+
+impl GroupSeeds<'_> {
+    /// True when `lanes` blocks of side `block` lie inside `seeds`.
+    #[inline(always)]
+    pub fn covers(&self, lanes: usize, block: usize) -> bool {
+        self.origin + (block - 1) * self.pitch + lanes * block <= self.seeds.len()
     }
 }
 
@@ -97,13 +109,11 @@ macro_rules! lane_ranker {
             #[inline(always)]
             fn place_4x4(
                 ranks: &[[u32; $crate::permute_cpu::ranker::MAX_LANES]; 16],
-                seeds: &[u32],
-                origin: usize,
-                pws: usize,
+                group: $crate::permute_cpu::ranker::GroupSeeds<'_>,
                 lines: &mut [u32],
             ) {
                 // SAFETY: see `lane_ranker`.
-                unsafe { $place(ranks, seeds, origin, pws, lines) }
+                unsafe { $place(ranks, group, lines) }
             }
         }
     };
@@ -115,12 +125,16 @@ pub(super) use lane_ranker;
 #[inline(always)]
 pub(super) fn place_seeds_scalar<const B: u32, const N: usize>(
     ranks: &[[u32; MAX_LANES]; N],
-    seeds: &[u32],
-    origin: usize,
-    pws: usize,
+    group: GroupSeeds<'_>,
     lines: &mut [u32],
 ) {
     let b = B as usize;
+    debug_assert!(group.covers(lines.len() / N, b));
+    let GroupSeeds {
+        seeds,
+        origin,
+        pitch: pws,
+    } = group;
     for (l, line) in lines.chunks_exact_mut(N).enumerate() {
         let src = &seeds[origin + l * b..origin + l * b + (b - 1) * pws + b];
         for r in 0..b {

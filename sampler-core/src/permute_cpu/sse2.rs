@@ -8,6 +8,7 @@
 //! (`quad_ranks` in [`ranker`](super::ranker); tested below and by the conformance
 //! property tests).
 
+use super::ranker::GroupSeeds;
 use super::{Strips, MAX_LANES};
 use core::arch::x86_64::{
     __m128i, _mm_extract_epi16, _mm_loadu_si128, _mm_set1_epi32, _mm_storeu_si128, _mm_unpackhi_epi32,
@@ -26,14 +27,13 @@ super::ranker::lane_ranker!(Sse2Ranker, 8, rank_4x4_both, place_seeds_4x4);
 /// it may wait for it to reach the cache) and taken apart in registers.
 #[target_feature(enable = "sse2")]
 #[inline]
-fn place_seeds_4x4(
-    ranks: &[[u32; MAX_LANES]; 16],
-    seeds: &[u32],
-    origin: usize,
-    pws: usize,
-    lines: &mut [u32],
-) {
-    assert!(lines.len() == 8 * 16 && origin + 3 * pws + 8 * 4 <= seeds.len());
+fn place_seeds_4x4(ranks: &[[u32; MAX_LANES]; 16], group: GroupSeeds<'_>, lines: &mut [u32]) {
+    assert!(lines.len() == 8 * 16 && group.covers(8, 4));
+    let GroupSeeds {
+        seeds,
+        origin,
+        pitch: pws,
+    } = group;
     for (i, rank) in ranks.iter().enumerate() {
         let at = origin + (i / 4) * pws + i % 4;
         // SAFETY: `rank` holds sixteen u32 (two 16-byte loads); `at + 4 l`
