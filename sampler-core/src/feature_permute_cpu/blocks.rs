@@ -79,7 +79,6 @@ pub(super) fn repair_blocks<T: Intensity, const B: u32, const N: usize>(
         for bx in 0..blocks_x {
             let x0 = bx * B;
             let block = (by * blocks_x + bx) as usize;
-            let mut cut = 0u64;
             let mut dest = [0u32; N];
             if rows_interior {
                 // The feature rows this block row's destinations reach first
@@ -91,7 +90,8 @@ pub(super) fn repair_blocks<T: Intensity, const B: u32, const N: usize>(
                     prefetch(features, at, false);
                 }
             }
-            if rows_interior && x0 >= radius && x0 + B + radius <= w {
+            // The cut bits, and whether the block is known to be one group.
+            let (cut, one) = if rows_interior && x0 >= radius && x0 + B + radius <= w {
                 // Every pixel and every destination is visible and none
                 // wraps: features are read at the pixel plus its offset.
                 let base = y0 as usize * wu + x0 as usize;
@@ -108,29 +108,15 @@ pub(super) fn repair_blocks<T: Intensity, const B: u32, const N: usize>(
                         dest[i] = ((y as i32 + dy) as usize * pwu + (x as i32 + dx) as usize) as u32;
                     }
                 }
-                let (cut_mask, one) = block_tests::<N>(features, &own_at, &dest_at, &mut test);
-                cut = cut_mask;
+                let (cut, one) = block_tests::<N>(features, &own_at, &dest_at, &mut test);
                 if one && cut == 0 {
                     store_block::<N>(cut_words, block, 0);
                     store_raster::<B>(raster_words, pw, x0, y0, 0);
                     continue;
                 }
-                if one
-                    || !split_block::<T, B, N>(
-                        inputs,
-                        &mut test,
-                        x0,
-                        y0,
-                        cut,
-                        &dest,
-                        cut_seeds,
-                        &mut listed,
-                        seeds_out,
-                    )
-                {
-                    read_back::<N>(cut, &dest, cut_seeds, &mut listed, seeds_out);
-                }
+                (cut, one)
             } else {
+                let mut cut = 0u64;
                 for i in 0..N {
                     let (x, y) = (x0 + i as u32 % B, y0 + i as u32 / B);
                     let (qx, qy) = steps.forward(x, y);
@@ -138,7 +124,13 @@ pub(super) fn repair_blocks<T: Intensity, const B: u32, const N: usize>(
                     cut |= (edge_is_cut(params, features, thresholds, p, q) as u64) << i;
                     dest[i] = q;
                 }
-                if !split_block::<T, B, N>(
+                (cut, false)
+            };
+            // A split block is sorted in groups again; a block of one group
+            // (known here, or found by `split_block`) keeps the plain pass's
+            // order and only its cut seeds are read back.
+            if one
+                || !split_block::<T, B, N>(
                     inputs,
                     &mut test,
                     x0,
@@ -148,9 +140,9 @@ pub(super) fn repair_blocks<T: Intensity, const B: u32, const N: usize>(
                     cut_seeds,
                     &mut listed,
                     seeds_out,
-                ) {
-                    read_back::<N>(cut, &dest, cut_seeds, &mut listed, seeds_out);
-                }
+                )
+            {
+                read_back::<N>(cut, &dest, cut_seeds, &mut listed, seeds_out);
             }
             store_block::<N>(cut_words, block, cut);
             store_raster::<B>(raster_words, pw, x0, y0, cut);

@@ -170,12 +170,12 @@ pub(super) fn permute_gather<T: Intensity, R: LaneRanker, const B: u32, const N:
                 }
             }
         }
-        let y0 = if output {
-            c * B as usize - band.row0 as usize
+        let out_rows: &mut [u32] = if output {
+            let y0 = c * B as usize - band.row0 as usize;
+            &mut seeds_out[y0 * pw..(y0 + B as usize) * pw]
         } else {
-            0
+            &mut []
         };
-        let out_rows = &mut seeds_out[y0 * pw..if output { (y0 + B as usize) * pw } else { 0 }];
         // Tile periods 1.. are written as soon as row `s` is ranked past
         // the blocks they read (`reach` beyond the period), so the output's
         // stores overlap the ranking's loads; period 0 reads the wrap lines
