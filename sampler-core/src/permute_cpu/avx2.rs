@@ -118,7 +118,7 @@ fn place_seeds_4x4(ranks: &[[u32; MAX_LANES]; 16], group: GroupSeeds<'_>, lines:
     // SAFETY: this function is compiled for AVX2.
     let (low, high) = unsafe { inverse_nibbles::<__m256i>(ranks) };
     for (l, line) in lines.chunks_exact_mut(16).enumerate() {
-        let order = rank_order(low[l], high[l]);
+        let order = rank_order(low[l] as u64 | (high[l] as u64) << 32);
         let first = _mm256_cvtepu8_epi32(order);
         let second = _mm256_cvtepu8_epi32(_mm_srli_si128::<8>(order));
         // SAFETY: rows `origin + r pws + 4 l .. + 4` lie in `seeds`

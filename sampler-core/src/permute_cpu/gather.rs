@@ -335,7 +335,6 @@ fn rank_block_row<T: Intensity, R: LaneRanker, const B: u32, const N: usize>(
                     span,
                 );
             }
-            R::rank_strips::<B, N>(strips, ranks);
             let origin = y0 as usize * pws + x_start;
             let lines = &mut ring[row_start + (bx as usize + reach) * N..][..lanes * N];
             let group = GroupSeeds {
@@ -343,7 +342,7 @@ fn rank_block_row<T: Intensity, R: LaneRanker, const B: u32, const N: usize>(
                 origin,
                 pitch: pws,
             };
-            R::place_seeds::<B, N>(ranks, group, lines);
+            R::sort_group::<B, N>(strips, ranks, group, lines);
             bx += lanes as u32;
             after_group(ring, bx as usize);
         }

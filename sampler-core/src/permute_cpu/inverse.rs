@@ -120,11 +120,12 @@ pub(super) unsafe fn inverse_nibbles<V: ShiftLanes>(
 }
 
 /// Byte `k` of the result: the pixel of rank `k` in the block whose
-/// nibble words ([`inverse_nibbles`]) are `low` and `high`.
+/// order word is `word` (nibble `k` the pixel of rank `k`: the nibble
+/// words of [`inverse_nibbles`] as `low | high << 32`).
 #[target_feature(enable = "sse2")]
 #[inline]
-pub(super) fn rank_order(low: u32, high: u32) -> __m128i {
-    let x = _mm_cvtsi64_si128((low as u64 | (high as u64) << 32) as i64);
+pub(super) fn rank_order(word: u64) -> __m128i {
+    let x = _mm_cvtsi64_si128(word as i64);
     let nibble = _mm_set1_epi8(0x0F);
     // Low nibbles hold the even ranks, high nibbles the odd ones.
     _mm_unpacklo_epi8(

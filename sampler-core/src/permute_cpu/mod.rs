@@ -87,6 +87,8 @@ mod gather;
 #[cfg(target_arch = "x86_64")]
 mod inverse;
 #[cfg(target_arch = "x86_64")]
+mod network;
+#[cfg(target_arch = "x86_64")]
 mod quad;
 mod ranker;
 pub(crate) mod rows;

@@ -47,6 +47,39 @@ pub(super) trait LaneRanker {
         }
     }
 
+    /// [`sort_group`](Self::sort_group) for 4x4 blocks: ranks then
+    /// places, unless the instruction set has a kernel that does both.
+    #[inline(always)]
+    fn sort_4x4(
+        strips: &Strips,
+        ranks: &mut [[u32; MAX_LANES]; 16],
+        group: GroupSeeds<'_>,
+        lines: &mut [u32],
+    ) {
+        Self::rank_4x4(strips, ranks);
+        Self::place_4x4(ranks, group, lines);
+    }
+
+    /// Sorts a lane group's seeds into their ring lines: what
+    /// [`rank_strips`](Self::rank_strips) then
+    /// [`place_seeds`](Self::place_seeds) write to `lines` (`ranks` is
+    /// scratch: its content afterwards is unspecified).
+    #[inline(always)]
+    fn sort_group<const B: u32, const N: usize>(
+        strips: &Strips,
+        ranks: &mut [[u32; MAX_LANES]; N],
+        group: GroupSeeds<'_>,
+        lines: &mut [u32],
+    ) {
+        match <&mut [[u32; MAX_LANES]; 16]>::try_from(&mut ranks[..]) {
+            Ok(ranks) if B == 4 => Self::sort_4x4(strips, ranks, group, lines),
+            _ => {
+                Self::rank_strips::<B, N>(strips, ranks);
+                Self::place_seeds::<B, N>(ranks, group, lines);
+            }
+        }
+    }
+
     /// Places a lane group's seeds by rank: block `l < LANES` (its seeds
     /// in `group`) gets line `lines[l N..(l + 1) N]`, where entry
     /// `ranks[i][l]` is the seed of its pixel `i = r B + c`
@@ -114,6 +147,38 @@ macro_rules! lane_ranker {
             ) {
                 // SAFETY: see `lane_ranker`.
                 unsafe { $place(ranks, group, lines) }
+            }
+        }
+    };
+    ($ranker:ty, $lanes:expr, $rank:path, $place:path, $sort:path) => {
+        impl $crate::permute_cpu::ranker::LaneRanker for $ranker {
+            const LANES: usize = $lanes;
+            #[inline(always)]
+            fn rank_4x4(
+                strips: &$crate::permute_cpu::ranker::Strips,
+                ranks: &mut [[u32; $crate::permute_cpu::ranker::MAX_LANES]; 16],
+            ) {
+                // SAFETY: see `lane_ranker`.
+                unsafe { $rank(strips, ranks) }
+            }
+            #[inline(always)]
+            fn place_4x4(
+                ranks: &[[u32; $crate::permute_cpu::ranker::MAX_LANES]; 16],
+                group: $crate::permute_cpu::ranker::GroupSeeds<'_>,
+                lines: &mut [u32],
+            ) {
+                // SAFETY: see `lane_ranker`.
+                unsafe { $place(ranks, group, lines) }
+            }
+            #[inline(always)]
+            fn sort_4x4(
+                strips: &$crate::permute_cpu::ranker::Strips,
+                _ranks: &mut [[u32; $crate::permute_cpu::ranker::MAX_LANES]; 16],
+                group: $crate::permute_cpu::ranker::GroupSeeds<'_>,
+                lines: &mut [u32],
+            ) {
+                // SAFETY: see `lane_ranker`.
+                unsafe { $sort(strips, group, lines) }
             }
         }
     };
