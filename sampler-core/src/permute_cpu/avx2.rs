@@ -115,8 +115,7 @@ fn place_seeds_4x4(ranks: &[[u32; MAX_LANES]; 16], group: GroupSeeds<'_>, lines:
         origin,
         pitch: pws,
     } = group;
-    // SAFETY: this function is compiled for AVX2.
-    let (low, high) = unsafe { inverse_nibbles::<__m256i>(ranks) };
+    let (low, high) = inverse_nibbles(ranks);
     for (l, line) in lines.chunks_exact_mut(16).enumerate() {
         let order = rank_order(low[l] as u64 | (high[l] as u64) << 32);
         let first = _mm256_cvtepu8_epi32(order);

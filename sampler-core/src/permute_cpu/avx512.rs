@@ -5,7 +5,7 @@
 //! blocks at once, one per 64-bit lane, with a sorting network
 //! ([`network`](super::network): 63 comparators, a minimum and a maximum
 //! each), the pixel's key above its index so that ties order by index, and
-//! [`place_by_order`] builds each block's ring line with one permute of its
+//! [`sort_4x4`] builds each block's ring line with one permute of its
 //! seeds. Against counting ranks and inverting them this took a 1080p
 //! frame from 1.6 to 1.2 ms on Zen 5 (BENCHMARKS.md).
 //!
@@ -26,7 +26,6 @@
 //! stable since Rust 1.89, the crate's `rust-version`.
 
 use super::blocks::permute_full_blocks;
-use super::inverse::{inverse_nibbles, rank_order};
 use super::network::{for_each_comparator, INPUTS};
 use super::ranker::GroupSeeds;
 use super::{Band, Isa, Strips, MAX_LANES};
@@ -35,11 +34,11 @@ use crate::retarget::RetargetTable;
 use crate::sort::Intensity;
 use core::arch::x86_64::{
     __m128i, __m512i, _mm256_loadu2_m128i, _mm512_add_epi32, _mm512_and_si512, _mm512_castsi256_si512,
-    _mm512_castsi512_si256, _mm512_cmpgt_epi32_mask, _mm512_cvtepu8_epi32, _mm512_inserti64x4,
-    _mm512_loadu_epi32, _mm512_mask2_permutex2var_epi32, _mm512_mask_add_epi32, _mm512_mask_blend_epi32,
-    _mm512_mask_sub_epi32, _mm512_max_epi64, _mm512_min_epi64, _mm512_or_si512, _mm512_permutex2var_epi32,
-    _mm512_permutexvar_epi32, _mm512_set1_epi32, _mm512_set1_epi64, _mm512_setr_epi32, _mm512_setzero_si512,
-    _mm512_sllv_epi64, _mm512_storeu_epi32, _mm512_storeu_epi64,
+    _mm512_castsi512_si256, _mm512_cmpgt_epi32_mask, _mm512_inserti64x4, _mm512_loadu_epi32,
+    _mm512_mask2_permutex2var_epi32, _mm512_mask_add_epi32, _mm512_mask_blend_epi32, _mm512_mask_sub_epi32,
+    _mm512_max_epi64, _mm512_min_epi64, _mm512_or_si512, _mm512_permutex2var_epi32, _mm512_permutexvar_epi32,
+    _mm512_set1_epi32, _mm512_set1_epi64, _mm512_setr_epi32, _mm512_setzero_si512, _mm512_sllv_epi64,
+    _mm512_srlv_epi32, _mm512_storeu_epi32,
 };
 
 /// The fast path for 4x4 blocks with the AVX-512 ranker.
@@ -122,43 +121,30 @@ fn gather_4x4_avx512<T: Intensity>(
 /// i.e. with AVX-512 present.
 struct Avx512Ranker;
 
-super::ranker::lane_ranker!(Avx512Ranker, 16, rank_4x4, place_seeds_4x4, sort_4x4);
-
-/// [`LaneRanker::place_4x4`](super::LaneRanker::place_4x4) for sixteen 4x4 blocks: each block's
-/// inverse permutation as sixteen nibbles (as in the AVX2 form, sixteen
-/// blocks at a time), then [`place_by_order`].
-#[target_feature(enable = "avx2,avx512f")]
-#[inline]
-fn place_seeds_4x4(ranks: &[[u32; MAX_LANES]; 16], group: GroupSeeds<'_>, lines: &mut [u32]) {
-    // SAFETY: this function is compiled for AVX-512 F.
-    let (low, high) = unsafe { inverse_nibbles::<__m512i>(ranks) };
-    let words: [u64; 16] = core::array::from_fn(|l| low[l] as u64 | (high[l] as u64) << 32);
-    place_by_order(&words, group, lines);
-}
+super::ranker::lane_ranker!(Avx512Ranker, 16, rank_4x4, sort = sort_4x4);
 
 /// [`LaneRanker::sort_4x4`](super::LaneRanker::sort_4x4) for sixteen 4x4
 /// blocks: each block's order by a sorting network ([`order_words`]), then
-/// [`place_by_order`]; no ranks in between.
+/// its ring line as one in-register permute of its sixteen seeds; no ranks
+/// in between.
 #[target_feature(enable = "avx2,avx512f")]
 #[inline]
 fn sort_4x4(strips: &Strips, group: GroupSeeds<'_>, lines: &mut [u32]) {
-    place_by_order(&order_words(strips), group, lines);
-}
-
-/// Writes block `l`'s line: entry `k` is the seed of the pixel whose index
-/// is nibble `k` of `words[l]` (the pixel of rank `k`), built with one
-/// in-register permute of the block's sixteen seeds.
-#[target_feature(enable = "avx2,avx512f")]
-#[inline]
-fn place_by_order(words: &[u64; 16], group: GroupSeeds<'_>, lines: &mut [u32]) {
     assert!(lines.len() == 16 * 16 && group.covers(16, 4));
     let GroupSeeds {
         seeds,
         origin,
         pitch: pws,
     } = group;
+    let order = order_words(strips);
+    // Dword `k` of block `m`'s permute index: the low (k < 8) or high
+    // (k >= 8) half of its order word, shifted right by `4 (k mod 8)` so
+    // that nibble `k` is in bits 0..4, the only bits the permute reads.
+    let halves = _mm512_setr_epi32(0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1);
+    let shifts = _mm512_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28, 0, 4, 8, 12, 16, 20, 24, 28);
     for (l, line) in lines.chunks_exact_mut(16).enumerate() {
-        let index = _mm512_cvtepu8_epi32(rank_order(words[l]));
+        let word = _mm512_add_epi32(halves, _mm512_set1_epi32(2 * (l % 8) as i32));
+        let index = _mm512_srlv_epi32(_mm512_permutexvar_epi32(word, order[l / 8]), shifts);
         // SAFETY: rows `origin + r pws + 4 l .. + 4` lie in `seeds`
         // (asserted above); `line` is sixteen writable u32.
         unsafe {
@@ -175,9 +161,10 @@ fn place_by_order(words: &[u64; 16], group: GroupSeeds<'_>, lines: &mut [u32]) {
     }
 }
 
-/// The order of each of sixteen 4x4 blocks, as a word whose nibble `k`
-/// is the block's pixel of rank `k` (key, then index: the order of
-/// [`block_ranks`](super::block_ranks)). Eight blocks at a time, one per
+/// The order of each of sixteen 4x4 blocks, as a 64-bit word whose nibble
+/// `k` is the block's pixel of rank `k` (key, then index: the order of
+/// [`block_ranks`](super::block_ranks)); block `8 h + m`'s word is lane `m`
+/// of register `h`. Eight blocks at a time, one per
 /// 64-bit lane: pixel `i` of block `m` enters its wire as `key << 32 | i`
 /// (the signed key above the index, so a signed 64-bit comparison orders
 /// by key, then index), the wires are sorted by [`NETWORK`](super::network::NETWORK) (a minimum
@@ -185,14 +172,14 @@ fn place_by_order(words: &[u64; 16], group: GroupSeeds<'_>, lines: &mut [u32]) {
 /// bits of wire `k` goes to nibble `k`.
 #[target_feature(enable = "avx512f")]
 #[inline]
-fn order_words(strips: &Strips) -> [u64; 16] {
+fn order_words(strips: &Strips) -> [__m512i; 2] {
     // Dword `2m + 1` picks column `c` of block `m` (element `4m + c` of a
     // strip row's pair of registers, bit 4 the second); dword `2m` keeps
     // the pixel index (the permute's mask leaves even dwords from the
     // index vector itself).
     let columns = _mm512_setr_epi32(0, 0, 0, 4, 0, 8, 0, 12, 0, 16, 0, 20, 0, 24, 0, 28);
-    let mut words = [0u64; 16];
-    for half in 0..2 {
+    let mut words = [_mm512_setzero_si512(); 2];
+    for (half, words) in words.iter_mut().enumerate() {
         let mut wires = [_mm512_setzero_si512(); INPUTS];
         for (r, row) in strips.iter().enumerate().take(4) {
             // SAFETY: offsets up to 32 + 16 + 16 = 64 lie inside the row.
@@ -224,8 +211,7 @@ fn order_words(strips: &Strips) -> [u64; 16] {
             );
             order = _mm512_or_si512(order, nibble);
         }
-        // SAFETY: eight u64 at `8 half` lie inside `words`.
-        unsafe { _mm512_storeu_epi64(words.as_mut_ptr().add(8 * half) as *mut i64, order) };
+        *words = order;
     }
     words
 }

@@ -121,7 +121,9 @@ impl GroupSeeds<'_> {
 
 /// Implements [`LaneRanker`] for `$ranker`, ranking `$lanes` blocks at
 /// once, with the 4x4 kernels `$rank` ([`LaneRanker::rank_4x4`]) and
-/// `$place` ([`LaneRanker::place_4x4`]): functions compiled for an
+/// either `$place` ([`LaneRanker::place_4x4`]) or `sort = $sort`
+/// ([`LaneRanker::sort_4x4`], which then also replaces the placement of
+/// [`LaneRanker::sort_group`]): functions compiled for an
 /// instruction set (`#[target_feature]`), which makes calling them
 /// `unsafe`. Sound because a ranker built with this macro is only used
 /// inside functions compiled for its instruction set, themselves called
@@ -150,7 +152,7 @@ macro_rules! lane_ranker {
             }
         }
     };
-    ($ranker:ty, $lanes:expr, $rank:path, $place:path, $sort:path) => {
+    ($ranker:ty, $lanes:expr, $rank:path, sort = $sort:path) => {
         impl $crate::permute_cpu::ranker::LaneRanker for $ranker {
             const LANES: usize = $lanes;
             #[inline(always)]
@@ -160,15 +162,6 @@ macro_rules! lane_ranker {
             ) {
                 // SAFETY: see `lane_ranker`.
                 unsafe { $rank(strips, ranks) }
-            }
-            #[inline(always)]
-            fn place_4x4(
-                ranks: &[[u32; $crate::permute_cpu::ranker::MAX_LANES]; 16],
-                group: $crate::permute_cpu::ranker::GroupSeeds<'_>,
-                lines: &mut [u32],
-            ) {
-                // SAFETY: see `lane_ranker`.
-                unsafe { $place(ranks, group, lines) }
             }
             #[inline(always)]
             fn sort_4x4(
