@@ -107,7 +107,7 @@ use ranker::{LaneRanker, Strips, MAX_FAST_BLOCK, MAX_LANES};
 
 use crate::layout::FrameParams;
 use crate::retarget::RetargetTable;
-use crate::sort::{intensity_key, Intensity};
+use crate::sort::Intensity;
 use core::ops::Range;
 
 /// Largest tile side the cached dither order supports.
@@ -373,11 +373,15 @@ pub(crate) fn prefetch<E>(buffer: &[E], at: usize, write: bool) {
     let _ = (buffer, at, write);
 }
 
-/// [`intensity_key`] with the sign bit flipped: the same order as `i32`
-/// (baseline x86-64 vectors compare signed integers only).
+/// [`intensity_key`](crate::intensity_key) with the sign bit flipped: the same order as `i32`
+/// (baseline x86-64 vectors compare signed integers only). Written as
+/// the bits with all but the sign flipped where the sign is set (two
+/// shifts and a xor a vector, not `intensity_key`'s select of two
+/// expressions); the tests hold the two equal.
 #[inline(always)]
 fn signed_key(value: f32) -> i32 {
-    (intensity_key(value) ^ 0x8000_0000) as i32
+    let bits = value.to_bits() as i32;
+    bits ^ ((bits >> 31) as u32 >> 1) as i32
 }
 
 /// Hints that elements `at..at + len` of `buffer` will be read soon: one
@@ -429,6 +433,34 @@ fn block_ranks<const N: usize>(keys: &[u32; N]) -> [u32; N] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sort::intensity_key;
+
+    #[test]
+    fn signed_key_is_intensity_key_with_the_sign_flipped() {
+        let special = [
+            0.0f32,
+            -0.0,
+            1.0,
+            -1.0,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            -f32::NAN,
+        ];
+        let mut state = 777u32;
+        let random = (0..100_000).map(|_| {
+            state = crate::seed::hash_u32(state);
+            f32::from_bits(state)
+        });
+        for v in special.into_iter().chain(random) {
+            assert_eq!(
+                signed_key(v) as u32,
+                intensity_key(v) ^ 0x8000_0000,
+                "{:#x}",
+                v.to_bits()
+            );
+        }
+    }
 
     #[test]
     fn block_ranks_follow_key_then_index() {
