@@ -11,98 +11,135 @@
 use super::ranker::GroupSeeds;
 use super::{Strips, MAX_LANES};
 use core::arch::x86_64::{
-    __m128i, _mm_extract_epi16, _mm_loadu_si128, _mm_set1_epi32, _mm_storeu_si128, _mm_unpackhi_epi32,
-    _mm_unpackhi_epi64, _mm_unpacklo_epi32, _mm_unpacklo_epi64,
+    __m128i, _mm_add_epi16, _mm_cmpgt_epi32, _mm_extract_epi16, _mm_loadu_si128, _mm_packs_epi32,
+    _mm_set1_epi16, _mm_setzero_si128, _mm_storeu_si128, _mm_sub_epi16, _mm_unpackhi_epi16,
+    _mm_unpackhi_epi32, _mm_unpackhi_epi64, _mm_unpacklo_epi16, _mm_unpacklo_epi32, _mm_unpacklo_epi64,
 };
 
 /// The ranker of the baseline instruction set on x86_64 (4x4 blocks; the
 /// portable ranker for the other sizes).
 pub(super) struct Sse2Ranker;
 
-super::ranker::lane_ranker!(Sse2Ranker, 8, rank_4x4_both, place_seeds_4x4);
+super::ranker::lane_ranker!(Sse2Ranker, 8, rank_4x4, sort = sort_4x4);
 
-/// [`LaneRanker::place_4x4`](super::LaneRanker::place_4x4) for eight 4x4 blocks. Each pixel's eight
-/// ranks are read as the two 128-bit words [`rank_4x4`] stored (a load at
-/// a store's own address is forwarded from it; a 32-bit load from inside
-/// it may wait for it to reach the cache) and taken apart in registers.
+/// [`LaneRanker::sort_4x4`](super::LaneRanker::sort_4x4) for eight 4x4
+/// blocks: [`rank_eight`], then each seed stored at its rank in its
+/// block's line, the rank taken from its pixel's register of eight.
 #[target_feature(enable = "sse2")]
 #[inline]
-fn place_seeds_4x4(ranks: &[[u32; MAX_LANES]; 16], group: GroupSeeds<'_>, lines: &mut [u32]) {
+fn sort_4x4(strips: &Strips, group: GroupSeeds<'_>, lines: &mut [u32]) {
     assert!(lines.len() == 8 * 16 && group.covers(8, 4));
     let GroupSeeds {
         seeds,
         origin,
         pitch: pws,
     } = group;
-    for (i, rank) in ranks.iter().enumerate() {
+    let ranks = rank_eight(&transposed_keys(strips));
+    for (i, &rank) in ranks.iter().enumerate() {
         let at = origin + (i / 4) * pws + i % 4;
-        // SAFETY: `rank` holds sixteen u32 (two 16-byte loads); `at + 4 l`
-        // for `l < 8` lies in `seeds` and `16 l + rank` (rank < 16) in
-        // `lines` (both asserted above).
-        unsafe {
-            let low = _mm_loadu_si128(rank.as_ptr() as *const __m128i);
-            let high = _mm_loadu_si128(rank.as_ptr().add(4) as *const __m128i);
-            let ranks: [usize; 8] = [
-                _mm_extract_epi16::<0>(low) as usize,
-                _mm_extract_epi16::<2>(low) as usize,
-                _mm_extract_epi16::<4>(low) as usize,
-                _mm_extract_epi16::<6>(low) as usize,
-                _mm_extract_epi16::<0>(high) as usize,
-                _mm_extract_epi16::<2>(high) as usize,
-                _mm_extract_epi16::<4>(high) as usize,
-                _mm_extract_epi16::<6>(high) as usize,
-            ];
-            for (l, &k) in ranks.iter().enumerate() {
-                *lines.get_unchecked_mut(16 * l + (k & 15)) = *seeds.get_unchecked(at + 4 * l);
-            }
+        let ranks: [usize; 8] = [
+            _mm_extract_epi16::<0>(rank) as usize,
+            _mm_extract_epi16::<1>(rank) as usize,
+            _mm_extract_epi16::<2>(rank) as usize,
+            _mm_extract_epi16::<3>(rank) as usize,
+            _mm_extract_epi16::<4>(rank) as usize,
+            _mm_extract_epi16::<5>(rank) as usize,
+            _mm_extract_epi16::<6>(rank) as usize,
+            _mm_extract_epi16::<7>(rank) as usize,
+        ];
+        for (l, &k) in ranks.iter().enumerate() {
+            // SAFETY: `at + 4 l` for `l < 8` lies in `seeds` and `16 l +
+            // k` (`k < 16`) in `lines` (both asserted above).
+            unsafe { *lines.get_unchecked_mut(16 * l + (k & 15)) = *seeds.get_unchecked(at + 4 * l) };
         }
     }
 }
 
-/// Ranks of eight 4x4 blocks, as two groups of four; see
+/// Ranks of eight 4x4 blocks; see
 /// [`LaneRanker::rank_strips`](super::LaneRanker::rank_strips).
 #[target_feature(enable = "sse2")]
 #[inline]
-fn rank_4x4_both(strips: &Strips, out: &mut [[u32; MAX_LANES]; 16]) {
-    rank_4x4::<0>(strips, out);
-    rank_4x4::<1>(strips, out);
+fn rank_4x4(strips: &Strips, out: &mut [[u32; MAX_LANES]; 16]) {
+    let ranks = rank_eight(&transposed_keys(strips));
+    let zero = _mm_setzero_si128();
+    for (o, &r) in out.iter_mut().zip(&ranks) {
+        // SAFETY: `o` holds sixteen u32: two 16-byte stores fit.
+        unsafe {
+            _mm_storeu_si128(o.as_mut_ptr() as *mut __m128i, _mm_unpacklo_epi16(r, zero));
+            _mm_storeu_si128(o.as_mut_ptr().add(4) as *mut __m128i, _mm_unpackhi_epi16(r, zero));
+        }
+    }
 }
 
-/// Ranks of the four 4x4 blocks of group `G` (blocks `4 G..4 G + 4` of the
-/// strips, lanes `4 G..4 G + 4` of `out`); see [`LaneRanker::rank_strips`](super::LaneRanker::rank_strips).
+/// The keys of eight 4x4 blocks in lanes: `keys[i][g]` holds pixel `i`
+/// (`r * 4 + c`) of blocks `4 g..4 g + 4`, one block a 32-bit lane.
 #[target_feature(enable = "sse2")]
 #[inline]
-fn rank_4x4<const G: usize>(strips: &Strips, out: &mut [[u32; MAX_LANES]; 16]) {
-    let mut keys = [_mm_set1_epi32(0); 16];
-    for r in 0..4 {
-        let row = &strips[r][G * 16..G * 16 + 16];
-        // SAFETY: each load reads four i32 of `row` (16 entries).
-        let v: [__m128i; 4] =
-            core::array::from_fn(|l| unsafe { _mm_loadu_si128(row[l * 4..].as_ptr() as *const __m128i) });
-        let t0 = _mm_unpacklo_epi32(v[0], v[1]); // b0c0 b1c0 b0c1 b1c1
-        let t1 = _mm_unpackhi_epi32(v[0], v[1]); // b0c2 b1c2 b0c3 b1c3
-        let t2 = _mm_unpacklo_epi32(v[2], v[3]); // b2c0 b3c0 b2c1 b3c1
-        let t3 = _mm_unpackhi_epi32(v[2], v[3]);
-        keys[r * 4] = _mm_unpacklo_epi64(t0, t2); // column 0 of blocks 0..4
-        keys[r * 4 + 1] = _mm_unpackhi_epi64(t0, t2);
-        keys[r * 4 + 2] = _mm_unpacklo_epi64(t1, t3);
-        keys[r * 4 + 3] = _mm_unpackhi_epi64(t1, t3);
+fn transposed_keys(strips: &Strips) -> [[__m128i; 2]; 16] {
+    let mut keys = [[_mm_setzero_si128(); 2]; 16];
+    for (r, row) in strips.iter().enumerate().take(4) {
+        for g in 0..2 {
+            let row = &row[g * 16..g * 16 + 16];
+            // SAFETY: each load reads four i32 of `row` (16 entries).
+            let v: [__m128i; 4] =
+                core::array::from_fn(|l| unsafe { _mm_loadu_si128(row[l * 4..].as_ptr() as *const __m128i) });
+            let t0 = _mm_unpacklo_epi32(v[0], v[1]); // b0c0 b1c0 b0c1 b1c1
+            let t1 = _mm_unpackhi_epi32(v[0], v[1]); // b0c2 b1c2 b0c3 b1c3
+            let t2 = _mm_unpacklo_epi32(v[2], v[3]); // b2c0 b3c0 b2c1 b3c1
+            let t3 = _mm_unpackhi_epi32(v[2], v[3]);
+            keys[r * 4][g] = _mm_unpacklo_epi64(t0, t2); // column 0 of blocks 0..4
+            keys[r * 4 + 1][g] = _mm_unpackhi_epi64(t0, t2);
+            keys[r * 4 + 2][g] = _mm_unpacklo_epi64(t1, t3);
+            keys[r * 4 + 3][g] = _mm_unpackhi_epi64(t1, t3);
+        }
     }
-    let ranks = rank_sixteen(&keys);
-    for (o, r) in out.iter_mut().zip(&ranks) {
-        // SAFETY: `o[4 G..4 G + 4]` is four writable u32 (G < 2).
-        unsafe { _mm_storeu_si128(o[G * 4..G * 4 + 4].as_mut_ptr() as *mut __m128i, *r) };
-    }
+    keys
 }
 
-/// [`rank_sixteen`](super::quad::rank_sixteen) for SSE2, kept out of line:
-/// inlined into [`rank_4x4`], with sixteen XMM registers, it measured 5-8%
-/// slower on the whole frame (spills).
+/// Each pixel's rank in its block (key, then index) for eight blocks, as
+/// 16-bit lanes (block `l` in lane `l`): the all-pairs ranking of
+/// [`quad`](super::quad), its 32-bit compares of blocks 0..4 and 4..8
+/// packed into one register of eight 16-bit masks (a pack keeps -1 and 0)
+/// so that each update counts for eight blocks. Kept out of line: inlined
+/// into the frame loop, with sixteen XMM registers, the ranking spilled.
 #[target_feature(enable = "sse2")]
 #[inline(never)]
-fn rank_sixteen(keys: &[__m128i; 16]) -> [__m128i; 16] {
-    // SAFETY: this function is compiled for SSE2.
-    unsafe { super::quad::rank_sixteen(keys) }
+fn rank_eight(keys: &[[__m128i; 2]; 16]) -> [__m128i; 16] {
+    // Each pixel's rank less its index (its starting rank), added last.
+    let mut ranks = [_mm_setzero_si128(); 16];
+    rank_quad::<0>(keys, &mut ranks);
+    rank_quad::<4>(keys, &mut ranks);
+    rank_quad::<8>(keys, &mut ranks);
+    rank_quad::<12>(keys, &mut ranks);
+    core::array::from_fn(|j| _mm_add_epi16(ranks[j], _mm_set1_epi16(j as i16)))
+}
+
+/// Pixels `Q..Q + 4` against each other and against every later pixel:
+/// where `key_a > key_j` (mask -1), `a` gains one and `j` gives one back.
+#[target_feature(enable = "sse2")]
+#[inline]
+fn rank_quad<const Q: usize>(keys: &[[__m128i; 2]; 16], ranks: &mut [__m128i; 16]) {
+    let greater = |a: [__m128i; 2], b: [__m128i; 2]| {
+        _mm_packs_epi32(_mm_cmpgt_epi32(a[0], b[0]), _mm_cmpgt_epi32(a[1], b[1]))
+    };
+    let k: [[__m128i; 2]; 4] = core::array::from_fn(|a| keys[Q + a]);
+    let mut acc: [__m128i; 4] = core::array::from_fn(|a| ranks[Q + a]);
+    for a in 0..4 {
+        for b in a + 1..4 {
+            let g = greater(k[a], k[b]);
+            acc[a] = _mm_sub_epi16(acc[a], g);
+            acc[b] = _mm_add_epi16(acc[b], g);
+        }
+    }
+    for j in Q + 4..16 {
+        let g: [__m128i; 4] = core::array::from_fn(|a| greater(k[a], keys[j]));
+        for a in 0..4 {
+            acc[a] = _mm_sub_epi16(acc[a], g[a]);
+        }
+        let given = _mm_add_epi16(_mm_add_epi16(g[0], g[1]), _mm_add_epi16(g[2], g[3]));
+        ranks[j] = _mm_add_epi16(ranks[j], given);
+    }
+    ranks[Q..Q + 4].copy_from_slice(&acc);
 }
 
 #[cfg(test)]
