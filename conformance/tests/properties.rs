@@ -312,8 +312,8 @@ fn bad_input_is_an_error_not_a_panic() {
     ));
 }
 
-/// The fast path's vector groups (8 blocks side by side) and its interior
-/// scatter only run on frames wider than `properties`' cases: frames of a
+/// The fast path's vector groups (8 or 16 blocks side by side) only run on
+/// frames wider than `properties`' cases: frames of a
 /// few hundred pixels, every fast-path block size and tile, intensities with
 /// ties and special values, against the two separate passes.
 #[test]

@@ -10,7 +10,6 @@
 //! path (tested in `rows` on this CPU when it has AVX2, and by the
 //! conformance property tests).
 
-use super::blocks::permute_full_blocks;
 use super::inverse::{inverse_nibbles, rank_order};
 use super::ranker::GroupSeeds;
 use super::{detect, Band, Strips, MAX_LANES};
@@ -28,35 +27,6 @@ use core::arch::x86_64::{
 /// by [`detect`]).
 pub(crate) fn available() -> bool {
     detect::avx2_available()
-}
-
-/// The fast path for 4x4 blocks with the AVX2 ranker. Call only when
-/// [`available`] is true.
-pub(super) fn permute_4x4<T: Intensity>(
-    params: &FrameParams,
-    intensities: &[T],
-    tile: &[u32],
-    table: RetargetTable<'_>,
-    seeds_in: &[u32],
-    band: Band,
-    seeds_out: &mut [u32],
-) {
-    assert!(available() && params.block == 4);
-    // SAFETY: AVX2 is available (checked above).
-    unsafe { permute_4x4_avx2(params, intensities, tile, table, seeds_in, band, seeds_out) }
-}
-
-#[target_feature(enable = "avx2")]
-fn permute_4x4_avx2<T: Intensity>(
-    params: &FrameParams,
-    intensities: &[T],
-    tile: &[u32],
-    table: RetargetTable<'_>,
-    seeds_in: &[u32],
-    band: Band,
-    seeds_out: &mut [u32],
-) {
-    permute_full_blocks::<T, Avx2Ranker, 4, 16>(params, intensities, tile, table, seeds_in, band, seeds_out);
 }
 
 /// The gather formulation ([`gather`](super::gather)) for 4x4 blocks with
@@ -96,8 +66,7 @@ fn gather_4x4_avx2<T: Intensity>(
     );
 }
 
-/// Only instantiated inside [`permute_4x4_avx2`] and [`gather_4x4_avx2`],
-/// i.e. with AVX2 present.
+/// Only instantiated inside [`gather_4x4_avx2`], i.e. with AVX2 present.
 struct Avx2Ranker;
 
 super::ranker::lane_ranker!(Avx2Ranker, 8, rank_4x4, place_seeds_4x4);
@@ -141,8 +110,9 @@ fn place_seeds_4x4(ranks: &[[u32; MAX_LANES]; 16], group: GroupSeeds<'_>, lines:
 }
 
 /// Ranks of eight 4x4 blocks; see [`LaneRanker::rank_strips`](super::LaneRanker::rank_strips).
+/// Kept out of line: inlined into the frame loop it spilled (8% slower).
 #[target_feature(enable = "avx2")]
-#[inline]
+#[inline(never)]
 fn rank_4x4(strips: &Strips, out: &mut [[u32; MAX_LANES]; 16]) {
     let mut keys = [_mm256_set1_epi32(0); 16];
     for r in 0..4 {

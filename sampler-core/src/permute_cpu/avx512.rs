@@ -1,19 +1,13 @@
 //! The AVX-512 kernels for 4x4 blocks, sixteen blocks at a time.
 //!
-//! The gathered path ([`gather`](super::gather)) needs each block's order
-//! (the pixel of each rank), not its ranks: [`order_words`] sorts eight
-//! blocks at once, one per 64-bit lane, with a sorting network
-//! ([`network`](super::network): 63 comparators, a minimum and a maximum
-//! each), the pixel's key above its index so that ties order by index, and
-//! [`sort_4x4`] builds each block's ring line with one permute of its
-//! seeds. Against counting ranks and inverting them this took a 1080p
-//! frame from 1.6 to 1.2 ms on Zen 5 (BENCHMARKS.md).
-//!
-//! The scattered path ([`blocks`](super::blocks)) needs ranks:
-//! [`rank_4x4`] counts them with sixteen blocks, one per 32-bit lane;
-//! each pixel pair is one compare into a mask register and two masked
-//! updates for all sixteen blocks, and each strip row is transposed into
-//! lanes with two-source permutes.
+//! The permutation needs each block's order (the pixel of each rank),
+//! not its ranks: [`order_words`] sorts eight blocks at once, one per
+//! 64-bit lane, with a sorting network ([`network`](super::network): 63
+//! comparators, a minimum and a maximum each), the pixel's key above its
+//! index so that ties order by index, and [`sort_4x4`] builds each block's
+//! ring line with one permute of its seeds. Against counting ranks with
+//! mask registers and inverting them this took a 1080p frame from 1.6 to
+//! 1.2 ms on Zen 5 (BENCHMARKS.md).
 //!
 //! Selected at run time ([`Isa`]: CPUID for AVX-512 F, XGETBV
 //! for the OS saving the mask and ZMM registers; no `std`); the whole frame
@@ -25,60 +19,19 @@
 //! The AVX-512 intrinsics and `target_feature(enable = "avx512f")` are
 //! stable since Rust 1.89, the crate's `rust-version`.
 
-use super::blocks::permute_full_blocks;
 use super::network::{for_each_comparator, INPUTS};
 use super::ranker::GroupSeeds;
-use super::{Band, Isa, Strips, MAX_LANES};
+use super::{Band, Isa, Strips};
 use crate::layout::FrameParams;
 use crate::retarget::RetargetTable;
 use crate::sort::Intensity;
 use core::arch::x86_64::{
     __m128i, __m512i, _mm256_loadu2_m128i, _mm512_add_epi32, _mm512_and_si512, _mm512_castsi256_si512,
-    _mm512_castsi512_si256, _mm512_cmpgt_epi32_mask, _mm512_inserti64x4, _mm512_loadu_epi32,
-    _mm512_mask2_permutex2var_epi32, _mm512_mask_add_epi32, _mm512_mask_blend_epi32, _mm512_mask_sub_epi32,
-    _mm512_max_epi64, _mm512_min_epi64, _mm512_or_si512, _mm512_permutex2var_epi32, _mm512_permutexvar_epi32,
-    _mm512_set1_epi32, _mm512_set1_epi64, _mm512_setr_epi32, _mm512_setzero_si512, _mm512_sllv_epi64,
-    _mm512_srlv_epi32, _mm512_storeu_epi32,
+    _mm512_inserti64x4, _mm512_loadu_epi32, _mm512_mask2_permutex2var_epi32, _mm512_mask_blend_epi32,
+    _mm512_max_epi64, _mm512_min_epi64, _mm512_or_si512, _mm512_permutexvar_epi32, _mm512_set1_epi32,
+    _mm512_set1_epi64, _mm512_setr_epi32, _mm512_setzero_si512, _mm512_sllv_epi64, _mm512_srlv_epi32,
+    _mm512_storeu_epi32,
 };
-
-/// The fast path for 4x4 blocks with the AVX-512 ranker.
-///
-/// # Panics
-/// If the CPU or OS lacks AVX-512 (the dispatcher checks first).
-pub(super) fn permute_4x4<T: Intensity>(
-    params: &FrameParams,
-    intensities: &[T],
-    tile: &[u32],
-    table: RetargetTable<'_>,
-    seeds_in: &[u32],
-    band: Band,
-    seeds_out: &mut [u32],
-) {
-    assert!(Isa::Avx512.is_available() && params.block == 4);
-    // SAFETY: AVX-512 F is available (checked above).
-    unsafe { permute_4x4_avx512(params, intensities, tile, table, seeds_in, band, seeds_out) }
-}
-
-#[target_feature(enable = "avx2,avx512f")]
-fn permute_4x4_avx512<T: Intensity>(
-    params: &FrameParams,
-    intensities: &[T],
-    tile: &[u32],
-    table: RetargetTable<'_>,
-    seeds_in: &[u32],
-    band: Band,
-    seeds_out: &mut [u32],
-) {
-    permute_full_blocks::<T, Avx512Ranker, 4, 16>(
-        params,
-        intensities,
-        tile,
-        table,
-        seeds_in,
-        band,
-        seeds_out,
-    );
-}
 
 /// The gather formulation ([`gather`](super::gather)) for 4x4 blocks with
 /// this ranker. Call only when the CPU has the instruction set.
@@ -117,11 +70,11 @@ fn gather_4x4_avx512<T: Intensity>(
     );
 }
 
-/// Only instantiated inside [`permute_4x4_avx512`] and [`gather_4x4_avx512`],
-/// i.e. with AVX-512 present.
+/// Only instantiated inside [`gather_4x4_avx512`], i.e. with AVX-512
+/// present.
 struct Avx512Ranker;
 
-super::ranker::lane_ranker!(Avx512Ranker, 16, rank_4x4, sort = sort_4x4);
+super::ranker::lane_ranker!(Avx512Ranker, 16, sort = sort_4x4);
 
 /// [`LaneRanker::sort_4x4`](super::LaneRanker::sort_4x4) for sixteen 4x4
 /// blocks: each block's order by a sorting network ([`order_words`]), then
@@ -214,66 +167,4 @@ fn order_words(strips: &Strips) -> [__m512i; 2] {
         *words = order;
     }
     words
-}
-
-/// Ranks of sixteen 4x4 blocks; see [`LaneRanker::rank_strips`](super::LaneRanker::rank_strips).
-#[target_feature(enable = "avx512f")]
-#[inline]
-fn rank_4x4(strips: &Strips, out: &mut [[u32; MAX_LANES]; 16]) {
-    // Element `4 l + c` of a pair of registers holding blocks 0..8 (or
-    // 8..16) of a strip row is column `c` of block `l`: gather columns with
-    // indices `c, c + 4, ..., c + 28` (bit 4 picks the second register).
-    let columns = _mm512_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28, 0, 4, 8, 12, 16, 20, 24, 28);
-    let mut keys = [_mm512_set1_epi32(0); 16];
-    for r in 0..4 {
-        let row = strips[r].as_ptr();
-        // SAFETY: offsets up to 48 + 16 = 64 lie inside the 128-entry row.
-        let v: [__m512i; 4] = core::array::from_fn(|q| unsafe { _mm512_loadu_epi32(row.add(q * 16)) });
-        for c in 0..4 {
-            let index = _mm512_add_epi32(columns, _mm512_set1_epi32(c as i32));
-            let low = _mm512_permutex2var_epi32(v[0], index, v[1]); // blocks 0..8 in lanes 0..8
-            let high = _mm512_permutex2var_epi32(v[2], index, v[3]); // blocks 8..16 in lanes 0..8
-            keys[r * 4 + c] = _mm512_inserti64x4::<1>(low, _mm512_castsi512_si256(high));
-        }
-    }
-    // Pixel j starts at rank j (every i < j counted below it) and gives one
-    // back to i when key_i > key_j. Pixels are taken four at a time, their
-    // keys and ranks kept in registers.
-    let mut ranks: [__m512i; 16] = core::array::from_fn(|j| _mm512_set1_epi32(j as i32));
-    rank_quad::<0>(&keys, &mut ranks);
-    rank_quad::<4>(&keys, &mut ranks);
-    rank_quad::<8>(&keys, &mut ranks);
-    rank_quad::<12>(&keys, &mut ranks);
-    for (o, r) in out.iter_mut().zip(&ranks) {
-        // SAFETY: `o` is sixteen u32, 64 writable bytes.
-        unsafe { _mm512_storeu_epi32(o.as_mut_ptr() as *mut i32, *r) };
-    }
-}
-
-/// Pixels `Q..Q + 4` against each other and against every later pixel
-/// (`Q` a constant, so the loop over later pixels unrolls): where
-/// `key_a > key_j` (mask bit set), `a` gains one and `j` gives one back.
-#[target_feature(enable = "avx512f")]
-#[inline]
-fn rank_quad<const Q: usize>(keys: &[__m512i; 16], ranks: &mut [__m512i; 16]) {
-    let one = _mm512_set1_epi32(1);
-    let k: [__m512i; 4] = core::array::from_fn(|a| keys[Q + a]);
-    let mut acc: [__m512i; 4] = core::array::from_fn(|a| ranks[Q + a]);
-    for a in 0..4 {
-        for b in a + 1..4 {
-            let greater = _mm512_cmpgt_epi32_mask(k[a], k[b]);
-            acc[a] = _mm512_mask_add_epi32(acc[a], greater, acc[a], one);
-            acc[b] = _mm512_mask_sub_epi32(acc[b], greater, acc[b], one);
-        }
-    }
-    for j in Q + 4..16 {
-        let mut rank = ranks[j];
-        for a in 0..4 {
-            let greater = _mm512_cmpgt_epi32_mask(k[a], keys[j]);
-            acc[a] = _mm512_mask_add_epi32(acc[a], greater, acc[a], one);
-            rank = _mm512_mask_sub_epi32(rank, greater, rank, one);
-        }
-        ranks[j] = rank;
-    }
-    ranks[Q..Q + 4].copy_from_slice(&acc);
 }

@@ -1,14 +1,17 @@
-//! The gather formulation of the fast path: blocks are ranked into a ring
-//! of the last `2 reach + 1` block rows, each block's sorted seeds kept
-//! as one `N`-seed line indexed by the dither rank of the pixel that holds
-//! them, and each output row is then written in order, every output pixel
+//! The gathered fast path: blocks are ranked into a ring of the last
+//! `2 reach + 1` block rows, each block's sorted seeds kept as one
+//! `N`-seed line indexed by the dither rank of the pixel that holds them,
+//! and each output row is then written in order, every output pixel
 //! fetching its seed from the ring through the inverse of the retarget
-//! table ([`SourceCache`]). The scattered stores of [`blocks`](super::blocks)
-//! become sequential ones; the loads are scattered within a ring that
-//! stays in the L2 cache, at addresses that depend on the tables only.
+//! table ([`SourceCache`]). The stores are sequential; the loads are
+//! scattered within a ring that stays in the L2 cache, at addresses that
+//! depend on the tables only.
 //!
-//! The ring is a stack array of [`RING_SEEDS`] seeds: frames whose ring
-//! does not fit ([`fits`]) take the scatter path.
+//! The ring is a stack array of [`RING_SEEDS`] seeds. Frames too wide for
+//! it are cut into column strips of whole tile periods, each with its own
+//! ring: a strip also ranks the `reach` block columns on each side of it
+//! (across the frame's sides, the other end of the row), 4 of every 480
+//! or more columns with 4x4 blocks.
 
 use super::ranker::GroupSeeds;
 use super::{block_ranks, prefetch_span, signed_key, Band, LaneRanker, Strips, MAX_CACHED_TILE};
@@ -24,30 +27,23 @@ use glam::UVec2;
 /// Entries of the source cache: one per texel of the largest cached tile.
 const ENTRIES: usize = (MAX_CACHED_TILE * MAX_CACHED_TILE) as usize;
 
-/// Seeds the ring holds (192 KiB): `2 reach + 1` block rows of
-/// `blocks_x + 2 reach` lines of `B * B` seeds, i.e. a padded width of up
-/// to 3498 (B = 2: 7 rows of `2 pw + 24`), 2441 (B = 4: 5 rows of
-/// `4 pw + 64`) or 2032 (B = 8: 3 rows of `8 pw + 128`) seeds: 1920-wide
-/// frames with every block size, 2560-wide ones with 2x2 blocks.
+/// Seeds the ring holds (192 KiB, on the stack): `2 reach + 1` block rows
+/// of a strip's `strip + 2 reach` lines of `B * B` seeds. One strip covers
+/// a padded width of up to 3498 (B = 2: 7 rows of `2 pw + 24`), 2441 (B =
+/// 4: 5 rows of `4 pw + 64`) or 2032 (B = 8: 3 rows of `8 pw + 128`)
+/// seeds; wider frames take more strips ([`strip_periods`]).
 pub(super) const RING_SEEDS: usize = 48 * 1024;
+
+/// The ring's storage, aligned so that each block's line of 16 seeds
+/// (4x4 blocks) is one cache line: one store writes it, and the output's
+/// loads of a line touch one cache line, not two.
+#[repr(C, align(64))]
+struct Ring([u32; RING_SEEDS]);
 
 /// Block rows (and columns) a seed can move: `ceil(RETARGET_RADIUS / B)`.
 #[inline(always)]
 const fn reach(block: u32) -> u32 {
     (RETARGET_RADIUS as u32).div_ceil(block)
-}
-
-/// Seeds of one ring row: `blocks_x + 2 reach` lines of `B * B` seeds (the
-/// `reach` lines on each side repeat the other end of the row: the wrap).
-#[inline(always)]
-fn ring_row_len(params: &FrameParams) -> usize {
-    let b = params.block;
-    ((params.padded_width / b + 2 * reach(b)) * b * b) as usize
-}
-
-/// True when the ring of `params` fits in [`RING_SEEDS`].
-pub(super) fn fits(params: &FrameParams) -> bool {
-    (2 * reach(params.block) + 1) as usize * ring_row_len(params) <= RING_SEEDS
 }
 
 /// Where each output pixel's seed comes from, for one frame.
@@ -120,8 +116,8 @@ impl SourceCache {
     }
 }
 
-/// Sorting + retargeting of the seeds that land in `band`, gathered;
-/// `fits(params)` must hold.
+/// Sorting + retargeting of the seeds that land in `band`, gathered, in
+/// column strips as wide as the ring allows ([`strip_periods`]).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(super) fn permute_gather<T: Intensity, R: LaneRanker, const B: u32, const N: usize>(
@@ -133,24 +129,131 @@ pub(super) fn permute_gather<T: Intensity, R: LaneRanker, const B: u32, const N:
     band: Band,
     seeds_out: &mut [u32],
 ) {
-    debug_assert!(fits(params));
+    let strip = strip_periods::<N>(params);
+    permute_gather_in_strips::<T, R, B, N>(
+        params,
+        intensities,
+        tile,
+        table,
+        seeds_in,
+        band,
+        seeds_out,
+        strip,
+    );
+}
+
+/// Tile periods (`W / B` block columns each) of the strips the frame's
+/// block rows are cut into: as few strips as keep each strip's ring, `2
+/// reach + 1` rows of `strip + 2 reach` lines, within [`RING_SEEDS`], of
+/// equal width but the last. At least 15 periods fit with every block
+/// and tile size, so 1920-wide frames with 4x4 blocks and 64x64 tiles
+/// (30 periods of 16 blocks, ring rows of 484 lines: 155 KiB) take one
+/// strip, 2560 and 3840-wide ones two.
+fn strip_periods<const N: usize>(params: &FrameParams) -> usize {
+    let reach = reach(params.block) as usize;
+    let period_blocks = ((1u32 << params.tile_log2) / params.block) as usize;
+    let periods = params.blocks_x() as usize / period_blocks;
+    let lines = RING_SEEDS / ((2 * reach + 1) * N);
+    let most = (lines - 2 * reach) / period_blocks;
+    debug_assert!(most >= 1);
+    periods.div_ceil(periods.div_ceil(most))
+}
+
+/// [`permute_gather`] with strips of `strip_periods` tile periods (the
+/// last one narrower when they do not divide the frame's); the tests also
+/// run it with strips narrower than the ring needs.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn permute_gather_in_strips<T: Intensity, R: LaneRanker, const B: u32, const N: usize>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    band: Band,
+    seeds_out: &mut [u32],
+    strip_periods: usize,
+) {
     let mut cache = SourceCache::new();
     cache.fill::<B, N>(params, tile, table);
-    let mut ring = [0u32; RING_SEEDS];
+    let mut ring = Ring([0u32; RING_SEEDS]);
+    let mut scratch = RankScratch::<N> {
+        strips: [[0; MAX_LANES * MAX_FAST_BLOCK]; MAX_FAST_BLOCK],
+        ranks: [[0u32; MAX_LANES]; N],
+    };
+    let inputs = Inputs {
+        params,
+        cache: &cache,
+        intensities,
+        tile,
+        seeds_in,
+    };
+    let stream = (seeds_out.as_ptr() as usize).is_multiple_of(16);
+    let periods = params.blocks_x() as usize / ((1usize << params.tile_log2) / B as usize);
+    let mut first = 0;
+    while first < periods {
+        let end = (first + strip_periods).min(periods);
+        gather_strip::<T, R, B, N>(
+            &inputs,
+            band,
+            first..end,
+            seeds_out,
+            &mut ring.0,
+            &mut scratch,
+            stream,
+        );
+        first = end;
+    }
+    if stream {
+        end_streaming();
+    }
+}
+
+/// What every strip reads.
+struct Inputs<'a, T> {
+    params: &'a FrameParams,
+    cache: &'a SourceCache,
+    intensities: &'a [T],
+    tile: &'a [u32],
+    seeds_in: &'a [u32],
+}
+
+/// A lane group's keys and ranks (scratch of [`rank_run`]).
+struct RankScratch<const N: usize> {
+    strips: Strips,
+    ranks: [[u32; MAX_LANES]; N],
+}
+
+/// The output rows of `band` in the tile periods `periods` (block columns
+/// `periods.start * W / B .. periods.end * W / B`), through a ring of the
+/// strip's block columns and `reach` more on each side (toroidally).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn gather_strip<T: Intensity, R: LaneRanker, const B: u32, const N: usize>(
+    inputs: &Inputs<'_, T>,
+    band: Band,
+    periods: Range<usize>,
+    seeds_out: &mut [u32],
+    ring: &mut [u32; RING_SEEDS],
+    scratch: &mut RankScratch<N>,
+    stream: bool,
+) {
+    let params = inputs.params;
     let reach = reach(B) as usize;
     let slots = 2 * reach + 1;
-    let row_len = ring_row_len(params);
+    let w = 1usize << params.tile_log2;
+    let period_blocks = w / B as usize;
+    let blocks_x = params.blocks_x() as usize;
+    let (xs, xe) = (periods.start * period_blocks, periods.end * period_blocks);
+    let whole = xs == 0 && xe == blocks_x;
+    let row_len = (xe - xs + 2 * reach) * N;
     let ring = &mut ring[..slots * row_len];
     let blocks_y = params.blocks_y() as usize;
     let (c0, c1) = ((band.row0 / B) as usize, (band.row_end / B) as usize);
-    let w = 1usize << params.tile_log2;
     let pw = params.padded_width as usize;
-    let mut strips: Strips = [[0; MAX_LANES * MAX_FAST_BLOCK]; MAX_FAST_BLOCK];
-    let mut ranks = [[0u32; MAX_LANES]; N];
     let mut row_sources = [[0u32; MAX_CACHED_TILE as usize]; MAX_FAST_BLOCK];
-    let stream = (seeds_out.as_ptr() as usize).is_multiple_of(16);
     for s in 0..c1 - c0 + 2 * reach {
-        let by = (c0 + blocks_y - reach + s) % blocks_y;
+        let by = ((c0 + blocks_y - reach + s) % blocks_y) as u32;
         let slot = s % slots;
         // Output block row `c` reads the block rows of sequence numbers
         // `s - 2 reach ..= s` (slot `s mod slots` held row `c - 1`, which
@@ -165,7 +268,7 @@ pub(super) fn permute_gather<T: Intensity, R: LaneRanker, const B: u32, const N:
             for (r, sources) in row_sources.iter_mut().enumerate().take(B as usize) {
                 let ty = (c * B as usize + r) & (w - 1);
                 for (x, src) in sources[..w].iter_mut().enumerate() {
-                    let e = cache.source[ty * w + x];
+                    let e = inputs.cache.source[ty * w + x];
                     *src = slot_base[(e >> 16) as usize & 7] + (e & 0xFFFF);
                 }
             }
@@ -176,63 +279,85 @@ pub(super) fn permute_gather<T: Intensity, R: LaneRanker, const B: u32, const N:
         } else {
             &mut []
         };
-        // Tile periods 1.. are written as soon as row `s` is ranked past
-        // the blocks they read (`reach` beyond the period), so the output's
-        // stores overlap the ranking's loads; period 0 reads the wrap lines
-        // of the row's end, written last.
-        let periods = pw / w;
-        let period_blocks = w / B as usize;
-        let mut written = 1;
-        let mut write_ready = |ring: &[u32], ranked: usize| {
-            while output && written < periods && (written + 1) * period_blocks + reach <= ranked {
-                gather_period::<R, B, N>(out_rows, ring, &row_sources, w, written, stream);
+        // The strip's periods are written as soon as row `s` is ranked
+        // past the lines they read (`reach` beyond the period), so the
+        // output's stores overlap the ranking's loads. Ring line `l` holds
+        // block `xs - reach + l`. With the whole row in one strip, period 0
+        // reads the wrap lines copied from the row's end last, so it waits.
+        let count = periods.len();
+        let mut written = usize::from(whole);
+        let mut write_ready = |ring: &[u32], lines: usize| {
+            while output && written < count && (written + 1) * period_blocks + 2 * reach <= lines {
+                let (local, global) = (written, periods.start + written);
+                gather_period::<B, N>(out_rows, ring, &row_sources, w, local, global, stream);
                 written += 1;
             }
         };
-        rank_block_row::<T, R, B, N>(
-            params,
-            &cache,
-            intensities,
-            tile,
-            seeds_in,
-            by as u32,
-            ring,
-            slot * row_len..(slot + 1) * row_len,
-            &mut strips,
-            &mut ranks,
-            &mut write_ready,
-        );
+        let row = slot * row_len;
+        let run = |first_line: usize, blocks: Range<usize>| RingRun {
+            row,
+            first_line,
+            blocks: blocks.start as u32..blocks.end as u32,
+        };
+        // The strip's blocks and those within `reach` of it that do not
+        // wrap, in one run a lane group at a time; neighbours across the
+        // frame's left or right side, the other end of the row, one block
+        // at a time before and after it. With the whole row in one strip
+        // those are copies of its own end lines instead.
+        let main = if whole {
+            run(reach, 0..blocks_x)
+        } else {
+            let first_line = if xs == 0 { reach } else { 0 };
+            run(first_line, xs.saturating_sub(reach)..(xe + reach).min(blocks_x))
+        };
+        if xs == 0 && !whole {
+            let left = run(0, blocks_x - reach..blocks_x);
+            rank_run::<T, R, B, N, false>(inputs, by, ring, left, scratch, &mut |_, _| {});
+        }
+        rank_run::<T, R, B, N, true>(inputs, by, ring, main, scratch, &mut write_ready);
+        if xe == blocks_x && !whole {
+            let right = run(reach + xe - xs, 0..reach);
+            rank_run::<T, R, B, N, false>(inputs, by, ring, right, scratch, &mut |_, _| {});
+        }
+        if whole {
+            // The wrap: lines `0..reach` repeat the row's last blocks,
+            // lines `reach + blocks_x..` its first.
+            let ring_row = &mut ring[row..row + row_len];
+            ring_row.copy_within(blocks_x * N..(blocks_x + reach) * N, 0);
+            ring_row.copy_within(reach * N..2 * reach * N, (blocks_x + reach) * N);
+        }
         if output {
-            for i in (0..1).chain(written..periods) {
-                gather_period::<R, B, N>(out_rows, ring, &row_sources, w, i, stream);
+            let late = (0..usize::from(whole)).chain(written..count);
+            for local in late {
+                let global = periods.start + local;
+                gather_period::<B, N>(out_rows, ring, &row_sources, w, local, global, stream);
             }
         }
     }
-    if stream {
-        end_streaming();
-    }
 }
 
-/// Writes tile period `i` of the `B` output rows of one block row (`out`,
-/// rows of `pw = out.len() / B` seeds): `out[r][x0 + x] = ring[(x0 / B) *
-/// N + sources[r][x]]` for `x0 = i w`, `x < w` and every row `r`, so the
-/// ring lines the period reads are loaded into L1 once for all `B` rows.
-/// With `stream` (x86_64, `out` 16-byte aligned) the stores are
-/// non-temporal: whole lines written without reading them first
-/// ([`end_streaming`] must follow).
+/// Writes tile period `global` of the `B` output rows of one block row
+/// (`out`, rows of `pw = out.len() / B` seeds), the strip's period
+/// `local`: `out[r][x0 + x] = ring[(local W / B) N + sources[r][x]]` for
+/// `x0 = global W`, `x < W` and every row `r`, so the ring lines the
+/// period reads are loaded into L1 once for all `B` rows. With `stream`
+/// (x86_64, `out` 16-byte aligned) the stores are non-temporal: whole
+/// lines written without reading them first ([`end_streaming`] must
+/// follow).
 #[inline(always)]
-fn gather_period<R: LaneRanker, const B: u32, const N: usize>(
+fn gather_period<const B: u32, const N: usize>(
     out: &mut [u32],
     ring: &[u32],
     sources: &[[u32; MAX_CACHED_TILE as usize]; MAX_FAST_BLOCK],
     w: usize,
-    i: usize,
+    local: usize,
+    global: usize,
     stream: bool,
 ) {
     let pw = out.len() / B as usize;
-    let src = &ring[i * (w / B as usize) * N..];
+    let src = &ring[local * (w / B as usize) * N..];
     for (r, sources) in sources.iter().enumerate().take(B as usize) {
-        let chunk = &mut out[r * pw + i * w..][..w];
+        let chunk = &mut out[r * pw + global * w..][..w];
         gather_chunk(chunk, src, &sources[..w], stream);
     }
 }
@@ -288,38 +413,54 @@ fn end_streaming() {
     };
 }
 
-/// Ranks block row `by` into `row` (one ring row): block `bx`'s line at
-/// `(bx + reach) * N`, the seed sorted into its pixel `i` at the line's
-/// entry of `i`'s dither rank; then the wrap lines on both sides.
-#[allow(clippy::needless_range_loop, clippy::too_many_arguments)]
+/// Where [`rank_run`] writes: blocks `blocks` of a block row (in frame
+/// block columns, not wrapping) go to the ring row starting at `row`,
+/// block `blocks.start` at line `first_line`, the next at the next line.
+struct RingRun {
+    row: usize,
+    first_line: usize,
+    blocks: Range<u32>,
+}
+
+/// Ranks the blocks `run.blocks` of block row `by` into their ring lines:
+/// the seed sorted into the block's pixel `i` at the line's entry of `i`'s
+/// dither rank. With `GROUPS`, full blocks go a lane group at a time and
+/// after each group `after_group(ring, lines)` is told that the run's
+/// lines up to `lines` (exclusive, counted from the ring row's start) are
+/// written; without, one block at a time (the few blocks across the
+/// frame's sides: no lane-group code instantiated for them).
+#[allow(clippy::needless_range_loop)]
 #[inline(always)]
-fn rank_block_row<T: Intensity, R: LaneRanker, const B: u32, const N: usize>(
-    params: &FrameParams,
-    cache: &SourceCache,
-    intensities: &[T],
-    tile: &[u32],
-    seeds_in: &[u32],
+fn rank_run<T: Intensity, R: LaneRanker, const B: u32, const N: usize, const GROUPS: bool>(
+    inputs: &Inputs<'_, T>,
     by: u32,
     ring: &mut [u32],
-    row: Range<usize>,
-    strips: &mut Strips,
-    ranks: &mut [[u32; MAX_LANES]; N],
+    run: RingRun,
+    scratch: &mut RankScratch<N>,
     after_group: &mut impl FnMut(&[u32], usize),
 ) {
-    let row_start = row.start;
-    let reach = reach(B) as usize;
+    let Inputs {
+        params,
+        cache,
+        intensities,
+        tile,
+        seeds_in,
+    } = *inputs;
     let classes = (1u32 << params.tile_log2) / B;
     let lanes = R::LANES;
     let full_x = params.width / B;
     let full_y = params.height / B;
     let (w, pws) = (params.width as usize, params.padded_width as usize);
-    let blocks_x = params.blocks_x() as usize;
     let y0 = by * B;
-    let mut bx = 0u32;
-    if by < full_y {
-        while bx + lanes as u32 <= full_x {
+    // Block `bx`'s line is `bx + shift` (`shift` may be "negative": the
+    // sums wrap back into range).
+    let shift = run.first_line.wrapping_sub(run.blocks.start as usize);
+    let line_of = |bx: u32| run.row + (bx as usize).wrapping_add(shift) * N;
+    let mut bx = run.blocks.start;
+    if GROUPS && by < full_y {
+        while bx + lanes as u32 <= full_x.min(run.blocks.end) {
             let x_start = (bx * B) as usize;
-            for (r, strip) in strips.iter_mut().enumerate().take(B as usize) {
+            for (r, strip) in scratch.strips.iter_mut().enumerate().take(B as usize) {
                 let at = (y0 as usize + r) * w + x_start;
                 let src = &intensities[at..at + lanes * B as usize];
                 for (k, v) in strip.iter_mut().zip(src) {
@@ -336,23 +477,22 @@ fn rank_block_row<T: Intensity, R: LaneRanker, const B: u32, const N: usize>(
                 );
             }
             let origin = y0 as usize * pws + x_start;
-            let lines = &mut ring[row_start + (bx as usize + reach) * N..][..lanes * N];
+            let lines = &mut ring[line_of(bx)..][..lanes * N];
             let group = GroupSeeds {
                 seeds: seeds_in,
                 origin,
                 pitch: pws,
             };
-            R::sort_group::<B, N>(strips, ranks, group, lines);
+            R::sort_group::<B, N>(&scratch.strips, &mut scratch.ranks, group, lines);
             bx += lanes as u32;
-            after_group(ring, bx as usize);
+            after_group(ring, (bx as usize).wrapping_add(shift));
         }
     }
-    let row = &mut ring[row];
     let class_row = (by & (classes - 1)) * classes;
-    while (bx as usize) < blocks_x {
+    while bx < run.blocks.end {
         let x0 = bx * B;
         let class = (class_row + (bx & (classes - 1))) as usize * N;
-        let line = &mut row[(bx as usize + reach) * N..][..N];
+        let line = &mut ring[line_of(bx)..][..N];
         if bx < full_x && by < full_y {
             let mut block_keys = [0u32; N];
             for r in 0..B as usize {
@@ -380,10 +520,6 @@ fn rank_block_row<T: Intensity, R: LaneRanker, const B: u32, const N: usize>(
         }
         bx += 1;
     }
-    // The wrap: lines `-reach..0` repeat the row's last blocks, lines
-    // `blocks_x..blocks_x + reach` its first.
-    row.copy_within(blocks_x * N..(blocks_x + reach) * N, 0);
-    row.copy_within(reach * N..2 * reach * N, (blocks_x + reach) * N);
 }
 
 /// The reference sort ([`sort_block`]) of block `(bx, by)`, clipped by the
@@ -429,5 +565,68 @@ fn sort_edge_block<T: Intensity, const B: u32, const N: usize>(
     sort_block(len as u32, &keys, &dither, &seeds, &mut sorted);
     for i in 0..len {
         line[rank_of_pixel[pixel[i]] as usize & (N - 1)] = sorted[i];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::super::BaselineRanker;
+    use super::*;
+    use crate::defaults::{tables_64, tile_64};
+    use crate::seed::hash_u32;
+    use crate::{retarget_frame, sort_frame, FrameLayout};
+    use std::vec::Vec;
+
+    /// Strips of one tile period and more (and the last one narrower)
+    /// give the reference output, bands included: the neighbours across
+    /// a strip's sides are ranked into its ring, across the frame's sides
+    /// they wrap.
+    #[test]
+    fn strips_of_any_width_equal_the_reference() {
+        let (tile, tables) = (tile_64(), tables_64());
+        let mut state = 3u32;
+        for (width, height) in [(256, 64), (300, 130), (64, 70)] {
+            let layout = FrameLayout::new(width, height, 4, 64).unwrap();
+            let params = layout.params(7);
+            let intensities: Vec<f32> = (0..layout.pixel_count())
+                .map(|_| {
+                    state = hash_u32(state);
+                    (state % 13) as f32
+                })
+                .collect();
+            let seeds: Vec<u32> = (0..layout.seed_count() as u32).map(hash_u32).collect();
+            let mut sorted = std::vec![0u32; seeds.len()];
+            let mut want = std::vec![0u32; seeds.len()];
+            sort_frame(&layout, 7, &intensities, &tile, &seeds, &mut sorted).unwrap();
+            retarget_frame(&layout, 7, &tables, &sorted, &mut want).unwrap();
+            let table = tables.table(crate::walk::step_index(7, params.tile_log2));
+            let blocks_y = params.blocks_y();
+            for strip in [1, 2, 3] {
+                for bands in [1u32, 3] {
+                    let mut got = std::vec![u32::MAX; seeds.len()];
+                    for k in 0..bands {
+                        let rows = blocks_y * k / bands..blocks_y * (k + 1) / bands;
+                        let band = Band::of_block_rows(&params, rows);
+                        let pw = params.padded_width as usize;
+                        let out = &mut got[band.row0 as usize * pw..band.row_end as usize * pw];
+                        permute_gather_in_strips::<f32, BaselineRanker, 4, 16>(
+                            &params,
+                            &intensities,
+                            tile.values(),
+                            table,
+                            &seeds,
+                            band,
+                            out,
+                            strip,
+                        );
+                    }
+                    assert!(
+                        got == want,
+                        "{width}x{height}, strips of {strip} periods, {bands} bands"
+                    );
+                }
+            }
+        }
     }
 }

@@ -5,82 +5,66 @@
 //! Output is identical to the per-block reference ([`sort_block`](crate::sort_block)
 //! followed by [`retarget_pixel`](crate::retarget_pixel)); the speed comes from:
 //!
-//! - **Eight or sixteen blocks ranked at once** ([`ranker`]). Full blocks
-//!   side by side are ranked together, one block per vector lane: each of
-//!   the `N (N - 1) / 2` pixel pairs costs one comparison and two updates
-//!   per lane, ties rank by index for free, and no horizontal sums are
-//!   needed ([`quad`]). Keys are converted row by row in memory order, then
-//!   transposed into lanes. For 4x4 blocks the instruction set is chosen at
-//!   run time ([`Isa`], [`detect`]): with AVX2 eight lanes are one register
-//!   and the transposition is done with unpacks ([`avx2`]); with AVX-512
-//!   sixteen lanes are one register, transposed with two-source permutes
-//!   and ranked with mask registers ([`avx512`]); the baseline instruction
-//!   set on x86_64 ranks two groups of four lanes with SSE2 ([`sse2`]);
-//!   other block sizes and targets take the portable ranker, which the
-//!   compiler vectorises for the build's baseline.
-//! - **Gathered, not scattered** ([`gather`], padded widths up to 3498,
-//!   2441 and 2032 seeds for 2x2, 4x4 and 8x8 blocks). Each block row is ranked into a ring of the last
-//!   `2 ceil(6 / B) + 1` block rows (at most 192 KiB, on the stack): a
-//!   block's sorted seeds as one line of `N` seeds, indexed by the dither
-//!   rank of the pixel they are sorted into (with AVX2 and AVX-512 a
-//!   line is built in registers: each block's inverse permutation as
-//!   sixteen nibbles ([`inverse`]), then one or two permutes of its seeds,
-//!   no scattered store: [`LaneRanker::place_seeds`]). Then each output row is
-//!   written in order, every output pixel fetching its seed from the ring
-//!   through the inverse of the retarget table, resolved once per frame for
-//!   each of the `W x W` positions in the tile (`SourceCache`). The stores
-//!   are sequential (and non-temporal on x86_64: whole lines written
-//!   without first reading them); the scattered loads hit the ring, in the
-//!   L2 cache, at addresses that depend on the tables only (scalar loads:
-//!   the gather instruction measured no faster on Zen 5). A block row's
-//!   `B` output rows are written a tile period at a time, so the ring lines
-//!   a period reads come into L1 once for all of them, and each period as
-//!   soon as the block row being ranked has passed the blocks it reads, so
-//!   the output's stores overlap the ranking's loads. This replaced the
-//!   scatter below as the main path (faster with every instruction set:
-//!   BENCHMARKS.md, issue 18).
-//! - **Or scattered, in increasing order** ([`blocks`], wider frames).
-//!   The dither order and retarget offsets are cached per frame: with
-//!   `B | W`, screen block `(bx, by)` reads the tile window starting at
-//!   `((bx mod W/B) B + o_t) mod W`, so there are only `(W/B)^2` distinct
-//!   windows per frame; for each, the pixel of dither rank `k` and its
-//!   retarget offset are resolved once ([`dest_cache`]). For blocks whose
-//!   destinations cannot wrap (at least `B + 6` pixels from the padded
-//!   frame's edge) the offsets are also kept as seed-index offsets, sorted
-//!   in increasing order within each window class. A block's seeds are read
-//!   straight from the input rows into intensity-rank order, then stored in
-//!   that increasing order of destination: the scattered stores are this
-//!   form's largest cost, and this order, which keeps each block's stores
-//!   together and monotone, measured faster than pixel order (sorting a
-//!   whole lane group's stores by address was slower; BENCHMARKS.md). The
-//!   edge test is made once per lane group, with no per-seed test inside.
+//! - **Eight or sixteen blocks sorted at once** ([`ranker`]). Full blocks
+//!   side by side are sorted together, one block per vector lane. Keys are
+//!   converted row by row in memory order, then transposed into lanes. For
+//!   4x4 blocks the instruction set is chosen at run time ([`Isa`],
+//!   [`detect`]): with AVX-512 each block's order comes from a sorting
+//!   network ([`network`]: 63 comparators, a 64-bit minimum and maximum
+//!   each, eight blocks a register, the key above the pixel index so that
+//!   ties order by index; [`avx512`]); with AVX2 and SSE2 (the baseline
+//!   instruction set on x86_64) each pixel's rank is counted, each of the
+//!   `N (N - 1) / 2` pixel pairs one comparison and two updates per lane,
+//!   ties by index for free ([`quad`]; eight 32-bit lanes a register with
+//!   AVX2, [`avx2`]; with SSE2 the compares of two registers of four
+//!   blocks packed into one of eight 16-bit counts, [`sse2`]); other block
+//!   sizes and targets take the portable ranker, which the compiler
+//!   vectorises for the build's baseline.
+//! - **Gathered, not scattered** ([`gather`]). Each block row is ranked
+//!   into a ring of the last `2 ceil(6 / B) + 1` block rows (at most 192
+//!   KiB, on the stack): a block's sorted seeds as one line of `N` seeds,
+//!   indexed by the dither rank of the pixel they are sorted into (with
+//!   AVX2 and AVX-512 a line is built in registers, one or two permutes of
+//!   the block's seeds by its order: [`LaneRanker::sort_group`]; with AVX2
+//!   the order is each block's inverse permutation as sixteen nibbles,
+//!   [`inverse`]). Then each output row is written in order, every output
+//!   pixel fetching its seed from the ring through the inverse of the
+//!   retarget table, resolved once per frame for each of the `W x W`
+//!   positions in the tile (`SourceCache`). The stores are sequential (and
+//!   non-temporal on x86_64: whole lines written without first reading
+//!   them); the scattered loads hit the ring, in the L2 cache, at
+//!   addresses that depend on the tables only (scalar loads: the gather
+//!   instruction measured slower on Zen 5). A block row's `B` output rows
+//!   are written a tile period at a time, so the ring lines a period reads
+//!   come into L1 once for all of them, and each period as soon as the
+//!   block row being ranked has passed the blocks it reads, so the
+//!   output's stores overlap the ranking's loads. Frames wider than one
+//!   ring (padded widths above 3498, 2441 and 2032 seeds for 2x2, 4x4 and
+//!   8x8 blocks) are cut into column strips of whole tile periods. This
+//!   replaced a scatter of each block's seeds to their destinations, whose
+//!   scattered stores were its largest cost (BENCHMARKS.md, issue 18).
 //! - **Rows prefetched.** Each block row reads `B` seed rows and `B`
-//!   intensity rows (and, scattered, is the first to write `B` output
-//!   rows): more streams than the hardware prefetchers follow. Their cache
-//!   lines are requested a few lane groups ahead, every line a lane group
-//!   reads (sixteen 4x4 blocks read four lines of each row).
-//! - **No division.** Positions come from shifts; near the edge the
-//!   toroidal wrap (`|offset| <= B + 6 < W <= padded size`) is one
-//!   conditional add (scattered) or a copy of the ring row's end lines to
-//!   its other end (gathered).
+//!   intensity rows: more streams than the hardware prefetchers follow.
+//!   Their cache lines are requested a few lane groups ahead, every line a
+//!   lane group reads (sixteen 4x4 blocks read four lines of each row).
+//! - **No division.** Positions come from shifts; the toroidal wrap
+//!   (`|offset| <= B + 6 < W <= padded size`) is a copy of the ring row's
+//!   end lines to its other end (one strip) or the neighbouring blocks
+//!   ranked into the strip's ring from the other end of the row.
 //!
-//! Blocks clipped by the frame edge take the reference sort ([`edge`], or
-//! its gathered form in [`gather`]).
+//! Blocks clipped by the frame edge take the reference sort (in
+//! [`gather`]).
 //!
 //! **Bands.** The loop runs over a band of block rows and writes only the
 //! output rows of that band ([`rows`], [`Band`]): the blocks within
 //! `RETARGET_RADIUS` rows of the band are ranked too (their seeds may move
-//! into it), and only the band's rows are written (gathered: the band's
-//! output rows; scattered: stores outside the band are dropped). Bands
-//! therefore write disjoint slices of the output and can run on any
-//! threads; the whole frame is the band of every block row.
+//! into it). Bands therefore write disjoint slices of the output and can
+//! run on any threads; the whole frame is the band of every block row.
 
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod avx2;
 #[cfg(target_arch = "x86_64")]
 mod avx512;
-mod blocks;
-mod dest_cache;
 pub(crate) mod detect;
 mod edge;
 mod gather;
@@ -194,61 +178,7 @@ pub(crate) fn permute_band_cached<T: Intensity>(
     band: Band,
     seeds_out: &mut [u32],
 ) {
-    if gather::fits(params) {
-        permute_band_gather(isa, params, intensities, tile, table, seeds_in, band, seeds_out)
-    } else {
-        permute_band_scatter(isa, params, intensities, tile, table, seeds_in, band, seeds_out)
-    }
-}
-
-/// [`permute_band_cached`] in the scatter formulation ([`blocks`]).
-#[allow(clippy::too_many_arguments)]
-fn permute_band_scatter<T: Intensity>(
-    isa: Isa,
-    params: &FrameParams,
-    intensities: &[T],
-    tile: &[u32],
-    table: RetargetTable<'_>,
-    seeds_in: &[u32],
-    band: Band,
-    seeds_out: &mut [u32],
-) {
-    #[cfg(target_arch = "x86_64")]
-    if params.block == 4 {
-        match isa.min(Isa::best()) {
-            Isa::Avx512 => {
-                return avx512::permute_4x4(params, intensities, tile, table, seeds_in, band, seeds_out)
-            }
-            Isa::Avx2 => {
-                return avx2::permute_4x4(params, intensities, tile, table, seeds_in, band, seeds_out)
-            }
-            Isa::Baseline => {}
-        }
-    }
-    let _ = isa;
-    let (i, t, s) = (intensities, tile, seeds_in);
-    // One function per block size (never inlined here): each has its own
-    // stack frame (the caches are stack arrays), not the sum of all three.
-    match params.block {
-        2 => scatter_portable::<T, 2, 4>(params, i, t, table, s, band, seeds_out),
-        4 => scatter_portable::<T, 4, 16>(params, i, t, table, s, band, seeds_out),
-        _ => scatter_portable::<T, 8, 64>(params, i, t, table, s, band, seeds_out),
-    }
-}
-
-/// The scatter formulation with the portable ranker.
-#[inline(never)]
-fn scatter_portable<T: Intensity, const B: u32, const N: usize>(
-    params: &FrameParams,
-    intensities: &[T],
-    tile: &[u32],
-    table: RetargetTable<'_>,
-    seeds_in: &[u32],
-    band: Band,
-    seeds_out: &mut [u32],
-) {
-    let (i, t, s) = (intensities, tile, seeds_in);
-    blocks::permute_full_blocks::<T, BaselineRanker, B, N>(params, i, t, table, s, band, seeds_out)
+    permute_band_gather(isa, params, intensities, tile, table, seeds_in, band, seeds_out)
 }
 
 /// The gather formulation with the portable ranker.
@@ -266,8 +196,7 @@ fn gather_portable<T: Intensity, const B: u32, const N: usize>(
     gather::permute_gather::<T, BaselineRanker, B, N>(params, i, t, table, s, band, seeds_out)
 }
 
-/// [`permute_band_cached`] in the gather formulation ([`gather`]);
-/// `gather::fits(params)` must hold.
+/// [`permute_band_cached`] in the gather formulation ([`gather`]).
 #[allow(clippy::too_many_arguments)]
 fn permute_band_gather<T: Intensity>(
     isa: Isa,
@@ -345,11 +274,10 @@ pub(crate) fn permute_blocks_portable<T: Intensity>(
     );
 }
 
-/// How far ahead of the current lane group, in seeds, the output rows are
-/// prefetched (measured best of 128 / 256 / 512 / 1024 at 1920x1080).
+/// How far ahead of the current lane group, in elements, the input rows
+/// are prefetched (measured best of 64 / 128 / 256 / 512 / 1024 at
+/// 1920x1080).
 const PREFETCH_AHEAD: usize = 128;
-/// Seeds per 64-byte cache line.
-const LINE_SEEDS: usize = 16;
 
 /// Hints that `buffer[at]` will be read, or `write`-ten, soon (x86_64; a
 /// no-op elsewhere). `at` may lie past the end: a prefetch never faults.

@@ -120,16 +120,30 @@ impl GroupSeeds<'_> {
 }
 
 /// Implements [`LaneRanker`] for `$ranker`, ranking `$lanes` blocks at
-/// once, with the 4x4 kernels `$rank` ([`LaneRanker::rank_4x4`]) and
-/// either `$place` ([`LaneRanker::place_4x4`]) or `sort = $sort`
-/// ([`LaneRanker::sort_4x4`], which then also replaces the placement of
-/// [`LaneRanker::sort_group`]): functions compiled for an
+/// once, with either the 4x4 kernels `$rank` ([`LaneRanker::rank_4x4`])
+/// and `$place` ([`LaneRanker::place_4x4`]), or `sort = $sort`
+/// ([`LaneRanker::sort_4x4`], both in one): functions compiled for an
 /// instruction set (`#[target_feature]`), which makes calling them
 /// `unsafe`. Sound because a ranker built with this macro is only used
 /// inside functions compiled for its instruction set, themselves called
 /// only when the CPU has it ([`Isa`](super::Isa)).
 #[cfg(target_arch = "x86_64")]
 macro_rules! lane_ranker {
+    ($ranker:ty, $lanes:expr, sort = $sort:path) => {
+        impl $crate::permute_cpu::ranker::LaneRanker for $ranker {
+            const LANES: usize = $lanes;
+            #[inline(always)]
+            fn sort_4x4(
+                strips: &$crate::permute_cpu::ranker::Strips,
+                _ranks: &mut [[u32; $crate::permute_cpu::ranker::MAX_LANES]; 16],
+                group: $crate::permute_cpu::ranker::GroupSeeds<'_>,
+                lines: &mut [u32],
+            ) {
+                // SAFETY: see `lane_ranker`.
+                unsafe { $sort(strips, group, lines) }
+            }
+        }
+    };
     ($ranker:ty, $lanes:expr, $rank:path, $place:path) => {
         impl $crate::permute_cpu::ranker::LaneRanker for $ranker {
             const LANES: usize = $lanes;
@@ -149,29 +163,6 @@ macro_rules! lane_ranker {
             ) {
                 // SAFETY: see `lane_ranker`.
                 unsafe { $place(ranks, group, lines) }
-            }
-        }
-    };
-    ($ranker:ty, $lanes:expr, $rank:path, sort = $sort:path) => {
-        impl $crate::permute_cpu::ranker::LaneRanker for $ranker {
-            const LANES: usize = $lanes;
-            #[inline(always)]
-            fn rank_4x4(
-                strips: &$crate::permute_cpu::ranker::Strips,
-                ranks: &mut [[u32; $crate::permute_cpu::ranker::MAX_LANES]; 16],
-            ) {
-                // SAFETY: see `lane_ranker`.
-                unsafe { $rank(strips, ranks) }
-            }
-            #[inline(always)]
-            fn sort_4x4(
-                strips: &$crate::permute_cpu::ranker::Strips,
-                _ranks: &mut [[u32; $crate::permute_cpu::ranker::MAX_LANES]; 16],
-                group: $crate::permute_cpu::ranker::GroupSeeds<'_>,
-                lines: &mut [u32],
-            ) {
-                // SAFETY: see `lane_ranker`.
-                unsafe { $sort(strips, group, lines) }
             }
         }
     };

@@ -9,18 +9,18 @@
 //! property tests).
 
 use super::ranker::GroupSeeds;
-use super::{Strips, MAX_LANES};
+use super::Strips;
 use core::arch::x86_64::{
     __m128i, _mm_add_epi16, _mm_cmpgt_epi32, _mm_extract_epi16, _mm_loadu_si128, _mm_packs_epi32,
-    _mm_set1_epi16, _mm_setzero_si128, _mm_storeu_si128, _mm_sub_epi16, _mm_unpackhi_epi16,
-    _mm_unpackhi_epi32, _mm_unpackhi_epi64, _mm_unpacklo_epi16, _mm_unpacklo_epi32, _mm_unpacklo_epi64,
+    _mm_set1_epi16, _mm_setzero_si128, _mm_sub_epi16, _mm_unpackhi_epi32, _mm_unpackhi_epi64,
+    _mm_unpacklo_epi32, _mm_unpacklo_epi64,
 };
 
 /// The ranker of the baseline instruction set on x86_64 (4x4 blocks; the
 /// portable ranker for the other sizes).
 pub(super) struct Sse2Ranker;
 
-super::ranker::lane_ranker!(Sse2Ranker, 8, rank_4x4, sort = sort_4x4);
+super::ranker::lane_ranker!(Sse2Ranker, 8, sort = sort_4x4);
 
 /// [`LaneRanker::sort_4x4`](super::LaneRanker::sort_4x4) for eight 4x4
 /// blocks: [`rank_eight`], then each seed stored at its rank in its
@@ -51,22 +51,6 @@ fn sort_4x4(strips: &Strips, group: GroupSeeds<'_>, lines: &mut [u32]) {
             // SAFETY: `at + 4 l` for `l < 8` lies in `seeds` and `16 l +
             // k` (`k < 16`) in `lines` (both asserted above).
             unsafe { *lines.get_unchecked_mut(16 * l + (k & 15)) = *seeds.get_unchecked(at + 4 * l) };
-        }
-    }
-}
-
-/// Ranks of eight 4x4 blocks; see
-/// [`LaneRanker::rank_strips`](super::LaneRanker::rank_strips).
-#[target_feature(enable = "sse2")]
-#[inline]
-fn rank_4x4(strips: &Strips, out: &mut [[u32; MAX_LANES]; 16]) {
-    let ranks = rank_eight(&transposed_keys(strips));
-    let zero = _mm_setzero_si128();
-    for (o, &r) in out.iter_mut().zip(&ranks) {
-        // SAFETY: `o` holds sixteen u32: two 16-byte stores fit.
-        unsafe {
-            _mm_storeu_si128(o.as_mut_ptr() as *mut __m128i, _mm_unpacklo_epi16(r, zero));
-            _mm_storeu_si128(o.as_mut_ptr().add(4) as *mut __m128i, _mm_unpackhi_epi16(r, zero));
         }
     }
 }
@@ -145,7 +129,9 @@ fn rank_quad<const Q: usize>(keys: &[[__m128i; 2]; 16], ranks: &mut [__m128i; 16
 #[cfg(test)]
 mod tests {
     use super::super::ranker::{LaneRanker, PortableRanker};
+    use super::super::MAX_LANES;
     use super::*;
+    use core::arch::x86_64::_mm_storeu_si128;
 
     #[test]
     fn sse2_ranks_equal_portable_ranks() {
@@ -160,10 +146,17 @@ mod tests {
                     *k = ((state % 5) as i32 - 2).wrapping_add(if state & 16 != 0 { i32::MIN } else { 0 });
                 }
             }
-            let (mut got, mut want) = ([[0u32; MAX_LANES]; 16], [[0u32; MAX_LANES]; 16]);
-            Sse2Ranker::rank_strips::<4, 16>(&strips, &mut got);
+            let mut want = [[0u32; MAX_LANES]; 16];
             PortableRanker::rank_strips::<4, 16>(&strips, &mut want);
-            assert_eq!(got, want);
+            // SAFETY: SSE2 is part of x86_64.
+            let got = unsafe { rank_eight(&transposed_keys(&strips)) };
+            for (i, (got, want)) in got.iter().zip(&want).enumerate() {
+                let mut lanes = [0u16; 8];
+                // SAFETY: eight u16 are 16 writable bytes.
+                unsafe { _mm_storeu_si128(lanes.as_mut_ptr() as *mut __m128i, *got) };
+                let want: [u16; 8] = core::array::from_fn(|l| want[l] as u16);
+                assert_eq!(lanes, want, "pixel {i}");
+            }
         }
     }
 }
