@@ -17,7 +17,9 @@
 //! against the one-core copy; then `permute_frame_rows` on two bands of
 //! block rows, one thread each, against a copy of the same bytes split in
 //! two halves, one thread each (the calling thread and one spawned for
-//! each call, the spawn timed in both).
+//! each call, the spawn timed in both); then `permute_frame` on a
+//! 3840x2160 frame (wider than one ring: two column strips) against its
+//! own one-core copy.
 //! `PERMUTE_ONLY=1` runs only those lines (a few seconds), to iterate on the
 //! CPU permutation:
 //!
@@ -48,6 +50,8 @@ use std::time::{Duration, Instant};
 
 const WIDTH: u32 = 1920;
 const HEIGHT: u32 = 1080;
+const WIDTH_4K: u32 = 3840;
+const HEIGHT_4K: u32 = 2160;
 const BLOCK: u32 = 4;
 const TILE: u32 = 64;
 const ROUNDS: usize = 41;
@@ -288,6 +292,17 @@ fn main() {
     let motion: Vec<[f32; 2]> = (0..layout.pixel_count() as u32)
         .map(|i| if i % WIDTH < 8 { [f32::NAN; 2] } else { [-0.7, 0.1] })
         .collect();
+    // A 3840x2160 frame: past one ring (two column strips), and four
+    // times the bytes.
+    let layout_4k = FrameLayout::new(WIDTH_4K, HEIGHT_4K, BLOCK, TILE).unwrap();
+    let intensities_4k: Vec<f32> = (0..layout_4k.pixel_count() as u32)
+        .map(|i| random_f32(i, 1))
+        .collect();
+    let seeds_4k: Vec<u32> = (0..layout_4k.seed_count() as u32)
+        .map(|i| initial_seed(i, 0, 0, 1))
+        .collect();
+    let (mut out_4k, mut scratch_4k) = (vec![0u32; seeds_4k.len()], vec![0f32; intensities_4k.len()]);
+    let (mut t_copy_4k, mut t_fast_4k) = (vec![], vec![]);
     let mut claims = vec![0u32; seeds.len()];
     let mut motion_scratch = vec![[0f32; 2]; motion.len()];
     let (mut t_reproject, mut t_reproject_copy, mut t_reproject_old) = (vec![], vec![], vec![]);
@@ -376,6 +391,28 @@ fn main() {
                 &seeds,
                 &mut out,
             )
+        }));
+        evict(&mut evict_buf);
+        t_copy_4k.push(time(&mut || {
+            copy_baseline(
+                black_box(&intensities_4k),
+                &seeds_4k,
+                &mut scratch_4k,
+                &mut out_4k,
+            )
+        }));
+        evict(&mut evict_buf);
+        t_fast_4k.push(time(&mut || {
+            permute_frame(
+                &layout_4k,
+                frame,
+                black_box(&intensities_4k),
+                &tile,
+                &tables,
+                &seeds_4k,
+                &mut out_4k,
+            )
+            .unwrap()
         }));
         if permute_only {
             continue;
@@ -520,6 +557,27 @@ fn main() {
         format!("permute_frame_rows, {THREADS} bands ({:?})", Isa::best()),
         par.as_secs_f64() * 1e3,
         par.as_secs_f64() / copy_par.as_secs_f64()
+    );
+    let (copy_4k, fast_4k) = (median(&mut t_copy_4k), median(&mut t_fast_4k));
+    let bytes_4k = intensities_4k.len() * 4 + seeds_4k.len() * 8;
+    println!(
+        "{:<44} {:>10} {:>12}",
+        format!("workload ({WIDTH_4K}x{HEIGHT_4K}, one core)"),
+        "ms",
+        "x copy"
+    );
+    println!(
+        "{:<44} {:>10.3} {:>12.2}   ({:.2} GB/s)",
+        format!("copy of the same bytes ({:.1} MB)", bytes_4k as f64 / 1e6),
+        copy_4k.as_secs_f64() * 1e3,
+        1.0,
+        bytes_4k as f64 / copy_4k.as_secs_f64() / 1e9
+    );
+    println!(
+        "{:<44} {:>10.3} {:>12.2}",
+        format!("permute_frame ({:?}, column strips)", Isa::best()),
+        fast_4k.as_secs_f64() * 1e3,
+        fast_4k.as_secs_f64() / copy_4k.as_secs_f64()
     );
     if permute_only {
         return;
