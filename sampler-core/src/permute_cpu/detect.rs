@@ -24,15 +24,16 @@ use core::sync::atomic::{AtomicU8, Ordering};
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Isa {
-    /// The build's baseline: on x86-64, SSE2 (eight 4x4 blocks ranked as
-    /// two groups of four 128-bit lanes); elsewhere portable code that the
-    /// compiler vectorises for whatever the target has.
+    /// The build's baseline: on x86-64, SSE2 (eight 4x4 blocks ranked at
+    /// once, their counts in 16-bit lanes); elsewhere portable code that
+    /// the compiler vectorises for whatever the target has.
     Baseline,
     /// x86-64 with AVX2 (most x86-64 CPUs since 2013-2015): eight 4x4 blocks
     /// in one 256-bit register.
     Avx2,
     /// x86-64 with AVX-512 F (Intel since Skylake-SP, AMD since Zen 4):
-    /// sixteen 4x4 blocks in one 512-bit register.
+    /// sixteen 4x4 blocks sorted at once by a sorting network, eight in
+    /// each of two 512-bit registers.
     Avx512,
 }
 
