@@ -248,6 +248,18 @@ fn reproject_two_sweeps(
     }
 }
 
+/// A frame's random intensities and initial seeds (`salt` tells frames
+/// apart).
+fn frame_buffers(layout: &FrameLayout, salt: u32) -> (Vec<f32>, Vec<u32>) {
+    let intensities = (0..layout.pixel_count() as u32)
+        .map(|i| random_f32(i, salt))
+        .collect();
+    let seeds = (0..layout.seed_count() as u32)
+        .map(|i| initial_seed(i, 0, 0, salt))
+        .collect();
+    (intensities, seeds)
+}
+
 fn time(f: &mut dyn FnMut()) -> Duration {
     let t = Instant::now();
     f();
@@ -269,12 +281,7 @@ fn main() {
     let tile = DitherTile::new(TILE, &tile_values).unwrap();
     let packed: Vec<Vec<u32>> = (0..4).map(|i| random_table(TILE, i, 20_000)).collect();
     let tables = RetargetTables::new(TILE, [&packed[0], &packed[1], &packed[2], &packed[3]]).unwrap();
-    let intensities: Vec<f32> = (0..layout.pixel_count() as u32)
-        .map(|i| random_f32(i, 0))
-        .collect();
-    let seeds: Vec<u32> = (0..layout.seed_count() as u32)
-        .map(|i| initial_seed(i, 0, 0, 0))
-        .collect();
+    let (intensities, seeds) = frame_buffers(&layout, 0);
     let mut out = vec![0u32; seeds.len()];
     let mut scratch = vec![0f32; intensities.len()];
 
@@ -295,12 +302,7 @@ fn main() {
     // A 3840x2160 frame: past one ring (two column strips), and four
     // times the bytes.
     let layout_4k = FrameLayout::new(WIDTH_4K, HEIGHT_4K, BLOCK, TILE).unwrap();
-    let intensities_4k: Vec<f32> = (0..layout_4k.pixel_count() as u32)
-        .map(|i| random_f32(i, 1))
-        .collect();
-    let seeds_4k: Vec<u32> = (0..layout_4k.seed_count() as u32)
-        .map(|i| initial_seed(i, 0, 0, 1))
-        .collect();
+    let (intensities_4k, seeds_4k) = frame_buffers(&layout_4k, 1);
     let (mut out_4k, mut scratch_4k) = (vec![0u32; seeds_4k.len()], vec![0f32; intensities_4k.len()]);
     let (mut t_copy_4k, mut t_fast_4k) = (vec![], vec![]);
     let mut claims = vec![0u32; seeds.len()];
