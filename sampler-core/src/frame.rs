@@ -342,14 +342,14 @@ fn permute_frame_with<T: Intensity>(
         return Err(Error::TileSize { tile: tables.tile() });
     }
     let params = layout.params(frame);
-    if crate::permute_cpu::applies(&params) {
-        use crate::permute_cpu::{permute_blocks_cached, FrameInputs, Isa};
-        let isa = if dispatch { Isa::best() } else { Isa::Baseline };
-        let frame = FrameInputs::new(&params, intensities, tile, tables, seeds_in);
-        permute_blocks_cached(isa, frame, seeds_out);
+    let table = tables.table(step_index(frame, params.tile_log2));
+    let (values, cached) = (tile.values(), crate::permute_cpu::applies(&params));
+    if cached && dispatch {
+        crate::permute_cpu::permute_blocks_cached(&params, intensities, values, table, seeds_in, seeds_out);
+    } else if cached {
+        crate::permute_cpu::permute_blocks_portable(&params, intensities, values, table, seeds_in, seeds_out);
     } else {
-        let table = tables.table(step_index(frame, params.tile_log2));
-        permute_blocks(&params, intensities, tile.values(), table, seeds_in, seeds_out);
+        permute_blocks(&params, intensities, values, table, seeds_in, seeds_out);
     }
     Ok(())
 }

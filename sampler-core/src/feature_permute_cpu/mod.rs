@@ -67,14 +67,7 @@ pub(crate) fn permute_features_fast<T: Intensity>(
     seeds_out: &mut [u32],
 ) {
     debug_assert!(applies(params));
-    let frame = crate::permute_cpu::FrameInputs {
-        params,
-        intensities,
-        tile,
-        table,
-        seeds_in,
-    };
-    crate::permute_cpu::permute_blocks_cached(crate::Isa::best(), frame, seeds_out);
+    crate::permute_cpu::permute_blocks_cached(params, intensities, tile, table, seeds_in, seeds_out);
     let steps = Steps::new(params, table);
     let inputs = Inputs {
         params,

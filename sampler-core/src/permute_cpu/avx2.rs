@@ -4,7 +4,7 @@
 //! per instruction of the baseline SSE2 build), and the strips are
 //! transposed into lanes with eight unpacks per row instead of scalar moves.
 //!
-//! Selected at run time ([`Isa`]: CPUID and XGETBV, no `std` needed);
+//! Selected at run time ([`Isa`](super::Isa): CPUID and XGETBV, no `std` needed);
 //! the whole frame loop is compiled with AVX2 enabled so the key conversion
 //! vectorises eight wide too. The output is bit-identical to the portable
 //! path (tested in `rows` on this CPU when it has AVX2, and by the
@@ -12,7 +12,9 @@
 
 use super::inverse::{inverse_nibbles, rank_order};
 use super::ranker::GroupSeeds;
-use super::{detect, Band, FrameInputs, Isa, Strips, MAX_LANES};
+use super::{detect, Band, Strips, MAX_LANES};
+use crate::layout::FrameParams;
+use crate::retarget::RetargetTable;
 use crate::sort::Intensity;
 use core::arch::x86_64::{
     __m128i, __m256i, _mm256_blendv_ps, _mm256_castps_si256, _mm256_castsi256_ps, _mm256_cvtepu8_epi32,
@@ -28,19 +30,40 @@ pub(crate) fn available() -> bool {
 }
 
 /// The gather formulation ([`gather`](super::gather)) for 4x4 blocks with
-/// this ranker.
-///
-/// # Panics
-/// If the CPU or OS lacks the instruction set (the dispatcher checks first).
-pub(super) fn gather_4x4<T: Intensity>(frame: FrameInputs<'_, T>, band: Band, seeds_out: &mut [u32]) {
-    assert!(Isa::Avx2.is_available() && frame.params.block == 4);
+/// this ranker. Call only when the CPU has the instruction set.
+pub(super) fn gather_4x4<T: Intensity>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    band: Band,
+    seeds_out: &mut [u32],
+) {
+    assert!(available() && params.block == 4);
     // SAFETY: the instruction set is available (checked above).
-    unsafe { gather_4x4_avx2(frame, band, seeds_out) }
+    unsafe { gather_4x4_avx2(params, intensities, tile, table, seeds_in, band, seeds_out) }
 }
 
 #[target_feature(enable = "avx2")]
-fn gather_4x4_avx2<T: Intensity>(frame: FrameInputs<'_, T>, band: Band, seeds_out: &mut [u32]) {
-    super::gather::permute_gather::<T, Avx2Ranker, 4, 16>(frame, band, seeds_out);
+fn gather_4x4_avx2<T: Intensity>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    band: Band,
+    seeds_out: &mut [u32],
+) {
+    super::gather::permute_gather::<T, Avx2Ranker, 4, 16>(
+        params,
+        intensities,
+        tile,
+        table,
+        seeds_in,
+        band,
+        seeds_out,
+    );
 }
 
 /// Only instantiated inside [`gather_4x4_avx2`], i.e. with AVX2 present.

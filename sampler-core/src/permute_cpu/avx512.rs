@@ -21,7 +21,9 @@
 
 use super::network::{for_each_comparator, INPUTS};
 use super::ranker::GroupSeeds;
-use super::{Band, FrameInputs, Isa, Strips};
+use super::{Band, Isa, Strips};
+use crate::layout::FrameParams;
+use crate::retarget::RetargetTable;
 use crate::sort::Intensity;
 use core::arch::x86_64::{
     __m128i, __m512i, _mm256_loadu2_m128i, _mm512_add_epi32, _mm512_and_si512, _mm512_castsi256_si512,
@@ -32,19 +34,40 @@ use core::arch::x86_64::{
 };
 
 /// The gather formulation ([`gather`](super::gather)) for 4x4 blocks with
-/// this ranker.
-///
-/// # Panics
-/// If the CPU or OS lacks the instruction set (the dispatcher checks first).
-pub(super) fn gather_4x4<T: Intensity>(frame: FrameInputs<'_, T>, band: Band, seeds_out: &mut [u32]) {
-    assert!(Isa::Avx512.is_available() && frame.params.block == 4);
+/// this ranker. Call only when the CPU has the instruction set.
+pub(super) fn gather_4x4<T: Intensity>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    band: Band,
+    seeds_out: &mut [u32],
+) {
+    assert!(Isa::Avx512.is_available() && params.block == 4);
     // SAFETY: the instruction set is available (checked above).
-    unsafe { gather_4x4_avx512(frame, band, seeds_out) }
+    unsafe { gather_4x4_avx512(params, intensities, tile, table, seeds_in, band, seeds_out) }
 }
 
 #[target_feature(enable = "avx2,avx512f")]
-fn gather_4x4_avx512<T: Intensity>(frame: FrameInputs<'_, T>, band: Band, seeds_out: &mut [u32]) {
-    super::gather::permute_gather::<T, Avx512Ranker, 4, 16>(frame, band, seeds_out);
+fn gather_4x4_avx512<T: Intensity>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    band: Band,
+    seeds_out: &mut [u32],
+) {
+    super::gather::permute_gather::<T, Avx512Ranker, 4, 16>(
+        params,
+        intensities,
+        tile,
+        table,
+        seeds_in,
+        band,
+        seeds_out,
+    );
 }
 
 /// Only instantiated inside [`gather_4x4_avx512`], i.e. with AVX-512

@@ -14,7 +14,7 @@
 //! or more columns with 4x4 blocks.
 
 use super::ranker::GroupSeeds;
-use super::{block_ranks, prefetch_span, signed_key, Band, FrameInputs, LaneRanker, Strips, MAX_CACHED_TILE};
+use super::{block_ranks, prefetch_span, signed_key, Band, LaneRanker, Strips, MAX_CACHED_TILE};
 use super::{MAX_FAST_BLOCK, MAX_LANES, PREFETCH_AHEAD};
 use crate::dither::tile_texel;
 use crate::layout::FrameParams;
@@ -118,14 +118,28 @@ impl SourceCache {
 
 /// Sorting + retargeting of the seeds that land in `band`, gathered, in
 /// column strips as wide as the ring allows ([`strip_periods`]).
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(super) fn permute_gather<T: Intensity, R: LaneRanker, const B: u32, const N: usize>(
-    frame: FrameInputs<'_, T>,
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
     band: Band,
     seeds_out: &mut [u32],
 ) {
-    let strip = strip_periods::<N>(frame.params);
-    permute_gather_in_strips::<T, R, B, N>(frame, band, seeds_out, strip);
+    let strip = strip_periods::<N>(params);
+    permute_gather_in_strips::<T, R, B, N>(
+        params,
+        intensities,
+        tile,
+        table,
+        seeds_in,
+        band,
+        seeds_out,
+        strip,
+    );
 }
 
 /// Tile periods (`W / B` block columns each) of the strips the frame's
@@ -148,16 +162,20 @@ fn strip_periods<const N: usize>(params: &FrameParams) -> usize {
 /// [`permute_gather`] with strips of `strip_periods` tile periods (the
 /// last one narrower when they do not divide the frame's); the tests also
 /// run it with strips narrower than the ring needs.
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn permute_gather_in_strips<T: Intensity, R: LaneRanker, const B: u32, const N: usize>(
-    frame: FrameInputs<'_, T>,
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
     band: Band,
     seeds_out: &mut [u32],
     strip_periods: usize,
 ) {
-    let params = frame.params;
     let mut cache = SourceCache::new();
-    cache.fill::<B, N>(params, frame.tile, frame.table);
+    cache.fill::<B, N>(params, tile, table);
     let mut ring = Ring([0u32; RING_SEEDS]);
     let mut scratch = RankScratch::<N> {
         strips: [[0; MAX_LANES * MAX_FAST_BLOCK]; MAX_FAST_BLOCK],
@@ -166,9 +184,9 @@ fn permute_gather_in_strips<T: Intensity, R: LaneRanker, const B: u32, const N: 
     let inputs = Inputs {
         params,
         cache: &cache,
-        intensities: frame.intensities,
-        tile: frame.tile,
-        seeds_in: frame.seeds_in,
+        intensities,
+        tile,
+        seeds_in,
     };
     let stream = (seeds_out.as_ptr() as usize).is_multiple_of(16);
     let periods = params.blocks_x() as usize / ((1usize << params.tile_log2) / B as usize);
@@ -191,8 +209,7 @@ fn permute_gather_in_strips<T: Intensity, R: LaneRanker, const B: u32, const N: 
     }
 }
 
-/// What every strip reads: the frame's parameters, intensities, dither
-/// tile and seeds, and the sources of its output pixels.
+/// What every strip reads.
 struct Inputs<'a, T> {
     params: &'a FrameParams,
     cache: &'a SourceCache,
@@ -443,8 +460,13 @@ fn rank_run<T: Intensity, R: LaneRanker, const B: u32, const N: usize, const GRO
     if GROUPS && by < full_y {
         while bx + lanes as u32 <= full_x.min(run.blocks.end) {
             let x_start = (bx * B) as usize;
-            let rows = &intensities[y0 as usize * w + x_start..];
-            group_keys::<T, B>(rows, w, lanes * B as usize, &mut scratch.strips);
+            for (r, strip) in scratch.strips.iter_mut().enumerate().take(B as usize) {
+                let at = (y0 as usize + r) * w + x_start;
+                let src = &intensities[at..at + lanes * B as usize];
+                for (k, v) in strip.iter_mut().zip(src) {
+                    *k = signed_key(v.intensity());
+                }
+            }
             for r in 0..B as usize {
                 let span = lanes * B as usize;
                 prefetch_span(seeds_in, (y0 as usize + r) * pws + x_start + PREFETCH_AHEAD, span);
@@ -497,23 +519,6 @@ fn rank_run<T: Intensity, R: LaneRanker, const B: u32, const N: usize, const GRO
             );
         }
         bx += 1;
-    }
-}
-
-/// A lane group's keys: `strips[r][..len] = signed_key(rows[r w..r w +
-/// len])` for its `B` rows. Each row is converted into a local array and
-/// then copied: the compiler vectorises the conversion only where it can
-/// tell the destination from the intensities, and the strips are handed
-/// to the ranker, which may not be inlined (converted straight into the
-/// strips the AVX2 and SSE2 frames ran it scalar, 25% and 15% slower).
-#[inline(always)]
-fn group_keys<T: Intensity, const B: u32>(rows: &[T], w: usize, len: usize, strips: &mut Strips) {
-    for (r, strip) in strips.iter_mut().enumerate().take(B as usize) {
-        let mut keys = [0i32; MAX_LANES * MAX_FAST_BLOCK];
-        for (k, v) in keys[..len].iter_mut().zip(&rows[r * w..r * w + len]) {
-            *k = signed_key(v.intensity());
-        }
-        strip[..len].copy_from_slice(&keys[..len]);
     }
 }
 
@@ -605,14 +610,16 @@ mod tests {
                         let band = Band::of_block_rows(&params, rows);
                         let pw = params.padded_width as usize;
                         let out = &mut got[band.row0 as usize * pw..band.row_end as usize * pw];
-                        let frame = FrameInputs {
-                            params: &params,
-                            intensities: &intensities,
-                            tile: tile.values(),
+                        permute_gather_in_strips::<f32, BaselineRanker, 4, 16>(
+                            &params,
+                            &intensities,
+                            tile.values(),
                             table,
-                            seeds_in: &seeds,
-                        };
-                        permute_gather_in_strips::<f32, BaselineRanker, 4, 16>(frame, band, out, strip);
+                            &seeds,
+                            band,
+                            out,
+                            strip,
+                        );
                     }
                     assert!(
                         got == want,

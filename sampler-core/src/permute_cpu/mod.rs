@@ -89,11 +89,9 @@ type BaselineRanker = ranker::PortableRanker;
 pub use detect::Isa;
 use ranker::{LaneRanker, Strips, MAX_FAST_BLOCK, MAX_LANES};
 
-use crate::dither::DitherTile;
 use crate::layout::FrameParams;
-use crate::retarget::{RetargetTable, RetargetTables};
+use crate::retarget::RetargetTable;
 use crate::sort::Intensity;
-use crate::walk::step_index;
 use core::ops::Range;
 
 /// Largest tile side the cached dither order supports.
@@ -165,92 +163,115 @@ impl Band {
     }
 }
 
-/// What one frame's permutation reads, shared by every band and strip of
-/// it: the frame's parameters, its pixel intensities (`width x height`),
-/// the dither tile's values, the retarget table of its step and its seeds
-/// (the padded buffer).
-pub(crate) struct FrameInputs<'a, T> {
-    pub params: &'a FrameParams,
-    pub intensities: &'a [T],
-    pub tile: &'a [u32],
-    pub table: RetargetTable<'a>,
-    pub seeds_in: &'a [u32],
-}
-
-impl<'a, T> FrameInputs<'a, T> {
-    /// The inputs of frame `params.frame`: the tile's values and the
-    /// retarget table of that frame's step.
-    pub fn new(
-        params: &'a FrameParams,
-        intensities: &'a [T],
-        tile: &DitherTile<'a>,
-        tables: &RetargetTables<'a>,
-        seeds_in: &'a [u32],
-    ) -> Self {
-        FrameInputs {
-            params,
-            intensities,
-            tile: tile.values(),
-            table: tables.table(step_index(params.frame, params.tile_log2)),
-            seeds_in,
-        }
-    }
-}
-
-impl<T> Clone for FrameInputs<'_, T> {
-    fn clone(&self) -> Self {
-        *self
-    }
-}
-impl<T> Copy for FrameInputs<'_, T> {}
-
 /// Sorting + retargeting of the seeds that land in `band` with the ranker
 /// of `isa` (or the best available below it) for 4x4 blocks, the portable
-/// one otherwise, in the gather formulation ([`gather`]); every choice
-/// gives identical output. `applies(frame.params)` must hold.
+/// one otherwise; every choice gives identical output. `applies(params)`
+/// must hold.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn permute_band_cached<T: Intensity>(
     isa: Isa,
-    frame: FrameInputs<'_, T>,
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    band: Band,
+    seeds_out: &mut [u32],
+) {
+    permute_band_gather(isa, params, intensities, tile, table, seeds_in, band, seeds_out)
+}
+
+/// The gather formulation with the portable ranker.
+#[inline(never)]
+fn gather_portable<T: Intensity, const B: u32, const N: usize>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    band: Band,
+    seeds_out: &mut [u32],
+) {
+    let (i, t, s) = (intensities, tile, seeds_in);
+    gather::permute_gather::<T, BaselineRanker, B, N>(params, i, t, table, s, band, seeds_out)
+}
+
+/// [`permute_band_cached`] in the gather formulation ([`gather`]).
+#[allow(clippy::too_many_arguments)]
+fn permute_band_gather<T: Intensity>(
+    isa: Isa,
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
     band: Band,
     seeds_out: &mut [u32],
 ) {
     #[cfg(target_arch = "x86_64")]
-    if frame.params.block == 4 {
+    if params.block == 4 {
         match isa.min(Isa::best()) {
-            Isa::Avx512 => return avx512::gather_4x4(frame, band, seeds_out),
-            Isa::Avx2 => return avx2::gather_4x4(frame, band, seeds_out),
+            Isa::Avx512 => {
+                return avx512::gather_4x4(params, intensities, tile, table, seeds_in, band, seeds_out)
+            }
+            Isa::Avx2 => {
+                return avx2::gather_4x4(params, intensities, tile, table, seeds_in, band, seeds_out)
+            }
             Isa::Baseline => {}
         }
     }
     let _ = isa;
-    match frame.params.block {
-        2 => gather_portable::<T, 2, 4>(frame, band, seeds_out),
-        4 => gather_portable::<T, 4, 16>(frame, band, seeds_out),
-        _ => gather_portable::<T, 8, 64>(frame, band, seeds_out),
+    let (i, t, s) = (intensities, tile, seeds_in);
+    match params.block {
+        2 => gather_portable::<T, 2, 4>(params, i, t, table, s, band, seeds_out),
+        4 => gather_portable::<T, 4, 16>(params, i, t, table, s, band, seeds_out),
+        _ => gather_portable::<T, 8, 64>(params, i, t, table, s, band, seeds_out),
     }
 }
 
-/// The gather formulation with the portable ranker. One function per
-/// block size (never inlined into the dispatch): each has its own stack
-/// frame (the ring and caches are stack arrays), not the sum of all three.
-#[inline(never)]
-fn gather_portable<T: Intensity, const B: u32, const N: usize>(
-    frame: FrameInputs<'_, T>,
-    band: Band,
+/// The whole frame with the best instruction set ([`permute_band_cached`]).
+pub(crate) fn permute_blocks_cached<T: Intensity>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
     seeds_out: &mut [u32],
 ) {
-    gather::permute_gather::<T, BaselineRanker, B, N>(frame, band, seeds_out)
+    let band = Band::whole(params);
+    permute_band_cached(
+        Isa::best(),
+        params,
+        intensities,
+        tile,
+        table,
+        seeds_in,
+        band,
+        seeds_out,
+    );
 }
 
-/// The whole frame with the instruction set `isa` ([`permute_band_cached`]):
-/// [`Isa::best`], or [`Isa::Baseline`] for the reference the vector paths
-/// are tested against.
-pub(crate) fn permute_blocks_cached<T: Intensity>(
-    isa: Isa,
-    frame: FrameInputs<'_, T>,
+/// The whole frame with the portable ranker only (baseline instruction
+/// set); also the reference the vector paths are tested against.
+pub(crate) fn permute_blocks_portable<T: Intensity>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
     seeds_out: &mut [u32],
 ) {
-    permute_band_cached(isa, frame, Band::whole(frame.params), seeds_out);
+    let band = Band::whole(params);
+    permute_band_cached(
+        Isa::Baseline,
+        params,
+        intensities,
+        tile,
+        table,
+        seeds_in,
+        band,
+        seeds_out,
+    );
 }
 
 /// How far ahead of the current lane group, in elements, the input rows

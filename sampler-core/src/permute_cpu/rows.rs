@@ -2,7 +2,7 @@
 //! entry point for renderers that split the pass over their own threads.
 
 use super::edge::permute_block_in_band;
-use super::{applies, permute_band_cached, Band, FrameInputs, Isa};
+use super::{applies, permute_band_cached, Band, Isa};
 use crate::dither::DitherTile;
 use crate::error::{Buffer, Error};
 use crate::layout::FrameLayout;
@@ -138,8 +138,16 @@ pub fn permute_frame_rows_isa<T: Intensity>(
     let table = tables.table(step_index(frame, params.tile_log2));
     let (values, packed) = (tile.values(), table.packed());
     if applies(&params) {
-        let frame = FrameInputs::new(&params, intensities, tile, tables, seeds_in);
-        permute_band_cached(isa, frame, band, seeds_out_rows);
+        permute_band_cached(
+            isa,
+            &params,
+            intensities,
+            values,
+            table,
+            seeds_in,
+            band,
+            seeds_out_rows,
+        );
     } else {
         for rows in band.source_block_rows(&params, RETARGET_RADIUS) {
             for by in rows {
