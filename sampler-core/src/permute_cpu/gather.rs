@@ -129,51 +129,7 @@ pub(super) fn permute_gather<T: Intensity, R: LaneRanker, const B: u32, const N:
     band: Band,
     seeds_out: &mut [u32],
 ) {
-    let strip = strip_periods::<N>(params);
-    permute_gather_in_strips::<T, R, B, N>(
-        params,
-        intensities,
-        tile,
-        table,
-        seeds_in,
-        band,
-        seeds_out,
-        strip,
-    );
-}
-
-/// Tile periods (`W / B` block columns each) of the strips the frame's
-/// block rows are cut into: as few strips as keep each strip's ring, `2
-/// reach + 1` rows of `strip + 2 reach` lines, within [`RING_SEEDS`], of
-/// equal width but the last. At least 15 periods fit with every block
-/// and tile size, so 1920-wide frames with 4x4 blocks and 64x64 tiles
-/// (30 periods of 16 blocks, ring rows of 484 lines: 155 KiB) take one
-/// strip, 2560 and 3840-wide ones two.
-fn strip_periods<const N: usize>(params: &FrameParams) -> usize {
-    let reach = reach(params.block) as usize;
-    let period_blocks = ((1u32 << params.tile_log2) / params.block) as usize;
-    let periods = params.blocks_x() as usize / period_blocks;
-    let lines = RING_SEEDS / ((2 * reach + 1) * N);
-    let most = (lines - 2 * reach) / period_blocks;
-    debug_assert!(most >= 1);
-    periods.div_ceil(periods.div_ceil(most))
-}
-
-/// [`permute_gather`] with strips of `strip_periods` tile periods (the
-/// last one narrower when they do not divide the frame's); the tests also
-/// run it with strips narrower than the ring needs.
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn permute_gather_in_strips<T: Intensity, R: LaneRanker, const B: u32, const N: usize>(
-    params: &FrameParams,
-    intensities: &[T],
-    tile: &[u32],
-    table: RetargetTable<'_>,
-    seeds_in: &[u32],
-    band: Band,
-    seeds_out: &mut [u32],
-    strip_periods: usize,
-) {
+    let strip_periods = strip_periods::<N>(params);
     let mut cache = SourceCache::new();
     cache.fill::<B, N>(params, tile, table);
     let mut ring = Ring([0u32; RING_SEEDS]);
@@ -207,6 +163,23 @@ fn permute_gather_in_strips<T: Intensity, R: LaneRanker, const B: u32, const N: 
     if stream {
         end_streaming();
     }
+}
+
+/// Tile periods (`W / B` block columns each) of the strips the frame's
+/// block rows are cut into: as few strips as keep each strip's ring, `2
+/// reach + 1` rows of `strip + 2 reach` lines, within [`RING_SEEDS`], of
+/// equal width but the last. At least 15 periods fit with every block
+/// and tile size, so 1920-wide frames with 4x4 blocks and 64x64 tiles
+/// (30 periods of 16 blocks, ring rows of 484 lines: 155 KiB) take one
+/// strip, 2560 and 3840-wide ones two.
+fn strip_periods<const N: usize>(params: &FrameParams) -> usize {
+    let reach = reach(params.block) as usize;
+    let period_blocks = ((1u32 << params.tile_log2) / params.block) as usize;
+    let periods = params.blocks_x() as usize / period_blocks;
+    let lines = RING_SEEDS / ((2 * reach + 1) * N);
+    let most = (lines - 2 * reach) / period_blocks;
+    debug_assert!(most >= 1);
+    periods.div_ceil(periods.div_ceil(most))
 }
 
 /// What every strip reads.
@@ -571,24 +544,25 @@ fn sort_edge_block<T: Intensity, const B: u32, const N: usize>(
 #[cfg(test)]
 mod tests {
     extern crate std;
-    use super::super::BaselineRanker;
     use super::*;
     use crate::defaults::{tables_64, tile_64};
     use crate::seed::hash_u32;
-    use crate::{retarget_frame, sort_frame, FrameLayout};
+    use crate::{band_seed_range, permute_frame_rows_isa, retarget_frame, sort_frame, FrameLayout, Isa};
     use std::vec::Vec;
 
-    /// Strips of one tile period and more (and the last one narrower)
-    /// give the reference output, bands included: the neighbours across
-    /// a strip's sides are ranked into its ring, across the frame's sides
-    /// they wrap.
+    /// Frames wider than one ring give the reference output with every
+    /// instruction set, bands included: two strips (5000 wide: three,
+    /// the last narrower), the neighbours across a strip's sides ranked
+    /// into its ring, across the frame's sides wrapped.
     #[test]
-    fn strips_of_any_width_equal_the_reference() {
+    fn strips_equal_the_reference() {
         let (tile, tables) = (tile_64(), tables_64());
         let mut state = 3u32;
-        for (width, height) in [(256, 64), (300, 130), (64, 70)] {
+        for (width, height, strips) in [(2600, 9, 2), (5000, 5, 3)] {
             let layout = FrameLayout::new(width, height, 4, 64).unwrap();
             let params = layout.params(7);
+            let periods = params.blocks_x() as usize / 16;
+            assert_eq!(periods.div_ceil(strip_periods::<16>(&params)), strips);
             let intensities: Vec<f32> = (0..layout.pixel_count())
                 .map(|_| {
                     state = hash_u32(state);
@@ -600,31 +574,17 @@ mod tests {
             let mut want = std::vec![0u32; seeds.len()];
             sort_frame(&layout, 7, &intensities, &tile, &seeds, &mut sorted).unwrap();
             retarget_frame(&layout, 7, &tables, &sorted, &mut want).unwrap();
-            let table = tables.table(crate::walk::step_index(7, params.tile_log2));
             let blocks_y = params.blocks_y();
-            for strip in [1, 2, 3] {
+            for isa in Isa::ALL.into_iter().filter(|isa| isa.is_available()) {
                 for bands in [1u32, 3] {
                     let mut got = std::vec![u32::MAX; seeds.len()];
                     for k in 0..bands {
                         let rows = blocks_y * k / bands..blocks_y * (k + 1) / bands;
-                        let band = Band::of_block_rows(&params, rows);
-                        let pw = params.padded_width as usize;
-                        let out = &mut got[band.row0 as usize * pw..band.row_end as usize * pw];
-                        permute_gather_in_strips::<f32, BaselineRanker, 4, 16>(
-                            &params,
-                            &intensities,
-                            tile.values(),
-                            table,
-                            &seeds,
-                            band,
-                            out,
-                            strip,
-                        );
+                        let out = &mut got[band_seed_range(&layout, rows.clone())];
+                        let (i, s) = (&intensities, &seeds);
+                        permute_frame_rows_isa(isa, &layout, 7, i, &tile, &tables, s, rows, out).unwrap();
                     }
-                    assert!(
-                        got == want,
-                        "{width}x{height}, strips of {strip} periods, {bands} bands"
-                    );
+                    assert!(got == want, "{width}x{height}, {isa:?}, {bands} bands");
                 }
             }
         }
