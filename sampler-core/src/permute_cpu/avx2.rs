@@ -69,28 +69,32 @@ fn gather_4x4_avx2<T: Intensity>(
 /// Only instantiated inside [`gather_4x4_avx2`], i.e. with AVX2 present.
 struct Avx2Ranker;
 
-super::ranker::lane_ranker!(Avx2Ranker, 8, rank_4x4, place_seeds_4x4);
+super::ranker::lane_ranker!(Avx2Ranker, 8, sort_4x4);
 
-/// [`LaneRanker::place_4x4`](super::LaneRanker::place_4x4) for eight 4x4
-/// blocks, with no scattered store: each block's inverse permutation as
+/// [`LaneRanker::sort_4x4`](super::LaneRanker::sort_4x4) for eight 4x4
+/// blocks: [`rank_4x4`], then [`place_seeds_4x4`].
+#[target_feature(enable = "avx2")]
+#[inline]
+fn sort_4x4(strips: &Strips, ranks: &mut [[u32; MAX_LANES]; 16], group: GroupSeeds<'_>, lines: &mut [u32]) {
+    rank_4x4(strips, ranks);
+    place_seeds_4x4(ranks, group, lines);
+}
+
+/// Places eight 4x4 blocks' seeds by rank into their ring lines (see
+/// [`LaneRanker::sort_group`](super::LaneRanker::sort_group)), with no scattered store: each block's inverse permutation as
 /// nibbles ([`inverse`](super::inverse)), then its line as two in-register
 /// permutes of its sixteen seeds.
 #[target_feature(enable = "avx2")]
 #[inline]
 fn place_seeds_4x4(ranks: &[[u32; MAX_LANES]; 16], group: GroupSeeds<'_>, lines: &mut [u32]) {
-    assert!(lines.len() == 8 * 16 && group.covers(8, 4));
-    let GroupSeeds {
-        seeds,
-        origin,
-        pitch: pws,
-    } = group;
+    let (seeds, origin, pws) = group.checked_4x4(8, lines);
     let (low, high) = inverse_nibbles(ranks);
     for (l, line) in lines.chunks_exact_mut(16).enumerate() {
         let order = rank_order(low[l] as u64 | (high[l] as u64) << 32);
         let first = _mm256_cvtepu8_epi32(order);
         let second = _mm256_cvtepu8_epi32(_mm_srli_si128::<8>(order));
         // SAFETY: rows `origin + r pws + 4 l .. + 4` lie in `seeds`
-        // (asserted above); `line` is sixteen writable u32.
+        // (`checked_4x4` above); `line` is sixteen writable u32.
         unsafe {
             let p = seeds.as_ptr().add(origin + 4 * l) as *const __m128i;
             let rows01 = _mm256_loadu2_m128i(p.byte_add(4 * pws), p);
@@ -109,7 +113,8 @@ fn place_seeds_4x4(ranks: &[[u32; MAX_LANES]; 16], group: GroupSeeds<'_>, lines:
     }
 }
 
-/// Ranks of eight 4x4 blocks; see [`LaneRanker::rank_strips`](super::LaneRanker::rank_strips).
+/// Ranks of eight 4x4 blocks: `out[i][l]` is pixel `i`'s rank in block
+/// `l` (lanes `8..` are left as they are).
 /// Kept out of line: inlined into the frame loop it spilled (8% slower).
 #[target_feature(enable = "avx2")]
 #[inline(never)]

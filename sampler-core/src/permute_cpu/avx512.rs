@@ -21,7 +21,7 @@
 
 use super::network::{for_each_comparator, INPUTS};
 use super::ranker::GroupSeeds;
-use super::{Band, Isa, Strips};
+use super::{Band, Isa, Strips, MAX_LANES};
 use crate::layout::FrameParams;
 use crate::retarget::RetargetTable;
 use crate::sort::Intensity;
@@ -74,7 +74,7 @@ fn gather_4x4_avx512<T: Intensity>(
 /// present.
 struct Avx512Ranker;
 
-super::ranker::lane_ranker!(Avx512Ranker, 16, sort = sort_4x4);
+super::ranker::lane_ranker!(Avx512Ranker, 16, sort_4x4);
 
 /// [`LaneRanker::sort_4x4`](super::LaneRanker::sort_4x4) for sixteen 4x4
 /// blocks: each block's order by a sorting network ([`order_words`]), then
@@ -82,13 +82,8 @@ super::ranker::lane_ranker!(Avx512Ranker, 16, sort = sort_4x4);
 /// in between.
 #[target_feature(enable = "avx2,avx512f")]
 #[inline]
-fn sort_4x4(strips: &Strips, group: GroupSeeds<'_>, lines: &mut [u32]) {
-    assert!(lines.len() == 16 * 16 && group.covers(16, 4));
-    let GroupSeeds {
-        seeds,
-        origin,
-        pitch: pws,
-    } = group;
+fn sort_4x4(strips: &Strips, _ranks: &mut [[u32; MAX_LANES]; 16], group: GroupSeeds<'_>, lines: &mut [u32]) {
+    let (seeds, origin, pws) = group.checked_4x4(16, lines);
     let order = order_words(strips);
     // Dword `k` of block `m`'s permute index: the low (k < 8) or high
     // (k >= 8) half of its order word, shifted right by `4 (k mod 8)` so
@@ -99,7 +94,7 @@ fn sort_4x4(strips: &Strips, group: GroupSeeds<'_>, lines: &mut [u32]) {
         let word = _mm512_add_epi32(halves, _mm512_set1_epi32(2 * (l % 8) as i32));
         let index = _mm512_srlv_epi32(_mm512_permutexvar_epi32(word, order[l / 8]), shifts);
         // SAFETY: rows `origin + r pws + 4 l .. + 4` lie in `seeds`
-        // (asserted above); `line` is sixteen writable u32.
+        // (`checked_4x4` above); `line` is sixteen writable u32.
         unsafe {
             let p = seeds.as_ptr().add(origin + 4 * l) as *const __m128i;
             let block = _mm512_inserti64x4::<1>(

@@ -163,24 +163,6 @@ impl Band {
     }
 }
 
-/// Sorting + retargeting of the seeds that land in `band` with the ranker
-/// of `isa` (or the best available below it) for 4x4 blocks, the portable
-/// one otherwise; every choice gives identical output. `applies(params)`
-/// must hold.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn permute_band_cached<T: Intensity>(
-    isa: Isa,
-    params: &FrameParams,
-    intensities: &[T],
-    tile: &[u32],
-    table: RetargetTable<'_>,
-    seeds_in: &[u32],
-    band: Band,
-    seeds_out: &mut [u32],
-) {
-    permute_band_gather(isa, params, intensities, tile, table, seeds_in, band, seeds_out)
-}
-
 /// The gather formulation with the portable ranker.
 #[inline(never)]
 fn gather_portable<T: Intensity, const B: u32, const N: usize>(
@@ -196,9 +178,12 @@ fn gather_portable<T: Intensity, const B: u32, const N: usize>(
     gather::permute_gather::<T, BaselineRanker, B, N>(params, i, t, table, s, band, seeds_out)
 }
 
-/// [`permute_band_cached`] in the gather formulation ([`gather`]).
+/// Sorting + retargeting of the seeds that land in `band` with the ranker
+/// of `isa` (or the best available below it) for 4x4 blocks, the portable
+/// one otherwise, in the gather formulation ([`gather`]); every choice
+/// gives identical output. `applies(params)` must hold.
 #[allow(clippy::too_many_arguments)]
-fn permute_band_gather<T: Intensity>(
+pub(crate) fn permute_band_cached<T: Intensity>(
     isa: Isa,
     params: &FrameParams,
     intensities: &[T],

@@ -16,39 +16,15 @@ pub(super) const MAX_FAST_BLOCK: usize = 8;
 /// entries past `LANES * B` are unused.
 pub(super) type Strips = [[i32; MAX_LANES * MAX_FAST_BLOCK]; MAX_FAST_BLOCK];
 
-/// Ranks `LANES` side-by-side `B x B` blocks at once and places their
-/// seeds by rank. An instruction set supplies its 4x4 kernels
-/// ([`rank_4x4`](Self::rank_4x4), [`place_4x4`](Self::place_4x4)); every
-/// other block size takes the portable forms.
+/// Sorts `LANES` side-by-side `B x B` blocks at once into their ring
+/// lines. An instruction set supplies its 4x4 kernel
+/// ([`sort_4x4`](Self::sort_4x4)); every other block size takes the
+/// portable ranking and the scalar placement.
 pub(super) trait LaneRanker {
-    /// Blocks ranked at once (at most [`MAX_LANES`]).
+    /// Blocks sorted at once (at most [`MAX_LANES`]).
     const LANES: usize;
 
-    /// [`rank_strips`](Self::rank_strips) for 4x4 blocks.
-    #[inline(always)]
-    fn rank_4x4(strips: &Strips, ranks: &mut [[u32; MAX_LANES]; 16]) {
-        portable_rank_strips::<4, 16>(strips, ranks)
-    }
-
-    /// [`place_seeds`](Self::place_seeds) for 4x4 blocks.
-    #[inline(always)]
-    fn place_4x4(ranks: &[[u32; MAX_LANES]; 16], group: GroupSeeds<'_>, lines: &mut [u32]) {
-        place_seeds_scalar::<4, 16>(ranks, group, lines)
-    }
-
-    /// Writes, for pixel `i = r * B + c` and block `l < LANES`, the pixel's
-    /// rank in its block's total order (key, then index) to `ranks[i][l]`
-    /// (lanes `LANES..` are left as they are).
-    #[inline(always)]
-    fn rank_strips<const B: u32, const N: usize>(strips: &Strips, ranks: &mut [[u32; MAX_LANES]; N]) {
-        match <&mut [[u32; MAX_LANES]; 16]>::try_from(&mut ranks[..]) {
-            Ok(ranks) if B == 4 => Self::rank_4x4(strips, ranks),
-            _ => portable_rank_strips::<B, N>(strips, ranks),
-        }
-    }
-
-    /// [`sort_group`](Self::sort_group) for 4x4 blocks: ranks then
-    /// places, unless the instruction set has a kernel that does both.
+    /// [`sort_group`](Self::sort_group) for 4x4 blocks.
     #[inline(always)]
     fn sort_4x4(
         strips: &Strips,
@@ -56,14 +32,16 @@ pub(super) trait LaneRanker {
         group: GroupSeeds<'_>,
         lines: &mut [u32],
     ) {
-        Self::rank_4x4(strips, ranks);
-        Self::place_4x4(ranks, group, lines);
+        portable_rank_strips::<4, 16>(strips, ranks);
+        place_seeds_scalar::<4, 16>(ranks, group, lines);
     }
 
-    /// Sorts a lane group's seeds into their ring lines: what
-    /// [`rank_strips`](Self::rank_strips) then
-    /// [`place_seeds`](Self::place_seeds) write to `lines` (`ranks` is
-    /// scratch: its content afterwards is unspecified).
+    /// Sorts a lane group's seeds into their ring lines: block `l <
+    /// LANES` (its keys in `strips`, its seeds in `group`) gets line
+    /// `lines[l N..(l + 1) N]`, whose entry `k` is the seed of the block's
+    /// pixel of rank `k` in its total order (key, then index;
+    /// `lines.len() == LANES * N`). `ranks` is scratch: its content
+    /// afterwards is unspecified.
     #[inline(always)]
     fn sort_group<const B: u32, const N: usize>(
         strips: &Strips,
@@ -74,27 +52,9 @@ pub(super) trait LaneRanker {
         match <&mut [[u32; MAX_LANES]; 16]>::try_from(&mut ranks[..]) {
             Ok(ranks) if B == 4 => Self::sort_4x4(strips, ranks, group, lines),
             _ => {
-                Self::rank_strips::<B, N>(strips, ranks);
-                Self::place_seeds::<B, N>(ranks, group, lines);
+                portable_rank_strips::<B, N>(strips, ranks);
+                place_seeds_scalar::<B, N>(ranks, group, lines);
             }
-        }
-    }
-
-    /// Places a lane group's seeds by rank: block `l < LANES` (its seeds
-    /// in `group`) gets line `lines[l N..(l + 1) N]`, where entry
-    /// `ranks[i][l]` is the seed of its pixel `i = r B + c`
-    /// (`lines.len() == LANES * N`; the ranks of each block are a
-    /// permutation of `0..N`). The gather formulation's
-    /// ring rows ([`gather`](super::gather)).
-    #[inline(always)]
-    fn place_seeds<const B: u32, const N: usize>(
-        ranks: &[[u32; MAX_LANES]; N],
-        group: GroupSeeds<'_>,
-        lines: &mut [u32],
-    ) {
-        match <&[[u32; MAX_LANES]; 16]>::try_from(&ranks[..]) {
-            Ok(ranks) if B == 4 => Self::place_4x4(ranks, group, lines),
-            _ => place_seeds_scalar::<B, N>(ranks, group, lines),
         }
     }
 }
@@ -111,7 +71,21 @@ pub(super) struct GroupSeeds<'a> {
     pub pitch: usize,
 }
 
-impl GroupSeeds<'_> {
+impl<'a> GroupSeeds<'a> {
+    /// The seeds, origin and pitch of a group of `lanes` 4x4 blocks whose
+    /// lines are `lines`, for the instruction sets' kernels, which read
+    /// the blocks' rows and write the lines unchecked.
+    ///
+    /// # Panics
+    /// Unless `lines` holds `lanes` lines of 16 seeds and the blocks lie
+    /// inside the seeds ([`covers`](Self::covers)).
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub fn checked_4x4(self, lanes: usize, lines: &[u32]) -> (&'a [u32], usize, usize) {
+        assert!(lines.len() == lanes * 16 && self.covers(lanes, 4));
+        (self.seeds, self.origin, self.pitch)
+    }
+
     /// True when `lanes` blocks of side `block` lie inside `seeds`.
     #[inline(always)]
     pub fn covers(&self, lanes: usize, block: usize) -> bool {
@@ -119,50 +93,26 @@ impl GroupSeeds<'_> {
     }
 }
 
-/// Implements [`LaneRanker`] for `$ranker`, ranking `$lanes` blocks at
-/// once, with either the 4x4 kernels `$rank` ([`LaneRanker::rank_4x4`])
-/// and `$place` ([`LaneRanker::place_4x4`]), or `sort = $sort`
-/// ([`LaneRanker::sort_4x4`], both in one): functions compiled for an
-/// instruction set (`#[target_feature]`), which makes calling them
-/// `unsafe`. Sound because a ranker built with this macro is only used
-/// inside functions compiled for its instruction set, themselves called
-/// only when the CPU has it ([`Isa`](super::Isa)).
+/// Implements [`LaneRanker`] for `$ranker`, sorting `$lanes` blocks at
+/// once, with the 4x4 kernel `$sort` ([`LaneRanker::sort_4x4`]): a
+/// function compiled for an instruction set (`#[target_feature]`), which
+/// makes calling it `unsafe`. Sound because a ranker built with this macro
+/// is only used inside functions compiled for its instruction set,
+/// themselves called only when the CPU has it ([`Isa`](super::Isa)).
 #[cfg(target_arch = "x86_64")]
 macro_rules! lane_ranker {
-    ($ranker:ty, $lanes:expr, sort = $sort:path) => {
+    ($ranker:ty, $lanes:expr, $sort:path) => {
         impl $crate::permute_cpu::ranker::LaneRanker for $ranker {
             const LANES: usize = $lanes;
             #[inline(always)]
             fn sort_4x4(
                 strips: &$crate::permute_cpu::ranker::Strips,
-                _ranks: &mut [[u32; $crate::permute_cpu::ranker::MAX_LANES]; 16],
-                group: $crate::permute_cpu::ranker::GroupSeeds<'_>,
-                lines: &mut [u32],
-            ) {
-                // SAFETY: see `lane_ranker`.
-                unsafe { $sort(strips, group, lines) }
-            }
-        }
-    };
-    ($ranker:ty, $lanes:expr, $rank:path, $place:path) => {
-        impl $crate::permute_cpu::ranker::LaneRanker for $ranker {
-            const LANES: usize = $lanes;
-            #[inline(always)]
-            fn rank_4x4(
-                strips: &$crate::permute_cpu::ranker::Strips,
                 ranks: &mut [[u32; $crate::permute_cpu::ranker::MAX_LANES]; 16],
-            ) {
-                // SAFETY: see `lane_ranker`.
-                unsafe { $rank(strips, ranks) }
-            }
-            #[inline(always)]
-            fn place_4x4(
-                ranks: &[[u32; $crate::permute_cpu::ranker::MAX_LANES]; 16],
                 group: $crate::permute_cpu::ranker::GroupSeeds<'_>,
                 lines: &mut [u32],
             ) {
                 // SAFETY: see `lane_ranker`.
-                unsafe { $place(ranks, group, lines) }
+                unsafe { $sort(strips, ranks, group, lines) }
             }
         }
     };
@@ -170,7 +120,9 @@ macro_rules! lane_ranker {
 #[cfg(target_arch = "x86_64")]
 pub(super) use lane_ranker;
 
-/// [`LaneRanker::place_seeds`] one seed at a time.
+/// The placement of [`LaneRanker::sort_group`] from each pixel's rank
+/// (`ranks[i][l]`, a permutation of `0..N` for each block), one seed at a
+/// time.
 #[inline(always)]
 pub(super) fn place_seeds_scalar<const B: u32, const N: usize>(
     ranks: &[[u32; MAX_LANES]; N],
@@ -197,19 +149,23 @@ pub(super) fn place_seeds_scalar<const B: u32, const N: usize>(
 /// Scalar transposition and [`quad_ranks`] over two groups of four lanes;
 /// the compiler vectorises the lanes with whatever vector width the build
 /// targets (one SSE2 register for four lanes on baseline x86_64).
-// On x86_64 the baseline is the SSE2 ranker; this one is its reference.
-#[cfg_attr(all(target_arch = "x86_64", not(test)), allow(dead_code))]
+// The baseline ranker off x86_64; there, the SSE2 ranker is.
+#[cfg_attr(target_arch = "x86_64", allow(dead_code))]
 pub(super) struct PortableRanker;
 
 impl LaneRanker for PortableRanker {
     const LANES: usize = 8;
 }
 
-/// [`LaneRanker::rank_strips`] for eight lanes: four at a time, one SSE2
+/// Each pixel's rank for eight lanes (`ranks[i][l]` for pixel `i = r B +
+/// c` of block `l`), four at a time, one SSE2
 /// register a pixel on x86_64, so a quad's keys and ranks stay in
 /// registers ([`quad_ranks`]).
 #[inline(always)]
-fn portable_rank_strips<const B: u32, const N: usize>(strips: &Strips, ranks: &mut [[u32; MAX_LANES]; N]) {
+pub(super) fn portable_rank_strips<const B: u32, const N: usize>(
+    strips: &Strips,
+    ranks: &mut [[u32; MAX_LANES]; N],
+) {
     for half in 0..2 {
         let keys: [[i32; 4]; N] = core::array::from_fn(|i| {
             let (r, c) = (i / B as usize, i % B as usize);

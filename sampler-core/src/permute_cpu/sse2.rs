@@ -9,7 +9,7 @@
 //! property tests).
 
 use super::ranker::GroupSeeds;
-use super::Strips;
+use super::{Strips, MAX_LANES};
 use core::arch::x86_64::{
     __m128i, _mm_add_epi16, _mm_cmpgt_epi32, _mm_extract_epi16, _mm_loadu_si128, _mm_packs_epi32,
     _mm_set1_epi16, _mm_setzero_si128, _mm_sub_epi16, _mm_unpackhi_epi32, _mm_unpackhi_epi64,
@@ -20,20 +20,15 @@ use core::arch::x86_64::{
 /// portable ranker for the other sizes).
 pub(super) struct Sse2Ranker;
 
-super::ranker::lane_ranker!(Sse2Ranker, 8, sort = sort_4x4);
+super::ranker::lane_ranker!(Sse2Ranker, 8, sort_4x4);
 
 /// [`LaneRanker::sort_4x4`](super::LaneRanker::sort_4x4) for eight 4x4
 /// blocks: [`rank_eight`], then each seed stored at its rank in its
 /// block's line, the rank taken from its pixel's register of eight.
 #[target_feature(enable = "sse2")]
 #[inline]
-fn sort_4x4(strips: &Strips, group: GroupSeeds<'_>, lines: &mut [u32]) {
-    assert!(lines.len() == 8 * 16 && group.covers(8, 4));
-    let GroupSeeds {
-        seeds,
-        origin,
-        pitch: pws,
-    } = group;
+fn sort_4x4(strips: &Strips, _ranks: &mut [[u32; MAX_LANES]; 16], group: GroupSeeds<'_>, lines: &mut [u32]) {
+    let (seeds, origin, pws) = group.checked_4x4(8, lines);
     let ranks = rank_eight(&transposed_keys(strips));
     for (i, &rank) in ranks.iter().enumerate() {
         let at = origin + (i / 4) * pws + i % 4;
@@ -49,7 +44,7 @@ fn sort_4x4(strips: &Strips, group: GroupSeeds<'_>, lines: &mut [u32]) {
         ];
         for (l, &k) in ranks.iter().enumerate() {
             // SAFETY: `at + 4 l` for `l < 8` lies in `seeds` and `16 l +
-            // k` (`k < 16`) in `lines` (both asserted above).
+            // k` (`k < 16`) in `lines` (both checked by `checked_4x4` above).
             unsafe { *lines.get_unchecked_mut(16 * l + (k & 15)) = *seeds.get_unchecked(at + 4 * l) };
         }
     }
@@ -128,8 +123,7 @@ fn rank_quad<const Q: usize>(keys: &[[__m128i; 2]; 16], ranks: &mut [__m128i; 16
 
 #[cfg(test)]
 mod tests {
-    use super::super::ranker::{LaneRanker, PortableRanker};
-    use super::super::MAX_LANES;
+    use super::super::ranker::portable_rank_strips;
     use super::*;
     use core::arch::x86_64::_mm_storeu_si128;
 
@@ -147,7 +141,7 @@ mod tests {
                 }
             }
             let mut want = [[0u32; MAX_LANES]; 16];
-            PortableRanker::rank_strips::<4, 16>(&strips, &mut want);
+            portable_rank_strips::<4, 16>(&strips, &mut want);
             // SAFETY: SSE2 is part of x86_64.
             let got = unsafe { rank_eight(&transposed_keys(&strips)) };
             for (i, (got, want)) in got.iter().zip(&want).enumerate() {
