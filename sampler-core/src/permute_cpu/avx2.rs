@@ -17,10 +17,10 @@ use crate::layout::FrameParams;
 use crate::retarget::RetargetTable;
 use crate::sort::Intensity;
 use core::arch::x86_64::{
-    __m128i, __m256i, _mm256_blendv_ps, _mm256_castps_si256, _mm256_castsi256_ps, _mm256_cvtepu8_epi32,
-    _mm256_loadu2_m128i, _mm256_permutevar8x32_epi32, _mm256_set1_epi32, _mm256_slli_epi32,
-    _mm256_storeu_si256, _mm256_unpackhi_epi32, _mm256_unpackhi_epi64, _mm256_unpacklo_epi32,
-    _mm256_unpacklo_epi64, _mm_srli_si128,
+    __m128i, __m256i, _mm256_add_epi32, _mm256_blendv_ps, _mm256_castps_si256, _mm256_castsi256_ps,
+    _mm256_cmpgt_epi32, _mm256_cvtepu8_epi32, _mm256_loadu2_m128i, _mm256_permutevar8x32_epi32,
+    _mm256_set1_epi32, _mm256_slli_epi32, _mm256_storeu_si256, _mm256_sub_epi32, _mm256_unpackhi_epi32,
+    _mm256_unpackhi_epi64, _mm256_unpacklo_epi32, _mm256_unpacklo_epi64, _mm_srli_si128,
 };
 
 /// True when the CPU and the operating system support AVX2 (checked once,
@@ -113,8 +113,8 @@ fn place_seeds_4x4(ranks: &[[u32; MAX_LANES]; 16], group: GroupSeeds<'_>, lines:
     }
 }
 
-/// Ranks of eight 4x4 blocks: `out[i][l]` is pixel `i`'s rank in block
-/// `l` (lanes `8..` are left as they are).
+/// Ranks of eight 4x4 blocks ([`rank_sixteen`]): `out[i][l]` is pixel
+/// `i`'s rank in block `l` (lanes `8..` are left as they are).
 /// Kept out of line: inlined into the frame loop it spilled (8% slower).
 #[target_feature(enable = "avx2")]
 #[inline(never)]
@@ -141,10 +141,54 @@ fn rank_4x4(strips: &Strips, out: &mut [[u32; MAX_LANES]; 16]) {
         keys[r * 4 + 2] = _mm256_unpacklo_epi64(t1, t3);
         keys[r * 4 + 3] = _mm256_unpackhi_epi64(t1, t3);
     }
-    // SAFETY: this function is compiled for the vector's instruction set.
-    let ranks = unsafe { super::quad::rank_sixteen(&keys) };
+    let ranks = rank_sixteen(&keys);
     for (o, r) in out.iter_mut().zip(&ranks) {
         // SAFETY: `o` is sixteen u32, at least 32 writable bytes.
         unsafe { _mm256_storeu_si256(o.as_mut_ptr() as *mut __m256i, *r) };
     }
+}
+
+/// Each pixel's rank in its block's total order (key, then pixel index):
+/// `keys[i]` holds pixel `i` of eight blocks, one a 32-bit lane, as signed
+/// keys. Each unordered pair `i < j` costs one compare and two updates for
+/// the eight: pixel `j` starts at rank `j` (every `i < j` counted below
+/// it) and gives one back to `i` where `key_i > key_j` (the compare mask
+/// is -1 there), so ties rank by index for free. Pixels are taken four at
+/// a time, their keys and ranks kept in registers, so each later pixel's
+/// rank is read and written once per quad, not once per pair.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn rank_sixteen(keys: &[__m256i; 16]) -> [__m256i; 16] {
+    let mut ranks: [__m256i; 16] = core::array::from_fn(|j| _mm256_set1_epi32(j as i32));
+    rank_quad::<0>(keys, &mut ranks);
+    rank_quad::<4>(keys, &mut ranks);
+    rank_quad::<8>(keys, &mut ranks);
+    rank_quad::<12>(keys, &mut ranks);
+    ranks
+}
+
+/// Pixels `Q..Q + 4` against each other and against every later pixel
+/// (`Q` a constant, so the loop over later pixels unrolls).
+#[target_feature(enable = "avx2")]
+#[inline]
+fn rank_quad<const Q: usize>(keys: &[__m256i; 16], ranks: &mut [__m256i; 16]) {
+    let k: [__m256i; 4] = core::array::from_fn(|a| keys[Q + a]);
+    let mut acc: [__m256i; 4] = core::array::from_fn(|a| ranks[Q + a]);
+    for a in 0..4 {
+        for b in a + 1..4 {
+            let greater = _mm256_cmpgt_epi32(k[a], k[b]);
+            acc[a] = _mm256_sub_epi32(acc[a], greater);
+            acc[b] = _mm256_add_epi32(acc[b], greater);
+        }
+    }
+    for j in Q + 4..16 {
+        let kj = keys[j];
+        let g: [__m256i; 4] = core::array::from_fn(|a| _mm256_cmpgt_epi32(k[a], kj));
+        for a in 0..4 {
+            acc[a] = _mm256_sub_epi32(acc[a], g[a]);
+        }
+        let given = _mm256_add_epi32(_mm256_add_epi32(g[0], g[1]), _mm256_add_epi32(g[2], g[3]));
+        ranks[j] = _mm256_add_epi32(ranks[j], given);
+    }
+    ranks[Q..Q + 4].copy_from_slice(&acc);
 }

@@ -15,9 +15,9 @@
 //!   ties order by index; [`avx512`]); with AVX2 and SSE2 (the baseline
 //!   instruction set on x86_64) each pixel's rank is counted, each of the
 //!   `N (N - 1) / 2` pixel pairs one comparison and two updates per lane,
-//!   ties by index for free ([`quad`]; eight 32-bit lanes a register with
-//!   AVX2, [`avx2`]; with SSE2 the compares of two registers of four
-//!   blocks packed into one of eight 16-bit counts, [`sse2`]); other block
+//!   ties by index for free (eight 32-bit lanes a register with AVX2,
+//!   [`avx2`]; with SSE2 the compares of two registers of four blocks
+//!   packed into one of eight 16-bit counts, [`sse2`]); other block
 //!   sizes and targets take the portable ranker, which the compiler
 //!   vectorises for the build's baseline.
 //! - **Gathered, not scattered** ([`gather`]). Each block row is ranked
@@ -72,8 +72,6 @@ mod gather;
 mod inverse;
 #[cfg(target_arch = "x86_64")]
 mod network;
-#[cfg(target_arch = "x86_64")]
-mod quad;
 mod ranker;
 pub(crate) mod rows;
 #[cfg(target_arch = "x86_64")]

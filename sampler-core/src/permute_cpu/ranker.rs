@@ -186,7 +186,7 @@ pub(super) fn portable_rank_strips<const B: u32, const N: usize>(
 /// taken four at a time: a quad's keys and rank accumulators stay in
 /// registers while every later pixel is compared with them, so each later
 /// pixel's rank is read and written once per quad, not once per pair (the
-/// portable form of the AVX2 ranker's `rank_quad`).
+/// portable form of the AVX2 ranker's `rank_sixteen`).
 #[inline(always)]
 fn quad_ranks<const N: usize>(keys: &[[i32; 4]; N]) -> [[u32; 4]; N] {
     let mut ranks: [[u32; 4]; N] = core::array::from_fn(|j| [j as u32; 4]);

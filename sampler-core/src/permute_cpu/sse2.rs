@@ -77,7 +77,7 @@ fn transposed_keys(strips: &Strips) -> [[__m128i; 2]; 16] {
 
 /// Each pixel's rank in its block (key, then index) for eight blocks, as
 /// 16-bit lanes (block `l` in lane `l`): the all-pairs ranking of
-/// [`quad`](super::quad), its 32-bit compares of blocks 0..4 and 4..8
+/// [`avx2`](super::avx2) (`rank_sixteen`), its 32-bit compares of blocks 0..4 and 4..8
 /// packed into one register of eight 16-bit masks (a pack keeps -1 and 0)
 /// so that each update counts for eight blocks. Kept out of line: inlined
 /// into the frame loop, with sixteen XMM registers, the ranking spilled.
