@@ -1,8 +1,9 @@
 //! The AVX2 ranker for 4x4 blocks: eight blocks, one per 32-bit lane of a
-//! 256-bit register, so each pixel pair of the all-pairs ranking is one
-//! compare, one subtract and one add for all eight blocks (twice the work
-//! per instruction of the baseline SSE2 build), and the strips are
-//! transposed into lanes with eight unpacks per row instead of scalar moves.
+//! 256-bit register, so each pixel pair of the all-pairs ranking
+//! ([`rank_sixteen`]) is one compare, one subtract and one add for all
+//! eight blocks, and the strips are transposed into lanes with eight
+//! unpacks per row instead of scalar moves. Each block's ring line is then
+//! built in registers from its inverse permutation ([`place_seeds_4x4`]).
 //!
 //! Selected at run time ([`Isa`](super::Isa): CPUID and XGETBV, no `std` needed);
 //! the whole frame loop is compiled with AVX2 enabled so the key conversion

@@ -1,12 +1,17 @@
 //! The baseline x86_64 ranker for 4x4 blocks: SSE2, which every x86_64 CPU
-//! has, so it needs no detection. Eight blocks are ranked as two groups of
-//! four, one block per 32-bit lane of a 128-bit register: the same
-//! all-pairs ranking as [`avx2`](super::avx2), half as wide, with the
-//! strips transposed into lanes by unpacks (a 4x4 transposition per strip
-//! row and group) rather than the scalar moves the portable form leaves to
-//! the compiler. Output is bit-identical to the portable ranker
-//! (`quad_ranks` in [`ranker`](super::ranker); tested below and by the conformance
-//! property tests).
+//! has, so it needs no detection. Eight blocks at a time: their keys are
+//! transposed into lanes by unpacks (a 4x4 transposition per strip row and
+//! group of four blocks), each pixel pair compared in two registers of
+//! four 32-bit lanes and the two masks packed into one register of eight
+//! 16-bit lanes, so each count update serves all eight blocks
+//! ([`rank_eight`]); then each seed is stored at its rank in its block's
+//! ring line, one scalar store a seed ([`sort_4x4`]). Those 128 stores per
+//! eight blocks are most of what the baseline spends beyond the ranking:
+//! building the lines in registers, as the AVX2 and AVX-512 kernels do,
+//! needs a permute by run-time indices, which SSE2 lacks (BENCHMARKS.md).
+//! Output is bit-identical to the portable ranker (`quad_ranks` in
+//! [`ranker`](super::ranker); tested below and by the conformance property
+//! tests).
 
 use super::ranker::GroupSeeds;
 use super::{Strips, MAX_LANES};
@@ -76,11 +81,12 @@ fn transposed_keys(strips: &Strips) -> [[__m128i; 2]; 16] {
 }
 
 /// Each pixel's rank in its block (key, then index) for eight blocks, as
-/// 16-bit lanes (block `l` in lane `l`): the all-pairs ranking of
-/// [`avx2`](super::avx2) (`rank_sixteen`), its 32-bit compares of blocks 0..4 and 4..8
-/// packed into one register of eight 16-bit masks (a pack keeps -1 and 0)
-/// so that each update counts for eight blocks. Kept out of line: inlined
-/// into the frame loop, with sixteen XMM registers, the ranking spilled.
+/// 16-bit lanes (block `l` in lane `l`): the all-pairs counting of the AVX2
+/// ranker (`rank_sixteen` in [`avx2`](super::avx2)), its 32-bit compares
+/// of blocks 0..4 and 4..8 packed into one register of eight 16-bit masks
+/// (a pack keeps -1 and 0) so that each update counts for eight blocks.
+/// Kept out of line: inlined into the frame loop, with sixteen XMM
+/// registers, the ranking spilled.
 #[target_feature(enable = "sse2")]
 #[inline(never)]
 fn rank_eight(keys: &[[__m128i; 2]; 16]) -> [__m128i; 16] {
