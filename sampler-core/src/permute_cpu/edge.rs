@@ -1,6 +1,7 @@
 //! The reference form of one block's sort + retarget, writing only the
-//! seeds that land in a band: the fast path's clipped edge blocks, and every
-//! block of a band whose layout the fast path does not cover.
+//! seeds that land in a band: every block of a band whose layout the fast
+//! path does not cover (the fast path's own clipped and padding blocks take
+//! `sort_edge_block` in [`gather`](super::gather), into its ring).
 
 use super::{wrap, Band};
 use crate::dither::tile_texel;
