@@ -69,6 +69,11 @@ const THREADS: usize = 2;
 /// chosen at run time), `Some(isa)` that instruction set forced.
 const ONE_CORE: [Option<Isa>; 4] = [None, Some(Isa::Avx2), Some(Isa::Avx512), Some(Isa::Baseline)];
 
+/// True where the CPU can run a one-core workload.
+fn one_core_available(isa: Option<Isa>) -> bool {
+    isa.is_none_or(|isa| isa.is_available())
+}
+
 /// A one-core workload's line label.
 fn one_core_label(isa: Option<Isa>) -> String {
     match isa {
@@ -358,7 +363,7 @@ fn main() {
         // Each one-core workload runs cold, then at once again with its
         // inputs in the cache (the same frame: the same work).
         for (slot, isa) in ONE_CORE.into_iter().enumerate() {
-            if isa.is_none_or(|isa| isa.is_available()) {
+            if one_core_available(isa) {
                 evict(&mut evict_buf);
                 for t in [&mut t_cold[slot], &mut t_warm[slot]] {
                     let i = black_box(&intensities);
@@ -502,8 +507,8 @@ fn main() {
     println!("{:<44} {:>10} {:>12}", "workload (one core)", "ms", "x copy");
     let mut rows = vec![("copy of the same bytes".to_string(), Some(copy))];
     for (slot, isa) in ONE_CORE.into_iter().enumerate() {
-        let available = isa.is_none_or(|isa| isa.is_available());
-        rows.push((one_core_label(isa), available.then(|| median(&mut t_cold[slot]))));
+        let t = one_core_available(isa).then(|| median(&mut t_cold[slot]));
+        rows.push((one_core_label(isa), t));
     }
     if !permute_only {
         rows.extend([
@@ -540,7 +545,7 @@ fn main() {
         "the same, inputs in cache (each one's floor)", "ms", "x copy"
     );
     for (slot, isa) in ONE_CORE.into_iter().enumerate() {
-        if isa.is_some_and(|isa| !isa.is_available()) {
+        if !one_core_available(isa) {
             continue;
         }
         // A frame from memory takes at least its time with the inputs in
