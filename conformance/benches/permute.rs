@@ -245,7 +245,7 @@ fn reproject_two_sweeps(
     out: &mut [u32],
 ) {
     let p = layout.params(0);
-    let bits = reproject::index_bits(p.padded_width * p.padded_height);
+    let bits = reprojection::index_bits(p.padded_width * p.padded_height);
     let (w, h, pw) = (p.width as usize, p.height as usize, p.padded_width as usize);
     claims.fill(CLAIM_NONE);
     for (i, c) in claims.iter_mut().enumerate() {
@@ -255,7 +255,7 @@ fn reproject_two_sweeps(
     }
     for y in 0..h {
         for x in 0..w {
-            let (s, k) = reproject::claim_at(&p, bits, x as u32, y as u32, motion[y * w + x]);
+            let (s, k) = reprojection::claim_at(&p, bits, x as u32, y as u32, motion[y * w + x]);
             if s != CLAIM_NONE && k < claims[s as usize] {
                 claims[s as usize] = k;
             }
@@ -272,8 +272,8 @@ fn reproject_two_sweeps(
             *o = seeds_in[i];
             continue;
         }
-        let (s, k) = reproject::claim_at(&p, bits, x as u32, y as u32, motion[y * w + x]);
-        *o = match reproject::take_if_won(claims, seeds_in, s, k) {
+        let (s, k) = reprojection::claim_at(&p, bits, x as u32, y as u32, motion[y * w + x]);
+        *o = match reprojection::take_if_won(claims, seeds_in, s, k) {
             Some(seed) => seed,
             None => seeds_in[free.next().unwrap()],
         };
@@ -616,9 +616,9 @@ fn main() {
 }
 
 /// Fraction of the frame's blocks whose visible pixels form more than one
-/// group (`sampler_core::feature_permute::block_groups`).
+/// group (`sampler_core::features::permute::block_groups`).
 fn mixed_blocks(layout: &FrameLayout, features: &[SurfaceFeature]) -> f64 {
-    use sampler_core::feature_permute::block_groups;
+    use sampler_core::features::permute::block_groups;
     let p = layout.params(0);
     let (mut mixed, mut total) = (0, 0);
     for by in 0..p.blocks_y() {

@@ -26,9 +26,10 @@
 //! ```
 
 use conformance::fixtures::{banded_features, random_table, random_tile};
-use sampler_core::feature_permute::{
-    block_groups, edge_is_cut, permute_frame_features_reference, record_source, retarget_index,
+use sampler_core::features::permute::{
+    block_groups, permute_frame_features_reference, record_source, retarget_index,
 };
+use sampler_core::features::surface::edge_is_cut;
 use sampler_core::*;
 use std::hint::black_box;
 use std::time::{Duration, Instant};

@@ -2,7 +2,7 @@
 //! surface-feature frames.
 
 use glam::Vec3;
-use sampler_core::seed::hash_u32;
+use sampler_core::sequences::seed::hash_u32;
 use sampler_core::{pack_offset, SurfaceFeature, IDENTITY_PACKED, RETARGET_RADIUS};
 
 /// A `tile x tile` dither tile from `salt`: a random permutation of the

@@ -2,19 +2,18 @@
 //! study of the seed permutation (issue 5) as an HTML page with images and plots.
 //!
 //! `conformance study [--size N --frames N --ref-spp N --methods a,b,...]`: the static
-//! study (`conformance::render_study`) for chosen rows only, printed as markdown tables
+//! study (`conformance::study`) for chosen rows only, printed as markdown tables
 //! (whole image, per region, feature diagnostics).
 //!
 //! `conformance motion [--size N --frames N --ref-spp N --speeds A,B --object-speed C]`:
-//! the study in motion (issue 13, `conformance::motion_study`), printed as markdown
+//! the study in motion (issue 13, `conformance::motion`), printed as markdown
 //! tables.
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
-use conformance::motion_case::MotionCase;
-use conformance::motion_study::{markdown, run_study, MotionConfig, MotionMethod};
-use conformance::render_study::{default_cache_dir, Method, Study, StudyConfig, StudyScene};
+use conformance::motion::{markdown, run_study, MotionCase, MotionConfig, MotionMethod};
 use conformance::report::{write_report, ReportConfig};
+use conformance::study::{default_cache_dir, Method, Study, StudyConfig, StudyScene};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 
@@ -122,6 +121,8 @@ enum Command {
 }
 
 fn main() -> Result<()> {
+    // Before any thread: keeps Mesa's "XDG_RUNTIME_DIR is invalid" line away.
+    gpu_tracer::gpu::prepare_headless_environment();
     match Cli::parse().command {
         Command::Report {
             out,

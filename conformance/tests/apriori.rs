@@ -115,7 +115,7 @@ fn screen_sobol_with_default_keys_gives_blue_error() {
     // white, with Owen-Sobol's lower per-pixel variance.
     let random_keys = |p: UVec2, k: u32, d: u32| {
         let key = initial_seed(p.x, p.y, SIDE as u32, 0x51 + d / 2);
-        sampler_core::r2::q32_to_f32(key_sample_u32(key, d / 2, k)[(d & 1) as usize])
+        sampler_core::sequences::r2::q32_to_f32(key_sample_u32(key, d / 2, k)[(d & 1) as usize])
     };
     for spp in [1u32, 4] {
         ratios("screen-space Sobol, random keys", &random_keys, spp, 0);

@@ -9,8 +9,8 @@
 use conformance::fixtures::{random_table, random_tile};
 use glam::Vec3;
 use proptest::prelude::*;
-use sampler_core::feature_permute::permute_frame_features_reference;
-use sampler_core::seed::hash_u32;
+use sampler_core::features::permute::permute_frame_features_reference;
+use sampler_core::sequences::seed::hash_u32;
 use sampler_core::*;
 
 /// A random frame of surfaces: `regions` rectangles of `cell` pixels per

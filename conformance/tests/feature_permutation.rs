@@ -1,4 +1,4 @@
-//! The feature-aware permutation (`sampler_core::feature_permute`, issue
+//! The feature-aware permutation (`sampler_core::features::permute`, issue
 //! 14) on random frames: always a permutation, no seed ever lands on
 //! another surface than the one it sampled, and with one surface it is the
 //! plain permutation bit for bit.
@@ -6,7 +6,7 @@
 use conformance::fixtures::{banded_features, random_table, random_tile};
 use glam::Vec3;
 use proptest::prelude::*;
-use sampler_core::seed::hash_u32;
+use sampler_core::sequences::seed::hash_u32;
 use sampler_core::*;
 
 /// A surface label per padded-buffer index: the feature id, or a label of
@@ -104,7 +104,7 @@ proptest! {
 /// seeds and positions, and the grouping is the connected components.
 #[test]
 fn groups_are_connected_components_and_sort_apart() {
-    use sampler_core::feature_permute::{block_groups, sort_block_grouped};
+    use sampler_core::features::permute::{block_groups, sort_block_grouped};
     let t = FeatureThresholds::DEFAULT;
     let mut f = [SurfaceFeature::default(); MAX_BLOCK_PIXELS];
     // 2x2: pixels 0 and 3 on surface 1, 1 and 2 on surface 2.

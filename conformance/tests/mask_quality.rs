@@ -206,7 +206,7 @@ const MAX_RMS_EMA_BLUR_ADAPTED: f64 = 0.0036;
 /// separable toroidal spatial filter: for each threshold `t`, the errors `[v_z < t] - t`
 /// are summed with `temporal[k]` weighing the `k`-th slice back from the last, filtered
 /// with `spatial` (odd length, centred) along rows and columns; the mean square over
-/// pixels and thresholds is rooted (the definition of `conformance::threshold`). Checked
+/// pixels and thresholds is rooted (the definition of `conformance::metrics::threshold`). Checked
 /// against `thresholded_ema_rms` for the EMA and a Gaussian in
 /// `filter_adapted_default_meets_targets`.
 fn filtered_threshold_rms(volume: &Volume, temporal: &[f64], spatial: &[f64], thresholds: &[f32]) -> f64 {

@@ -8,12 +8,12 @@
 //!
 //! Run in release: `cargo test -p conformance --release --test motion_quality -- --nocapture`.
 
-use conformance::motion_case::MotionCase;
-use conformance::motion_study::{
-    fit_insets, markdown, run_study, Figure, InsetAnchor, MotionConfig, MotionMethod, MotionSequence,
+use conformance::metrics::regions::{classify_regions, Region, EMITTER_ZONE_RADIUS};
+use conformance::motion::{
+    fit_insets, markdown, run_study, Figure, InsetAnchor, MotionCase, MotionConfig, MotionMethod,
+    MotionSequence,
 };
-use conformance::regions::{classify_regions, Region, EMITTER_ZONE_RADIUS};
-use conformance::render_study::default_cache_dir;
+use conformance::study::default_cache_dir;
 use gpu_tracer::cornell::cornell_box;
 use gpu_tracer::{cpu, SceneGpu, TraceSettings};
 use kernels::abi::{GBufferGpu, GBUFFER_EMITTER, GBUFFER_HIT};

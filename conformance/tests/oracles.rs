@@ -49,7 +49,7 @@ fn walk_offsets_and_fixed_steps() {
         assert_eq!(walk_offset(t, 6), glam::UVec2::new(x, y), "t {t}");
     }
     for (log2, x, y) in [(6, 48, 36), (7, 96, 72), (8, 193, 145), (9, 386, 291)] {
-        assert_eq!(walk::base_step(log2), glam::UVec2::new(x, y));
+        assert_eq!(sequences::walk::base_step(log2), glam::UVec2::new(x, y));
     }
     // The four steps of W = 64 (three-distance theorem).
     let steps: Vec<_> = (0..4).map(|i| step_of_index(i, 6)).collect();
@@ -61,7 +61,7 @@ fn walk_offsets_and_fixed_steps() {
 
 #[test]
 fn fixed_point_walk_matches_the_f64_formula_except_at_boundary_roundings() {
-    let a = [r2::R2_A1, r2::R2_A2];
+    let a = [sequences::r2::R2_A1, sequences::r2::R2_A2];
     let mut differ = 0;
     for t in 0..100_000u32 {
         let o = walk_offset(t, 6);

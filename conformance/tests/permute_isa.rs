@@ -47,7 +47,7 @@ impl Frame {
                 .map(|i| random_table(tile, salt.wrapping_add(i), 300))
                 .collect(),
             seeds: (0..layout.seed_count() as u32)
-                .map(|i| seed::hash_u32(i ^ salt))
+                .map(|i| sequences::seed::hash_u32(i ^ salt))
                 .collect(),
         }
     }
@@ -169,7 +169,7 @@ proptest! {
 fn large_odd_frames_equal_the_reference_for_every_isa_and_split() {
     let mut state = 0x5eed_u32;
     let mut next = move || {
-        state = seed::hash_u32(state);
+        state = sequences::seed::hash_u32(state);
         state
     };
     // 3600 wide: past one ring for every block size and tile, so two

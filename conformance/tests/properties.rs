@@ -56,7 +56,7 @@ fn case() -> impl Strategy<Value = Case> {
 
 fn seeds_for(layout: &FrameLayout, salt: u32) -> Vec<u32> {
     (0..layout.seed_count() as u32)
-        .map(|i| seed::hash_u32(i ^ salt))
+        .map(|i| sequences::seed::hash_u32(i ^ salt))
         .collect()
 }
 
@@ -83,7 +83,7 @@ proptest! {
         let motion: Vec<[f32; 2]> = (0..width * height)
             .map(|i| {
                 let (x, y) = ((i % width) as f32, (i / width) as f32);
-                let h = seed::hash_u32(i ^ salt);
+                let h = sequences::seed::hash_u32(i ^ salt);
                 let r = |k: u32| random_f32(h, k) * 2.0 - 1.0;
                 match kind {
                     0 => [r(0) * scale, r(1) * scale],
@@ -216,7 +216,7 @@ proptest! {
 fn offset_walk_is_aperiodic_and_takes_the_documented_steps() {
     for log2 in 1..=10u32 {
         let w = 1u32 << log2;
-        let base = walk::base_step(log2);
+        let base = sequences::walk::base_step(log2);
         let offsets: Vec<_> = (0..8192u32).map(|t| walk_offset(t, log2)).collect();
         assert!(offsets.iter().all(|o| o.x < w && o.y < w));
         // No period p <= 4096 over the first 4096 frames.
@@ -320,7 +320,7 @@ fn bad_input_is_an_error_not_a_panic() {
 fn fused_frame_pass_equals_sort_then_retarget_on_large_frames() {
     let mut state = 0x1234_5678u32;
     let mut next = move || {
-        state = seed::hash_u32(state);
+        state = sequences::seed::hash_u32(state);
         state
     };
     for (width, height) in [(300u32, 200u32), (256, 128), (517, 93)] {

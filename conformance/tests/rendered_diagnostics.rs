@@ -19,7 +19,7 @@
 //! that pixel's reference value), mean over frames 8..32, relative to fresh
 //! white seeds.
 
-use conformance::render_study::{default_cache_dir, Study, StudyConfig};
+use conformance::study::{default_cache_dir, Study, StudyConfig};
 use conformance::{low_frequency_ratio, Grid, SpectrumAnalyzer};
 use glam::{UVec2, Vec4};
 use gpu_tracer::cpu::white_seeds;

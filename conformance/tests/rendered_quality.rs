@@ -10,9 +10,7 @@
 //! - by frame 8, permute's blurred RMSE (sigma 1, whole image) <= 0.6;
 //! - accumulated RMSE <= 1.05 at 64 frames (128 does not fit the CI budget).
 
-use conformance::render_study::{
-    default_cache_dir, Method, Metric, Study, StudyConfig, StudyResult, GOAL_FRAME,
-};
+use conformance::study::{default_cache_dir, Method, Metric, Study, StudyConfig, StudyResult, GOAL_FRAME};
 use std::sync::OnceLock;
 
 const SIZE: u32 = 128;
@@ -249,8 +247,8 @@ fn four_spp_by_frame_8() {
 /// bias of its own, and blue-noise error keeps an advantage in the noise part.
 #[test]
 fn every_method_is_measured_after_the_real_time_filters() {
-    use conformance::filtered::STUDY_FILTERS;
-    use conformance::regions::Region;
+    use conformance::metrics::regions::Region;
+    use conformance::study::filtered::STUDY_FILTERS;
     use gpu_tracer::filter::FilterChain;
     let r = one_spp();
     let from = GOAL_FRAME as usize;
@@ -319,7 +317,7 @@ fn every_method_is_measured_after_the_real_time_filters() {
 #[test]
 #[ignore = "issue 15 goal not met (see QUALITY.md); run with --ignored"]
 fn best_method_after_taa_atrous_is_at_most_three_quarters_of_white() {
-    use conformance::regions::Region;
+    use conformance::metrics::regions::Region;
     use gpu_tracer::filter::FilterChain;
     let r = one_spp();
     let from = GOAL_FRAME as usize;
@@ -347,7 +345,7 @@ fn best_method_after_taa_atrous_is_at_most_three_quarters_of_white() {
 #[test]
 #[ignore = "issue 14 textured-scene goal not met (see QUALITY.md); run with --ignored"]
 fn textured_inset_lf_is_within_1_2x_of_the_untextured_twin() {
-    use conformance::render_study::StudyScene;
+    use conformance::study::StudyScene;
     let from = GOAL_FRAME as usize;
     let mut lf = Vec::new();
     for scene in [StudyScene::CornellTextured, StudyScene::CornellUntextured] {

@@ -27,7 +27,7 @@
 //! (`sampler_core::bake` keys docs) and ZSobol places its low six index
 //! digits at 1 spp so each row of every aligned square up to 64x64 has its
 //! `y` coordinates in as many different intervals as it has pixels, and
-//! each column its `x` coordinates (`sampler_core::zsobol`). Both goals are
+//! each column its `x` coordinates (`sampler_core::sequences::zsobol`). Both goals are
 //! met at 1 and 4 spp.
 
 use conformance::{GaussianBlur, Grid};

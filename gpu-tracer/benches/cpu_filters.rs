@@ -36,7 +36,7 @@ fn main() {
             .iter()
             .enumerate()
             .map(|(i, g)| {
-                let r = sampler_core::seed::hash_u32(i as u32 ^ t.wrapping_mul(0x9e37_79b9));
+                let r = sampler_core::sequences::seed::hash_u32(i as u32 ^ t.wrapping_mul(0x9e37_79b9));
                 let noise = 2.0 * (r >> 8) as f32 / (1u32 << 24) as f32;
                 (g.albedo.truncate() * noise).extend(1.0)
             })

@@ -349,7 +349,7 @@ mod tests {
     fn noisy(w: u32, h: u32, frame: u32) -> Vec<Vec4> {
         (0..w * h)
             .map(|i| {
-                let h = sampler_core::seed::hash_u32(i ^ frame.wrapping_mul(0x9e37_79b9));
+                let h = sampler_core::sequences::seed::hash_u32(i ^ frame.wrapping_mul(0x9e37_79b9));
                 let v = (h >> 8) as f32 / (1u32 << 24) as f32;
                 (Vec3::new(0.5, 0.25, 1.0) * (0.5 + v)).extend(1.0)
             })

@@ -1,28 +1,46 @@
-//! Host side of the path tracer: scenes (built-in Cornell box and OBJ files),
-//! their BVH and buffer form, the CPU renderer that runs the kernels' own
-//! functions, and image output.
+//! Host side of the path tracer: scenes (the built-in Cornell box, OBJ and
+//! glTF files), their BVH and buffer form, what moves between frames, the
+//! CPU renderer that runs the kernels' own functions, the wgpu passes, the
+//! real-time filters and image output.
 //!
 //! # Guide
 //!
-//! - [`scene`]: [`Scene`] (triangles, materials, camera) and [`SceneGpu`]
-//!   (the buffers the kernels read), built by [`cornell::cornell_box`] or
-//!   [`obj::load_obj`]; [`bvh`] builds the BVH with obvhs.
-//! - [`gltf_scene`]: [`gltf_scene::load_gltf`] loads a glTF 2.0 file
-//!   (`.gltf` or `.glb`): meshes, materials, textures, camera and animation.
-//! - [`animation`]: the node hierarchy and keyframe channels of a glTF
-//!   scene ([`animation::Rig`]), posed at any time by [`animation::Rig::pose`].
+//! Scenes:
+//! - [`scene`]: [`Scene`] (triangles, materials, camera), its buffer form
+//!   for the kernels [`SceneGpu`], and the trace pass's [`TraceSettings`].
+//! - [`bvh`]: [`bvh::build_bvh`] builds the BVH of a scene with obvhs.
+//! - [`cornell`]: [`cornell::cornell_box`], the built-in Cornell box.
+//! - [`obj`]: [`obj::load_obj`] loads a Wavefront OBJ file and its MTL.
+//! - [`gltf`]: [`gltf::load_gltf`] loads a glTF 2.0 file (`.gltf` or
+//!   `.glb`): meshes, materials, textures, camera and animation.
+//!
+//! What moves:
+//! - [`animation`]: the node hierarchy and keyframe channels of a scene
+//!   ([`animation::Rig`]), posed at any time by [`animation::Rig::pose`].
+//! - [`camera_path`]: simple camera paths ([`camera_path::CameraPath`])
+//!   that move the camera of any scene.
+//! - [`timeline`]: what moves between frames ([`timeline::Timeline`]) and
+//!   the scene of each frame with its motion ([`timeline::SceneSequence`]).
+//!
+//! Rendering:
 //! - [`cpu`]: [`cpu::render_frame`] traces a frame with rayon over rows by
 //!   calling `kernels::trace_pixel`, exactly what the GPU's `trace_cs` runs
 //!   per pixel; [`cpu::accumulate_frame`] is the running mean.
-//! - [`timeline`]: what moves between frames ([`timeline::Timeline`]: a
-//!   glTF rig and/or a [`camera_path::CameraPath`]) and the scene of each
-//!   frame with its motion ([`timeline::SceneSequence`]); [`render`] renders
-//!   a sequence on the CPU or the GPU, with the G-buffer and motion vectors
-//!   of `kernels::gbuffer` when asked.
+//! - [`gpu`]: the wgpu side: the device ([`gpu::Gpu`]) and one struct per
+//!   group of GPU passes (trace, permute, reproject, filter).
+//! - [`feature_keys`]: what the feature-aware seed permutation sorts, per
+//!   pixel, on the CPU ([`feature_keys::FeatureKeys`]).
+//! - [`motion`]: the motion vectors of the seed reprojection on the CPU.
+//! - [`render`]: the temporal render loop on the CPU or the GPU
+//!   ([`render_sequence_cpu`], [`render_sequence_gpu`]), with the G-buffer
+//!   and motion vectors of `kernels::gbuffer` when asked.
 //! - [`filter`]: the real-time filters after a frame on the CPU
 //!   ([`filter::FrameFilter`]: TAA, Gaussian, a-trous, TAA + a-trous) with
 //!   the kernels' per-pixel filter functions.
+//!
+//! Output:
 //! - [`image_out`]: tone-mapped PNG and linear EXR, written atomically.
+//! - [`aov`]: the G-buffer as EXR images for a compositor or a denoiser.
 //! - [`error`]: the crate's [`Error`].
 //!
 //! ```
@@ -46,7 +64,7 @@ pub mod cpu;
 pub mod error;
 pub mod feature_keys;
 pub mod filter;
-pub mod gltf_scene;
+pub mod gltf;
 pub mod gpu;
 pub mod image_out;
 pub mod motion;

@@ -18,7 +18,7 @@ use gpu_tracer::image_out::{write_exr, write_png, ToneMap};
 use gpu_tracer::scene::{Camera, Scene};
 use gpu_tracer::timeline::{SceneSequence, Timeline};
 use gpu_tracer::{
-    cornell, gltf_scene, obj, render_sequence_cpu, render_sequence_gpu, FrameView, PermuteMode, RenderJob,
+    cornell, gltf, obj, render_sequence_cpu, render_sequence_gpu, FrameView, PermuteMode, RenderJob,
     SequenceOptions, TileChoice, TraceSettings,
 };
 use indicatif::{ProgressBar, ProgressStyle};
@@ -235,6 +235,8 @@ enum DeviceArg {
 }
 
 fn main() -> Result<()> {
+    // Before any thread: keeps Mesa's "XDG_RUNTIME_DIR is invalid" line away.
+    gpu_tracer::gpu::prepare_headless_environment();
     let cli = Cli::parse();
     match cli.command {
         Command::Render(args) => render(args),
@@ -518,7 +520,7 @@ fn load_scene(args: &RenderArgs) -> Result<(Scene, Option<Rig>)> {
     }
     match ext.as_deref() {
         Some("gltf" | "glb") => {
-            let loaded = gltf_scene::load_gltf(path, args.camera_index)
+            let loaded = gltf::load_gltf(path, args.camera_index)
                 .with_context(|| format!("cannot load scene {}", args.scene))?;
             for notice in &loaded.notices {
                 eprintln!("notice: {}: {notice}", args.scene);

@@ -11,11 +11,11 @@
 //! the optimised keys of the screen-space Sobol sampler. Tiles, tables and keys are decoded at compile
 //! time into `u32` statics; the mask is read byte-wise.
 
-use crate::dither::DitherTile;
-use crate::retarget::RetargetTables;
-use crate::screen_sobol::{ScreenSobolKeys, ScreenSobolLayout};
-use crate::stbn_mask::SpatiotemporalMask;
-use crate::walk::STEP_COUNT;
+use crate::masks::spatiotemporal::SpatiotemporalMask;
+use crate::permutation::dither::DitherTile;
+use crate::permutation::retarget::RetargetTables;
+use crate::sequences::screen_sobol::{ScreenSobolKeys, ScreenSobolLayout};
+use crate::sequences::walk::STEP_COUNT;
 
 /// Decodes little-endian `u32`s at compile time (no alignment assumption);
 /// a length mismatch is a compile error.
@@ -126,7 +126,7 @@ pub fn filter_adapted_128() -> SpatiotemporalMask<'static> {
 }
 
 /// The default keys of the screen-space Sobol sampler
-/// ([`screen_sobol`](crate::screen_sobol)): 64x64 tiles for 4 dimension pairs
+/// ([`screen_sobol`](crate::sequences::screen_sobol)): 64x64 tiles for 4 dimension pairs
 /// (dimensions 0..8) and 5 spp levels (optimised for 1, 2, 4, 8 and 16 spp),
 /// trained on 128 random Heaviside integrands with energy sigma `sqrt 2`
 /// (blur of 1 pixel) plus line terms of weight 16 for edges along rows,

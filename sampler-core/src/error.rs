@@ -68,18 +68,18 @@ pub enum Error {
         /// Requested height in pixels.
         height: u32,
     },
-    /// Block size outside [`MIN_BLOCK`](crate::MIN_BLOCK)`..=`[`MAX_BLOCK`](crate::MAX_BLOCK).
+    /// Block size outside [`MIN_BLOCK`](crate::limits::MIN_BLOCK)`..=`[`MAX_BLOCK`](crate::limits::MAX_BLOCK).
     BlockSize {
         /// Requested block side in pixels.
         block: u32,
     },
-    /// Tile side is not a power of two in `2..=`[`MAX_TILE`](crate::MAX_TILE).
+    /// Tile side is not a power of two in `2..=`[`MAX_TILE`](crate::limits::MAX_TILE).
     TileSize {
         /// Requested tile side in texels.
         tile: u32,
     },
     /// A retarget-table entry is malformed or moves a texel farther than
-    /// [`RETARGET_RADIUS`](crate::RETARGET_RADIUS).
+    /// [`RETARGET_RADIUS`](crate::limits::RETARGET_RADIUS).
     RetargetOffset {
         /// Row-major texel index in the tile.
         texel: u32,
@@ -105,9 +105,9 @@ pub enum Error {
         depth: u32,
     },
     /// A screen-space sampler key layout has a side that is not a power of
-    /// two in `1..=`[`MAX_KEY_TILE`](crate::screen_sobol::MAX_KEY_TILE), or
+    /// two in `1..=`[`MAX_KEY_TILE`](crate::limits::MAX_KEY_TILE), or
     /// no dimension pair, or a number of spp levels outside
-    /// `1..=`[`MAX_KEY_LEVELS`](crate::screen_sobol::MAX_KEY_LEVELS).
+    /// `1..=`[`MAX_KEY_LEVELS`](crate::limits::MAX_KEY_LEVELS).
     KeyLayout {
         /// Tile side in pixels.
         side: u32,
@@ -144,18 +144,18 @@ impl fmt::Display for Error {
             Error::BlockSize { block } => write!(
                 f,
                 "block size {block} is outside {}..={}",
-                crate::MIN_BLOCK,
-                crate::MAX_BLOCK
+                crate::limits::MIN_BLOCK,
+                crate::limits::MAX_BLOCK
             ),
             Error::TileSize { tile } => write!(
                 f,
                 "tile size {tile} is not a power of two in 2..={}",
-                crate::MAX_TILE
+                crate::limits::MAX_TILE
             ),
             Error::RetargetOffset { texel, packed } => write!(
                 f,
                 "retarget table entry {packed:#010x} at texel {texel} is malformed or exceeds radius {}",
-                crate::RETARGET_RADIUS
+                crate::limits::RETARGET_RADIUS
             ),
             Error::RetargetNotBijective { texel, sources } => write!(
                 f,
@@ -169,8 +169,8 @@ impl fmt::Display for Error {
                 f,
                 "sampler key layout {side}x{side}, {pairs} pairs, {levels} spp levels is invalid: the side must be a \
                  power of two up to {}, pairs at least 1, levels 1..={}",
-                crate::screen_sobol::MAX_KEY_TILE,
-                crate::screen_sobol::MAX_KEY_LEVELS
+                crate::limits::MAX_KEY_TILE,
+                crate::limits::MAX_KEY_LEVELS
             ),
             Error::BlockRows { start, end, blocks } => {
                 write!(f, "block rows {start}..{end} are not a band of the frame's {blocks} block rows")

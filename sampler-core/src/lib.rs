@@ -4,13 +4,26 @@
 //!
 //! # Guide
 //!
-//! Each pixel renders with a **seed** ([`seed`]) that defines all its random
+//! Each pixel renders with a **seed** ([`sequences::seed`]) that defines all its random
 //! numbers. After frame `t` is rendered, [`permute_frame`] permutes seeds
 //! inside small blocks so that the frame's pixel values follow the ranks of a
-//! blue-noise dither tile shifted by the walk offset `o_t` ([`sort`],
-//! [`walk`]), then scatters them with a precomputed retarget table so they
-//! follow the tile of frame `t + 1` ([`retarget`]). Render frame `t + 1` with
+//! blue-noise dither tile shifted by the walk offset `o_t` ([`permutation::sort`],
+//! [`sequences::walk`]), then scatters them with a precomputed retarget table so they
+//! follow the tile of frame `t + 1` ([`permutation::retarget`]). Render frame `t + 1` with
 //! the new seeds: its error is distributed as blue noise in screen space.
+//!
+//! # Capabilities (one folder each; imports flow down this list only)
+//!
+//! | module | what it offers | entry points |
+//! |---|---|---|
+//! | [`limits`], [`error`] | the size limits every input is checked against; the crate's [`Error`] | |
+//! | [`sequences`] | R1/R2/R_d ([`sequences::r2`]), the tile's offset walk ([`sequences::walk`]), seeds and random streams ([`sequences::seed`]), Sobol ([`sequences::sobol`]), Owen scrambling ([`sequences::owen`]), the a-priori screen-space samplers ([`sequences::screen_sobol`], [`sequences::zsobol`]) | [`walk_offset`], [`initial_seed`], [`RandomStream`], [`ScreenSobolKeys::sample`], [`zsobol_sample`] |
+//! | [`permutation`] | the seed permutation: frame layout, dither tile, sorting pass ([`permutation::sort`]), retargeting pass ([`permutation::retarget`]), the frame passes and their CPU fast path ([`permutation::frame`]) | [`permute_frame`], [`permute_frame_rows`], [`sort_block_in_frame`], [`retarget_pixel`] |
+//! | [`reprojection`] | bijective reprojection of seeds along motion vectors, on the CPU and as GPU passes ([`reprojection::passes`]) | [`reproject_frame`] |
+//! | [`features`] | the feature-aware permutation: sort within one surface, never retarget across an edge ([`features::surface`], [`features::permute`]) | [`permute_frame_features`], [`same_surface`] |
+//! | [`masks`] | spatiotemporal (STBN-style) and filter-adapted blue-noise masks | [`SpatiotemporalMask`] |
+//! | `defaults` (feature `defaults`) | the baked tiles, tables, masks and sampler keys | `defaults::tile_64`, `defaults::tables_64`, `defaults::stbn_128`, `defaults::screen_sobol_keys` |
+//! | `bake` (feature `bake`, host only) | the generators of that data: void-and-cluster, spatiotemporal and filter-adapted masks, exact retarget tables, sampler keys | `bake::bake_mask`, `bake::bake_stbn`, `bake::bake_retarget_table` |
 //!
 //! Everything a shader needs is `u32`/`f32` arithmetic with `wrapping_*`
 //! operations, fixed-size arrays and no allocation, and compiles with
@@ -46,58 +59,38 @@ extern crate alloc;
 pub mod bake;
 #[cfg(feature = "defaults")]
 pub mod defaults;
-pub mod dither;
 pub mod error;
-pub mod feature_permute;
-mod feature_permute_cpu;
 pub mod features;
-pub mod frame;
-pub mod layout;
-pub mod owen;
-mod permute_cpu;
-pub mod r2;
-pub mod reproject;
-mod reproject_batch;
-pub mod reproject_passes;
-mod reproject_sweep;
-#[cfg(test)]
-mod reproject_tests;
-mod reproject_two_sweeps;
-pub mod retarget;
-pub mod screen_sobol;
-pub mod seed;
-pub mod sobol;
-pub mod sort;
-pub mod stbn_mask;
-pub mod walk;
-pub mod zsobol;
+pub mod limits;
+pub mod masks;
+pub mod permutation;
+pub mod reprojection;
+pub mod sequences;
 
-pub use dither::{tile_texel, DitherTile};
 pub use error::{Buffer, Error};
-pub use feature_permute::permute_frame_features;
-pub use features::{demodulated_luma, same_surface, FeatureThresholds, SurfaceFeature, NO_SURFACE};
-pub use frame::{
+pub use features::permute::permute_frame_features;
+pub use features::surface::{demodulated_luma, same_surface, FeatureThresholds, SurfaceFeature, NO_SURFACE};
+pub use limits::{MAX_BLOCK, MAX_KEY_LEVELS, MAX_KEY_TILE, MAX_TILE, MIN_BLOCK, RETARGET_RADIUS};
+pub use masks::spatiotemporal::SpatiotemporalMask;
+pub use permutation::cpu::rows::{band_seed_range, permute_frame_rows, permute_frame_rows_isa};
+pub use permutation::cpu::Isa;
+pub use permutation::dither::{tile_texel, DitherTile};
+pub use permutation::frame::{
     permute_frame, permute_frame_baseline_isa, retarget_frame, retarget_pixel, retarget_pixel_at_offset,
     sort_block_at_offset, sort_block_in_frame, sort_frame,
 };
-pub use layout::{FrameLayout, FrameParams};
-pub use owen::{owen_scramble, owen_sobol, owen_sobol_u32, shuffle_index};
-pub use permute_cpu::rows::{band_seed_range, permute_frame_rows, permute_frame_rows_isa};
-pub use permute_cpu::Isa;
-pub use r2::{r1, r2, Rd};
-pub use reproject::{reproject_frame, ReprojectStats, CLAIM_NONE};
-pub use retarget::{
+pub use permutation::layout::{FrameLayout, FrameParams};
+pub use permutation::retarget::{
     pack_offset, retarget_destination, unpack_offset, RetargetTable, RetargetTables, IDENTITY_PACKED,
-    RETARGET_RADIUS,
 };
-pub use screen_sobol::{
+pub use permutation::sort::{intensity_key, luma, sort_block, Intensity, DEFAULT_BLOCK, MAX_BLOCK_PIXELS};
+pub use reprojection::{reproject_frame, ReprojectStats, CLAIM_NONE};
+pub use sequences::owen::{owen_scramble, owen_sobol, owen_sobol_u32, shuffle_index};
+pub use sequences::r2::{r1, r2, Rd};
+pub use sequences::screen_sobol::{
     key_sample_u32, screen_sobol_sample, screen_sobol_sample_u32, ScreenSobolKeys, ScreenSobolLayout,
 };
-pub use seed::{initial_seed, random_f32, random_u32, RandomStream};
-pub use sobol::{sobol, sobol_u32, SOBOL_DIMENSIONS};
-pub use sort::{
-    intensity_key, luma, sort_block, Intensity, DEFAULT_BLOCK, MAX_BLOCK, MAX_BLOCK_PIXELS, MIN_BLOCK,
-};
-pub use stbn_mask::SpatiotemporalMask;
-pub use walk::{step_index, step_of_index, walk_offset, walk_step, MAX_TILE, STEP_COUNT};
-pub use zsobol::{zsobol_sample, zsobol_sample_u32};
+pub use sequences::seed::{initial_seed, random_f32, random_u32, RandomStream};
+pub use sequences::sobol::{sobol, sobol_u32, SOBOL_DIMENSIONS};
+pub use sequences::walk::{step_index, step_of_index, walk_offset, walk_step, STEP_COUNT};
+pub use sequences::zsobol::{zsobol_sample, zsobol_sample_u32};

@@ -103,7 +103,9 @@ fn permute_frame_with_baked_tables_is_a_permutation() {
                 let mut seeds: Vec<u32> = (0..layout.seed_count() as u32).collect();
                 for t in [0u32, 1, 2, 3, 5, 8, 1000, u32::MAX - 1] {
                     let image: Vec<f32> = (0..w * h)
-                        .map(|i| seed::hash_u32(i ^ t.wrapping_mul(0x9E37_79B9)) as f32)
+                        .map(|i| {
+                            sampler_core::sequences::seed::hash_u32(i ^ t.wrapping_mul(0x9E37_79B9)) as f32
+                        })
                         .collect();
                     let mut next = vec![0; seeds.len()];
                     permute_frame(&layout, t, &image, &tile, &tables, &seeds, &mut next).unwrap();

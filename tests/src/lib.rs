@@ -2,6 +2,8 @@
 //! builds the tool with cargo, runs it as a user would and checks what it
 //! wrote and said.
 
+pub mod module_graph;
+
 use std::path::PathBuf;
 use std::process::{Command, Output};
 

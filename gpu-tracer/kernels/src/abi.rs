@@ -22,7 +22,7 @@
 //! | | 4 | storage, read | `[EmitterGpu]` (at least one entry: pad with [`EmitterGpu::NONE`]) |
 //! | | 5 | storage, read | seeds `[u32]`, `padded_width * padded_height` |
 //! | | 6 | storage, write | frame colour `[Vec4]`, `width * height` |
-//! | | 7 | storage, read | screen-space Sobol keys `[u32]` laid out as [`TraceParams::key_side_log2`], [`TraceParams::key_pairs`], [`TraceParams::key_levels`] say (`sampler_core::screen_sobol`; the host binds `sampler_core::defaults::screen_sobol_keys()`); read only with [`SAMPLER_SCREEN_SOBOL`] (with or without [`SAMPLER_JITTER_ONLY`]), at least one element |
+//! | | 7 | storage, read | screen-space Sobol keys `[u32]` laid out as [`TraceParams::key_side_log2`], [`TraceParams::key_pairs`], [`TraceParams::key_levels`] say (`sampler_core::sequences::screen_sobol`; the host binds `sampler_core::defaults::screen_sobol_keys()`); read only with [`SAMPLER_SCREEN_SOBOL`] (with or without [`SAMPLER_JITTER_ONLY`]), at least one element |
 //! | | 8 | storage, read | `[TriangleAttrGpu]`, parallel to binding 2 |
 //! | | 9 | storage, read | images `[u32]` (layout in [`IMAGE_HEADER_WORDS`]), at least one element |
 //! | [`GBUFFER_ENTRY`] | 0 | uniform | [`TraceParams`] (current and previous camera) |
@@ -120,7 +120,7 @@ pub const SEED_MODE_FIXED: u32 = 0;
 /// sample `s` of frame `t` uses stream sample `t * spp + s` (wrapping).
 pub const SEED_MODE_ADVANCE: u32 = 1;
 /// [`TraceParams::seed_mode`]: blue-noise-dither baseline. Streams as in
-/// [`SEED_MODE_FIXED`], but `crate::trace::trace_pixel_dithered` replaces the
+/// [`SEED_MODE_FIXED`], but `crate::dither::trace_pixel_dithered` replaces the
 /// two numbers of the first vertex's BSDF direction by a caller-supplied
 /// spatiotemporal blue-noise mask value (Cranley-Patterson rotated per
 /// sample). Only the CPU path supplies the mask (the `conformance` crate's
@@ -134,7 +134,7 @@ pub const SAMPLER_SEEDS: u32 = 0;
 /// [`TraceParams::sampler`]: the path's 2D decisions (pixel jitter, each
 /// vertex's light sample and BSDF direction; `crate::trace` module docs)
 /// come from the screen-space Sobol sampler with optimised keys
-/// (`sampler_core::screen_sobol`, key binding 7), one dimension pair each;
+/// (`sampler_core::sequences::screen_sobol`, key binding 7), one dimension pair each;
 /// sample `s` of frame `t` reads sample index `s` of the keys at
 /// `pixel + o_t` (the R2 walk offset of frame `t`, `sampler_core::walk_offset`,
 /// wrapping on the key tile), with the key tile of level `ceil(log2 spp)`
@@ -142,7 +142,7 @@ pub const SAMPLER_SEEDS: u32 = 0;
 /// Russian roulette still reads the seed stream.
 pub const SAMPLER_SCREEN_SOBOL: u32 = 1;
 /// [`TraceParams::sampler`]: the path's 2D decisions come from the
-/// Morton-ordered ZSobol sampler (`sampler_core::zsobol`), one dimension pair
+/// Morton-ordered ZSobol sampler (`sampler_core::sequences::zsobol`), one dimension pair
 /// each, with `2^ceil(log2 spp)` samples per pixel; sample `s` of frame `t`
 /// is sample `s` of an independent randomisation seeded by `t` (ZSobol's
 /// per-pixel index space is exactly one frame's samples, see

@@ -60,7 +60,7 @@ use crate::abi::{
 };
 use crate::sampler_entry::{screen_sobol_pair, zsobol_pair};
 use glam::{UVec2, Vec2};
-use sampler_core::screen_sobol::ScreenSobolLayout;
+use sampler_core::sequences::screen_sobol::ScreenSobolLayout;
 use sampler_core::RandomStream;
 
 /// Stream dimensions used before the first vertex (pixel jitter).
@@ -136,7 +136,7 @@ pub fn pair_bsdf(depth: u32) -> u32 {
 /// coordinate in `[0, 1)` (24 bits):
 /// - [`SAMPLER_SCREEN_SOBOL`]: sample index `s` with the keys of `keys`
 ///   laid out as `params.key_side_log2 / key_pairs / key_levels`, level
-///   `ceil(log2 spp)` (`sampler_core::screen_sobol::screen_sobol_pair_u32`),
+///   `ceil(log2 spp)` (`sampler_core::sequences::screen_sobol::screen_sobol_pair_u32`),
 ///   read at `pixel + o_t` where `o_t = sampler_core::walk_offset(frame,
 ///   key_side_log2)` is the R2 walk that also moves the dither tile. The
 ///   keys are optimised for the first `2^level` indices only, so every frame

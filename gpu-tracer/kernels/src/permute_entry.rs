@@ -11,7 +11,7 @@
 //! | [`RETARGET_ENTRY`] | `FrameParams` (uniform) | table `[u32]` | seeds in `[u32]` | seeds out `[u32]` | |
 //! | [`SEED_INIT_ENTRY`] | `FrameParams` (uniform; `frame` = salt) | seeds out `[u32]` | | | |
 //!
-//! The feature-aware permutation (`sampler_core::feature_permute`) replaces
+//! The feature-aware permutation (`sampler_core::features::permute`) replaces
 //! the sort and retarget passes with three (storage buffers after the
 //! uniform `FrameParams` at binding 0; `thresholds` is one
 //! `FeatureThresholds`, `features` `width * height` `SurfaceFeature`,
@@ -24,7 +24,9 @@
 //! | [`RETARGET_FEATURES_ENTRY`] (per seed) | table | sources | features | thresholds | seeds in (sorted) | seeds out |
 
 use glam::{UVec3, Vec4};
-use sampler_core::feature_permute::{record_source, retarget_features_pixel, sort_block_features_at_offset};
+use sampler_core::features::permute::{
+    record_source, retarget_features_pixel, sort_block_features_at_offset,
+};
 use sampler_core::{
     initial_seed, luma, retarget_pixel, sort_block_in_frame, walk_offset, FeatureThresholds, FrameParams,
     SurfaceFeature,
@@ -138,7 +140,7 @@ pub fn seed_init_cs(
 }
 
 /// One invocation per block: the feature-aware sorting pass,
-/// `sampler_core::feature_permute::sort_block_features_at_offset` at the
+/// `sampler_core::features::permute::sort_block_features_at_offset` at the
 /// walk's offset of `params.frame`.
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(64)))]
@@ -172,7 +174,7 @@ pub fn sort_features_cs(
 }
 
 /// One invocation per seed: the inverse of the frame's retarget
-/// permutation, `sampler_core::feature_permute::record_source`.
+/// permutation, `sampler_core::features::permute::record_source`.
 #[spirv(compute(threads(64)))]
 pub fn record_source_cs(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -188,7 +190,7 @@ pub fn record_source_cs(
 }
 
 /// One invocation per seed: the retarget cut at edges,
-/// `sampler_core::feature_permute::retarget_features_pixel`.
+/// `sampler_core::features::permute::retarget_features_pixel`.
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(64)))]
 pub fn retarget_features_cs(

@@ -1,5 +1,5 @@
 //! The `#[spirv]` entry points of the seed reprojection: one per pass of
-//! `sampler_core::reproject_passes`, thin wrappers so the GPU runs the
+//! `sampler_core::reprojection::passes`, thin wrappers so the GPU runs the
 //! code the CPU runs (conformance compares them bit for bit with
 //! `sampler_core::reproject_frame`).
 //!
@@ -18,11 +18,11 @@
 //! Dispatch, in this order, each with `permute_entry::linear_dispatch(n)`:
 //! clear `n = seed_count`, claim `n = width * height`, take `n = chunks`,
 //! scan `n = 1`, list `n = chunks`, recycle `n = chunks`, where `chunks =
-//! sampler_core::reproject_passes::chunk_count(params)`.
+//! sampler_core::reprojection::passes::chunk_count(params)`.
 
 use crate::permute_entry::linear_id;
 use glam::{UVec3, Vec2};
-use sampler_core::reproject_passes::{
+use sampler_core::reprojection::passes::{
     chunk_count, claim_pixel, clear_claim, list_free_chunk, recycle_chunk, scan_chunk_counts, take_chunk,
 };
 use sampler_core::{FrameParams, CLAIM_NONE};

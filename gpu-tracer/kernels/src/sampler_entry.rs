@@ -15,10 +15,10 @@
 
 use crate::permute_entry::linear_id;
 use glam::{UVec2, UVec3, Vec2};
-use sampler_core::r2::q32_to_f32;
-use sampler_core::screen_sobol::{screen_sobol_pair_u32, ScreenSobolLayout};
-use sampler_core::walk::walk_offset;
-use sampler_core::zsobol::{zsobol_sample_u32, ZSOBOL_MAX_LOG2_SPP};
+use sampler_core::sequences::r2::q32_to_f32;
+use sampler_core::sequences::screen_sobol::{screen_sobol_pair_u32, ScreenSobolLayout};
+use sampler_core::sequences::walk::walk_offset;
+use sampler_core::sequences::zsobol::{zsobol_sample_u32, ZSOBOL_MAX_LOG2_SPP};
 use spirv_std::spirv;
 
 /// Entry point name of [`screen_sobol_cs`].
@@ -158,7 +158,7 @@ mod tests {
     fn pairs_are_the_samplers_dimensions() {
         let layout = ScreenSobolLayout::new(16, 3, 4).unwrap();
         let raw: Vec<u32> = (0..layout.key_count() as u32)
-            .map(sampler_core::seed::hash_u32)
+            .map(sampler_core::sequences::seed::hash_u32)
             .collect();
         let keys = sampler_core::ScreenSobolKeys::new(layout, &raw).unwrap();
         for (pixel, s, pair, frame) in [(UVec2::new(3, 5), 0, 0, 0), (UVec2::new(70, 1), 3, 2, 9)] {

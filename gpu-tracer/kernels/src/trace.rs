@@ -27,10 +27,10 @@
 //! `min(max channel of throughput, 0.95)` and its throughput is divided by it.
 //!
 //! Where each number of a path comes from (the seed stream's layout, the
-//! a-priori samplers) is [`crate::numbers`]; the blue-noise-dither baseline
-//! is [`crate::dither`]. Their items are re-exported here.
+//! a-priori samplers) is [`crate::numbers`], whose items are re-exported
+//! here; the blue-noise-dither baseline ([`crate::dither`]) builds on this
+//! module.
 
-pub use crate::dither::trace_pixel_dithered;
 pub use crate::numbers::*;
 
 use crate::abi::{
@@ -363,7 +363,7 @@ mod tests {
     use crate::abi::{
         SAMPLER_JITTER_ONLY, SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS, SAMPLER_ZSOBOL, SEED_MODE_ADVANCE,
     };
-    use sampler_core::screen_sobol::ScreenSobolLayout;
+    use sampler_core::sequences::screen_sobol::ScreenSobolLayout;
 
     #[test]
     fn power_heuristic_weights_sum_to_one() {
@@ -498,7 +498,7 @@ mod tests {
     }
 
     fn test_keys() -> [u32; 48] {
-        core::array::from_fn(|i| sampler_core::seed::hash_u32(i as u32 ^ 0x5bd1_e995))
+        core::array::from_fn(|i| sampler_core::sequences::seed::hash_u32(i as u32 ^ 0x5bd1_e995))
     }
 
     fn render(
@@ -692,8 +692,17 @@ mod tests {
                     let d = 2 * pair;
                     let at = pixel + sampler_core::walk_offset(frame, p.key_side_log2);
                     let want = Vec2::new(
-                        sampler_core::screen_sobol::screen_sobol_sample(&keys, layout, spp, at, s, d),
-                        sampler_core::screen_sobol::screen_sobol_sample(&keys, layout, spp, at, s, d + 1),
+                        sampler_core::sequences::screen_sobol::screen_sobol_sample(
+                            &keys, layout, spp, at, s, d,
+                        ),
+                        sampler_core::sequences::screen_sobol::screen_sobol_sample(
+                            &keys,
+                            layout,
+                            spp,
+                            at,
+                            s,
+                            d + 1,
+                        ),
                     );
                     assert_eq!(apriori_pair(&p, &keys, pixel, s, pair), want);
                     let p = TraceParams {

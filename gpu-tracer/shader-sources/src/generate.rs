@@ -3,24 +3,9 @@
 
 use crate::select::{permutation_module, single_entry};
 use crate::translate::{write_glsl, write_hlsl, write_msl, write_wgsl};
-use crate::{glsl_file, hlsl_file, msl_file, Error, ENTRIES, WGSL_FILE};
+use crate::{glsl_file, hlsl_file, msl_file, Error, ENTRIES, LANGUAGE_DIRS, SPIRV_PATH, WGSL_FILE};
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
-
-/// The command that regenerates the files (named in every header).
-pub const COMMAND: &str = "cargo run -p shader-sources";
-
-/// The SPIR-V the files are generated from, relative to the workspace root.
-pub const SPIRV_PATH: &str = "gpu-tracer/shaders/kernels.spv";
-
-/// Where the generated files live, relative to the workspace root. Its
-/// subfolders [`LANGUAGE_DIRS`] hold only generated files; `README.md` beside
-/// them is written by hand.
-pub const OUTPUT_DIR: &str = "sampler-core/shaders";
-
-/// The subfolders of [`OUTPUT_DIR`] the generator owns entirely: a file in
-/// them that it does not produce is stale.
-pub const LANGUAGE_DIRS: [&str; 4] = ["wgsl", "glsl", "hlsl", "msl"];
 
 /// The workspace root (two levels above this crate).
 pub fn workspace_root() -> PathBuf {
@@ -31,7 +16,7 @@ pub fn workspace_root() -> PathBuf {
 /// One generated file.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct GeneratedFile {
-    /// Path relative to [`OUTPUT_DIR`], `/`-separated, e.g. [`WGSL_FILE`].
+    /// Path relative to [`OUTPUT_DIR`](crate::OUTPUT_DIR), `/`-separated, e.g. [`WGSL_FILE`].
     pub path: String,
     /// The whole text, header included, ending in a newline.
     pub text: String,

@@ -60,11 +60,12 @@ mod naming;
 mod select;
 mod translate;
 
-pub use entries::{glsl_file, hlsl_file, msl_file, Entry, ENTRIES, WGSL_FILE};
+pub use entries::{
+    glsl_file, hlsl_file, msl_file, Entry, COMMAND, ENTRIES, LANGUAGE_DIRS, OUTPUT_DIR, SPIRV_PATH, WGSL_FILE,
+};
 pub use error::Error;
 pub use generate::{
     generate, generate_from_workspace, sha256_hex, stale_files, workspace_root, write_files, GeneratedFile,
-    COMMAND, LANGUAGE_DIRS, OUTPUT_DIR, SPIRV_PATH,
 };
 pub use naming::{FRAME_PARAMS_FIELDS, SAMPLER_PARAMS_FIELDS};
 pub use select::permutation_module;

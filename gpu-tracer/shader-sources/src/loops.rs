@@ -14,7 +14,7 @@ use naga::Module;
 /// body from a phi variable that `continuing` then reassigns, so the
 /// translated loop tests the *next* iteration's value and leaves one
 /// iteration early (`take_cs` lost the last index of every chunk: found by
-/// `conformance/tests/generated_shaders.rs` on GLSL). This stores each such
+/// `conformance/tests/generated_shaders/` on GLSL). This stores each such
 /// condition in a local variable where the body computes it, and makes the
 /// `break if` load that variable, which every writer translates faithfully.
 /// Upstream: <https://github.com/gfx-rs/wgpu/issues/4558>.

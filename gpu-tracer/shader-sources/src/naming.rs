@@ -115,7 +115,7 @@ type ElementStruct = (&'static str, usize, &'static [(&'static str, usize, bool)
 
 /// The buffer element structs of the feature-aware passes, as
 /// `(name, size in bytes, [(field, byte offset, is f32)])`, from
-/// `sampler_core::features`: a struct of the SPIR-V with exactly these
+/// `sampler_core::features::surface`: a struct of the SPIR-V with exactly these
 /// members gets these names.
 const ELEMENT_STRUCTS: [ElementStruct; 2] = {
     use core::mem::{offset_of, size_of};

@@ -3,6 +3,7 @@
 
 mod context;
 mod filter;
+mod headless;
 mod permute;
 mod reproject;
 mod timer;
@@ -10,6 +11,7 @@ mod trace;
 
 pub use context::{groups, Gpu, KERNELS_SPV, REQUIRE_GPU_ENV};
 pub use filter::{FilterPipelines, FrameFilterGpu};
+pub use headless::{prepare_headless_environment, RUNTIME_DIR_ENV};
 pub use permute::{PermuteMode, PermutePipelines, SeedPermuter};
 pub use reproject::{ReprojectPipelines, SeedReprojector};
 pub use timer::PassTimer;

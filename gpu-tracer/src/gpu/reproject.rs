@@ -1,5 +1,5 @@
 //! The seed reprojection on the GPU: the six passes of
-//! `sampler_core::reproject_passes` over device-resident buffers, bit for
+//! `sampler_core::reprojection::passes` over device-resident buffers, bit for
 //! bit what `sampler_core::reproject_frame` computes on the CPU.
 
 use super::context::Gpu;
@@ -9,8 +9,8 @@ use glam::Vec2;
 use kernels::reproject_entry::{
     CLAIM_ENTRY, CLEAR_CLAIMS_ENTRY, LIST_FREE_ENTRY, RECYCLE_ENTRY, SCAN_ENTRY, TAKE_ENTRY,
 };
-use sampler_core::reproject::MAX_REPROJECT_SEEDS;
-use sampler_core::reproject_passes::chunk_count;
+use sampler_core::reprojection::passes::chunk_count;
+use sampler_core::reprojection::MAX_REPROJECT_SEEDS;
 use sampler_core::{Buffer, FrameLayout};
 
 /// The six compute pipelines of the reprojection, created once per device.

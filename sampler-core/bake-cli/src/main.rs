@@ -190,7 +190,7 @@ enum Command {
         bits: u32,
     },
     /// Searches ZSobol's one-sample-per-pixel placement map (prints it; the
-    /// defaults reproduce `sampler_core::zsobol::ZSOBOL_PLACEMENT`).
+    /// defaults reproduce `sampler_core::sequences::zsobol::ZSOBOL_PLACEMENT`).
     ZsobolPlacement {
         /// Random maps to draw (about 1 in 2000 is valid).
         #[arg(long, default_value_t = sampler_core::bake::DEFAULT_PLACEMENT_DRAWS)]
@@ -396,7 +396,7 @@ fn zsobol_placement(draws: u64, seed: u32) -> Result<()> {
         found.scores.1,
         found.valid,
         start.elapsed().as_secs_f64(),
-        if found.map == sampler_core::zsobol::ZSOBOL_PLACEMENT { "same" } else { "different" }
+        if found.map == sampler_core::sequences::zsobol::ZSOBOL_PLACEMENT { "same" } else { "different" }
     );
     Ok(())
 }

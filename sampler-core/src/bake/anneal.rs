@@ -10,9 +10,9 @@
 
 use super::retarget_bake::{retarget_energy, RetargetBake};
 use super::{BakeError, SplitMix64};
-use crate::dither::DitherTile;
-use crate::retarget::{pack_offset, RetargetTable, IDENTITY_PACKED, RETARGET_RADIUS};
-use crate::walk::{step_of_index, STEP_COUNT};
+use crate::permutation::dither::DitherTile;
+use crate::permutation::retarget::{pack_offset, RetargetTable, IDENTITY_PACKED, RETARGET_RADIUS};
+use crate::sequences::walk::{step_of_index, STEP_COUNT};
 use alloc::vec;
 use alloc::vec::Vec;
 use glam::IVec2;

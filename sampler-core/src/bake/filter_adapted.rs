@@ -53,7 +53,7 @@ use super::filters::{spatial_autocorrelation, SpatialFilter, TemporalFilter};
 use super::swap::SwapReport;
 use super::threshold_swap::ThresholdSwap;
 use super::{bake_stbn, check_size, BakeError, Progress, SplitMix64, StbnParams, VectorKind};
-use crate::owen::owen_sobol_u32;
+use crate::sequences::owen::owen_sobol_u32;
 use alloc::vec::Vec;
 
 /// Sigma (space and time) of the STBN mask scalar bakes start from (the
@@ -153,7 +153,7 @@ impl FilterValue {
             FilterValue::CosineHemisphere => vector(VectorKind::CosineHemisphere, out),
             FilterValue::UnitCircle => {
                 for i in 0..n as u32 {
-                    let u = crate::r2::q32_to_f32(owen_sobol_u32(i, 0, scramble)) as f64;
+                    let u = crate::sequences::r2::q32_to_f32(owen_sobol_u32(i, 0, scramble)) as f64;
                     let a = core::f64::consts::TAU * u;
                     out.extend_from_slice(&[libm::cos(a), libm::sin(a)]);
                 }

@@ -1,5 +1,5 @@
 //! Offline optimisation of the screen-space sampler's per-pixel keys
-//! ([`screen_sobol`](crate::screen_sobol)).
+//! ([`screen_sobol`](crate::sequences::screen_sobol)).
 //!
 //! # Energy
 //!
@@ -42,7 +42,7 @@
 
 use super::swap::{Coupling, SwapOptimiser, SwapReport};
 use super::{check_sigma, check_size, BakeError, Progress, SplitMix64};
-use crate::screen_sobol::{key_sample_u32, ScreenSobolLayout, MAX_KEY_LEVELS, MAX_KEY_TILE};
+use crate::sequences::screen_sobol::{key_sample_u32, ScreenSobolLayout, MAX_KEY_LEVELS, MAX_KEY_TILE};
 use alloc::vec;
 use alloc::vec::Vec;
 

@@ -8,11 +8,11 @@
 //! - [`bake_retarget_table`] / [`bake_retarget_tables`]: retarget tables as
 //!   an exact sparse assignment problem ([`solve_assignment`], auction with
 //!   epsilon scaling), following the convention of
-//!   [`retarget`](crate::retarget).
+//!   [`retarget`](crate::permutation::retarget).
 //! - [`anneal_retarget_table`]: the paper's simulated annealing from the
 //!   identity, kept as a baseline for comparison only.
 //! - [`bake_sampler_keys`] / [`bake_key_tile`]: per-pixel keys of the
-//!   screen-space sampler ([`screen_sobol`](crate::screen_sobol)), arranged by
+//!   screen-space sampler ([`screen_sobol`](crate::sequences::screen_sobol)), arranged by
 //!   a swap optimiser so errors on random Heaviside integrands are blue.
 //! - [`bake_vector_stbn`]: vector spatiotemporal masks (2D/3D values, unit
 //!   and cosine-hemisphere directions) with the same swap optimiser and the
@@ -23,7 +23,7 @@
 //!   vectors, [`SpatialFilter`]s and [`TemporalFilter`]s combined as a
 //!   product or separately ([`FilterCombine`]).
 //! - [`search_placement`]: the search behind ZSobol's one-sample-per-pixel
-//!   placement map ([`ZSOBOL_PLACEMENT`](crate::zsobol::ZSOBOL_PLACEMENT)).
+//!   placement map ([`ZSOBOL_PLACEMENT`](crate::sequences::zsobol::ZSOBOL_PLACEMENT)).
 //!
 //! Everything is deterministic: the same parameters and seed give the same
 //! output bit for bit on every machine (integer energies; the only floating

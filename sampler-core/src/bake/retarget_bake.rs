@@ -1,7 +1,7 @@
 //! Baking retarget tables as exact assignment problems.
 //!
-//! Convention (that of [`retarget`](crate::retarget) and
-//! [`walk`](crate::walk)): table index `i` serves the step
+//! Convention (that of [`retarget`](crate::permutation::retarget) and
+//! [`walk`](crate::sequences::walk)): table index `i` serves the step
 //! `s = step_of_index(i, k)`; the seed at tile texel `q` moves to
 //! `d = (q + R(q)) mod W` with `|R|_inf <=` [`RETARGET_RADIUS`], the map
 //! `q -> d` is a permutation of the tile, and the baker minimises the L1
@@ -26,9 +26,11 @@
 
 use super::assignment::{solve_assignment, SparseCosts};
 use super::BakeError;
-use crate::dither::DitherTile;
-use crate::retarget::{pack_offset, unpack_offset, RetargetTable, IDENTITY_PACKED, RETARGET_RADIUS};
-use crate::walk::{step_of_index, STEP_COUNT};
+use crate::permutation::dither::DitherTile;
+use crate::permutation::retarget::{
+    pack_offset, unpack_offset, RetargetTable, IDENTITY_PACKED, RETARGET_RADIUS,
+};
+use crate::sequences::walk::{step_of_index, STEP_COUNT};
 use alloc::vec;
 use alloc::vec::Vec;
 use glam::{IVec2, UVec2};

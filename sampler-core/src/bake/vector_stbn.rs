@@ -29,7 +29,7 @@
 
 use super::swap::{SwapOptimiser, SwapReport};
 use super::{check_sigma, check_size, BakeError, Progress, SplitMix64};
-use crate::owen::owen_sobol_u32;
+use crate::sequences::owen::owen_sobol_u32;
 use alloc::vec::Vec;
 
 /// What a vector mask holds.
@@ -60,7 +60,7 @@ impl VectorKind {
     /// Maps a Sobol point (0.32 fixed point, 3 coordinates; the third is
     /// used by [`VectorKind::Vec3`] only) to the kind's value.
     pub(crate) fn map(self, p: [u32; 3]) -> [f64; 3] {
-        let u = |x: u32| crate::r2::q32_to_f32(x) as f64;
+        let u = |x: u32| crate::sequences::r2::q32_to_f32(x) as f64;
         let (a, b, c) = (u(p[0]), u(p[1]), u(p[2]));
         let tau = core::f64::consts::TAU;
         match self {

@@ -1,5 +1,5 @@
 //! The search that chose ZSobol's one-sample-per-pixel placement map
-//! ([`ZSOBOL_PLACEMENT`](crate::zsobol::ZSOBOL_PLACEMENT)).
+//! ([`ZSOBOL_PLACEMENT`](crate::sequences::zsobol::ZSOBOL_PLACEMENT)).
 //!
 //! A map is 12 row masks over the Morton code `v` of a pixel inside its
 //! aligned 64x64 square (bit `2i` = `x_i`, bit `2i + 1` = `y_i`): index bit
@@ -10,10 +10,10 @@
 //! ([`placement_is_valid`], checked exactly), and ranks them by the blurred
 //! error of straight edges ([`edge_scores`]).
 
-use crate::owen::owen_scramble;
-use crate::seed::hash_u32;
-use crate::sobol::sobol_u32;
-use crate::zsobol::{apply_placement, morton_encode, PLACED_LEVELS};
+use crate::sequences::owen::owen_scramble;
+use crate::sequences::seed::hash_u32;
+use crate::sequences::sobol::sobol_u32;
+use crate::sequences::zsobol::{apply_placement, morton_encode, PLACED_LEVELS};
 
 /// Index bits a placement map sets: two per placed pixel level.
 pub const PLACEMENT_BITS: usize = 2 * PLACED_LEVELS as usize;
@@ -197,7 +197,7 @@ fn random_map(rng: &mut HashChain) -> [u32; PLACEMENT_BITS] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::zsobol::ZSOBOL_PLACEMENT;
+    use crate::sequences::zsobol::ZSOBOL_PLACEMENT;
 
     #[test]
     fn committed_map_is_valid_and_scores_as_documented() {

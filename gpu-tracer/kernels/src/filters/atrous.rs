@@ -21,7 +21,7 @@
 use super::{index, FilterParams};
 use crate::abi::{GBufferGpu, GBUFFER_EMITTER, GBUFFER_HIT};
 use glam::{Vec3, Vec4};
-use sampler_core::sort::luma;
+use sampler_core::permutation::sort::luma;
 
 /// Number of a-trous iterations (steps 1, 2, 4, 8, 16 pixels), as in SVGF.
 pub const ATROUS_ITERATIONS: u32 = 5;

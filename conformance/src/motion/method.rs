@@ -1,0 +1,82 @@
+//! The rows of the motion study: which seeds and sampler each uses, as a render job.
+
+use super::config::MotionConfig;
+use gpu_tracer::render::SequenceOptions;
+use gpu_tracer::{PermuteMode, RenderJob};
+
+/// Which seeds and sampler a row uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MotionMethod {
+    /// Fresh white-noise seeds every frame.
+    White,
+    /// The permutation, seeds left at their pixels when things move.
+    Permute,
+    /// The permutation with the seeds reprojected along the motion vectors.
+    PermuteReproject,
+    /// The permutation with the pixel jitter from screen-space Sobol, reprojected.
+    PermuteJitterReproject,
+    /// The feature-aware permutation (issue 14), reprojected.
+    FeaturePermuteReproject,
+    /// White seeds and screen-space Sobol on every 2D decision.
+    ScreenSobol,
+}
+
+impl MotionMethod {
+    /// Every row, white first.
+    pub const ALL: [MotionMethod; 6] = [
+        MotionMethod::White,
+        MotionMethod::Permute,
+        MotionMethod::PermuteReproject,
+        MotionMethod::PermuteJitterReproject,
+        MotionMethod::FeaturePermuteReproject,
+        MotionMethod::ScreenSobol,
+    ];
+
+    /// Name used in tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            MotionMethod::White => "white",
+            MotionMethod::Permute => "permute, no reprojection",
+            MotionMethod::PermuteReproject => "permute + reprojection",
+            MotionMethod::PermuteJitterReproject => "permute-jitter + reprojection",
+            MotionMethod::FeaturePermuteReproject => "feature-aware permute + reprojection",
+            MotionMethod::ScreenSobol => "screen-sobol",
+        }
+    }
+
+    /// The render job and sequence options of this row.
+    pub(super) fn job(self, config: &MotionConfig) -> (RenderJob, SequenceOptions) {
+        let mut settings = config.settings();
+        settings.spp = 1;
+        let features = self == MotionMethod::FeaturePermuteReproject;
+        let (mode, reproject) = match self {
+            MotionMethod::White => (PermuteMode::White, false),
+            MotionMethod::FeaturePermuteReproject => (PermuteMode::Permute, true),
+            MotionMethod::Permute => (PermuteMode::Permute, false),
+            MotionMethod::PermuteReproject => (PermuteMode::Permute, true),
+            MotionMethod::PermuteJitterReproject => {
+                settings.sampler = kernels::abi::SAMPLER_SCREEN_SOBOL | kernels::abi::SAMPLER_JITTER_ONLY;
+                (PermuteMode::Permute, true)
+            }
+            MotionMethod::ScreenSobol => {
+                settings.sampler = kernels::abi::SAMPLER_SCREEN_SOBOL;
+                (PermuteMode::White, false)
+            }
+        };
+        let job = RenderJob {
+            settings,
+            frames: config.frames,
+            mode,
+            block: config.block,
+            tile: config.tile,
+            salt: config.salt,
+        };
+        let options = SequenceOptions {
+            gbuffer: false,
+            reproject,
+            features,
+            ..SequenceOptions::default()
+        };
+        (job, options)
+    }
+}

@@ -1,0 +1,82 @@
+//! What a rendered-quality study renders ([`StudyConfig`]) and the frames at which it
+//! is measured.
+
+use super::scene::StudyScene;
+use anyhow::Result;
+use gpu_tracer::scene::TraceSettings;
+use gpu_tracer::TileChoice;
+use kernels::abi::SEED_MODE_FIXED;
+use sampler_core::FrameLayout;
+
+/// The frame at which the goals on single frames are checked ([`crate::study`], "Frame
+/// numbering").
+pub const GOAL_FRAME: u32 = 8;
+/// Frame counts at which the accumulated RMSE is reported.
+pub const ACCUMULATION_POINTS: [u32; 4] = [8, 32, 64, 128];
+/// Frame counts whose accumulated mean image a run keeps (the report's pictures).
+pub const ACCUMULATION_SNAPSHOTS: [u32; 2] = [8, 64];
+
+/// What to render.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StudyConfig {
+    /// Image side in pixels (square frames).
+    pub size: u32,
+    /// Samples per pixel per frame.
+    pub spp: u32,
+    /// Frames per method.
+    pub frames: u32,
+    /// Samples per pixel of the reference (two halves of `ref_spp / 2`).
+    pub ref_spp: u32,
+    /// Block side of the sorting pass.
+    pub block: u32,
+    /// Dither tile.
+    pub tile: TileChoice,
+    /// Seed mode of the white / sort / permute / fixed-step runs
+    /// (`SEED_MODE_FIXED` or `SEED_MODE_ADVANCE`).
+    pub seed_mode: u32,
+    /// Maximum path length in segments.
+    pub max_depth: u32,
+    /// Salt of the initial white-noise seeds.
+    pub salt: u32,
+    /// Also measure every method after the real-time filters
+    /// ([`STUDY_FILTERS`](super::filtered::STUDY_FILTERS)); on by default.
+    pub filters: bool,
+    /// The scene ([`StudyScene`]; the Cornell box by default).
+    pub scene: StudyScene,
+}
+
+impl StudyConfig {
+    /// Defaults: 4x4 blocks, 64x64 tile, fixed seeds, depth 8, salt 1.
+    pub fn new(size: u32, spp: u32, frames: u32, ref_spp: u32) -> Self {
+        StudyConfig {
+            size,
+            spp,
+            frames,
+            ref_spp,
+            block: 4,
+            tile: TileChoice::Tile64,
+            seed_mode: SEED_MODE_FIXED,
+            max_depth: 8,
+            salt: 1,
+            filters: true,
+            scene: StudyScene::Cornell,
+        }
+    }
+
+    pub(crate) fn settings(&self) -> TraceSettings {
+        let mut s = TraceSettings::new(self.size, self.size);
+        s.spp = self.spp;
+        s.max_depth = self.max_depth;
+        s.seed_mode = self.seed_mode;
+        s
+    }
+
+    pub(crate) fn layout(&self) -> Result<FrameLayout> {
+        Ok(FrameLayout::new(
+            self.size,
+            self.size,
+            self.block,
+            self.tile.side(),
+        )?)
+    }
+}

@@ -1,0 +1,142 @@
+//! The rows of the rendered-quality study: how the seeds (or random numbers) change
+//! between frames.
+
+/// How the seeds (or random numbers) change between frames.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// Fresh white-noise seeds every frame.
+    White,
+    /// Sorting pass only (R2 walk), no retargeting.
+    Sort,
+    /// Sorting and retargeting with the aperiodic R2 walk: the method.
+    Permute,
+    /// [`Method::Permute`] with the position inside the pixel taken from the
+    /// screen-space Sobol sampler (`--sampler screen-sobol-jitter`): the
+    /// permutation for everything but the jitter.
+    PermuteJitter,
+    /// Sorting and retargeting with the fixed integer step `floor(W * (a1, a2))`.
+    FixedStep,
+    /// Fresh white seeds plus a spatiotemporal blue-noise mask driving the first
+    /// bounce's direction.
+    Dither,
+    /// [`Method::Dither`] with the filter-adapted mask
+    /// (`sampler_core::defaults::filter_adapted_128`, EMA 0.1 x Gaussian 1.3435,
+    /// issue 15) instead of STBN.
+    DitherFilterAdapted,
+    /// Fresh white seeds, the path's 2D decisions from the screen-space Sobol
+    /// sampler with our optimised keys (`--sampler screen-sobol`, issue 6).
+    ScreenSobol,
+    /// Fresh white seeds, the path's 2D decisions from ZSobol (`--sampler zsobol`).
+    ZSobol,
+    /// The feature-aware permutation (issue 14, `SequenceOptions::features` of the
+    /// tracer's CPU loop): demodulated sort keys, blocks sorted in groups of one
+    /// surface, retarget moves cut at edges, features from the G-buffer.
+    FeaturePermute,
+    /// [`Method::FeaturePermute`] with the pixel jitter from screen-space Sobol, as
+    /// [`Method::PermuteJitter`].
+    FeaturePermuteJitter,
+    /// [`Method::FeaturePermute`] ranking the raw radiance luma
+    /// (`gpu_tracer::feature_keys::FeatureKey::Raw`): what demodulation buys.
+    FeaturePermuteRawKey,
+    /// [`Method::FeaturePermute`] ranking the demodulated value minus its smoothed
+    /// running mean (`FeatureKey::HistoryResidual`): the noise without the signal.
+    FeaturePermuteHistoryKey,
+}
+
+impl Method {
+    /// Every method, white first.
+    pub const ALL: [Method; 13] = [
+        Method::White,
+        Method::Sort,
+        Method::Permute,
+        Method::PermuteJitter,
+        Method::FixedStep,
+        Method::Dither,
+        Method::DitherFilterAdapted,
+        Method::ScreenSobol,
+        Method::ZSobol,
+        Method::FeaturePermute,
+        Method::FeaturePermuteJitter,
+        Method::FeaturePermuteRawKey,
+        Method::FeaturePermuteHistoryKey,
+    ];
+
+    /// The rows of the report ([`crate::report`]): every method but the sort-key
+    /// variants of the feature-aware permutation, which `conformance study`
+    /// measures on request.
+    pub const REPORT: [Method; 11] = [
+        Method::White,
+        Method::Sort,
+        Method::Permute,
+        Method::PermuteJitter,
+        Method::FixedStep,
+        Method::Dither,
+        Method::DitherFilterAdapted,
+        Method::ScreenSobol,
+        Method::ZSobol,
+        Method::FeaturePermute,
+        Method::FeaturePermuteJitter,
+    ];
+
+    /// The rows of issue 14's comparison (`conformance study` defaults).
+    pub const FEATURE_ROWS: [Method; 5] = [
+        Method::White,
+        Method::Permute,
+        Method::PermuteJitter,
+        Method::FeaturePermute,
+        Method::FeaturePermuteJitter,
+    ];
+
+    /// The method called `name` ([`Method::name`]).
+    pub fn from_name(name: &str) -> Option<Method> {
+        Method::ALL.into_iter().find(|m| m.name() == name)
+    }
+
+    /// Short name used in tables, files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::White => "white",
+            Method::Sort => "sort",
+            Method::Permute => "permute",
+            Method::PermuteJitter => "permute-jitter",
+            Method::FixedStep => "fixed-step",
+            Method::Dither => "bn-dither",
+            Method::DitherFilterAdapted => "bn-dither-fa",
+            Method::ScreenSobol => "screen-sobol",
+            Method::ZSobol => "zsobol",
+            Method::FeaturePermute => "feature-permute",
+            Method::FeaturePermuteJitter => "feature-permute-jitter",
+            Method::FeaturePermuteRawKey => "feature-permute-raw-key",
+            Method::FeaturePermuteHistoryKey => "feature-permute-history-key",
+        }
+    }
+
+    /// One-line description.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Method::White => "fresh white-noise seeds every frame",
+            Method::Sort => "sorting pass only (R2 walk), no retargeting",
+            Method::Permute => "sorting + retargeting, aperiodic R2 offset walk",
+            Method::PermuteJitter => "permute, with the pixel jitter from screen-space Sobol",
+            Method::FixedStep => "sorting + retargeting, fixed integer step floor(W*(a1,a2))",
+            Method::Dither => "white seeds + STBN mask on the first bounce direction",
+            Method::DitherFilterAdapted => {
+                "white seeds + the filter-adapted mask (EMA 0.1 x Gaussian) on the first bounce direction"
+            }
+            Method::ScreenSobol => "white seeds + screen-space Sobol (our keys) on every 2D decision",
+            Method::ZSobol => "white seeds + ZSobol on every 2D decision",
+            Method::FeaturePermute => {
+                "feature-aware permute: demodulated keys, groups of one surface, cut retarget moves"
+            }
+            Method::FeaturePermuteJitter => {
+                "feature-aware permute, with the pixel jitter from screen-space Sobol"
+            }
+            Method::FeaturePermuteRawKey => {
+                "feature-aware permute ranking the raw radiance (no demodulation)"
+            }
+            Method::FeaturePermuteHistoryKey => {
+                "feature-aware permute ranking the demodulated value minus its smoothed running mean"
+            }
+        }
+    }
+}

@@ -1,0 +1,134 @@
+//! The scenes a rendered-quality study can use: the built-in Cornell box, and
+//! the same room as a textured glTF (issue 14's demodulation study) with its
+//! untextured twin.
+//!
+//! `cornell-textured` is `gpu-tracer/tests/data/gltf/cornell_textured.gltf`
+//! (written by `cargo run -p gpu-tracer --example make_gltf_fixtures`): the
+//! Cornell box's triangles, object ids, material order and camera, with a
+//! high-contrast 4-texel checker (albedo luma about 0.72 / 0.044, a contrast
+//! of about 16) on every surface but the light, one texel per 16 world units
+//! (about 5 px at 256x256, so most 4x4 sorting blocks straddle a texel edge).
+//! `cornell-untextured` is that file with every texture replaced by its mean
+//! linear colour: the same room, reflecting the same light on average, with
+//! nothing for a sort key to mistake for noise. The insets, regions and
+//! camera of the study are the Cornell box's for all three.
+
+use anyhow::{Context, Result};
+use glam::Vec3;
+use gpu_tracer::cornell::cornell_box;
+use gpu_tracer::gltf::load_gltf;
+use gpu_tracer::scene::{Image, Scene};
+use std::path::PathBuf;
+
+/// Which scene a study renders.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum StudyScene {
+    /// `gpu_tracer::cornell::cornell_box`.
+    #[default]
+    Cornell,
+    /// The Cornell box with the checker texture, loaded from glTF.
+    CornellTextured,
+    /// [`StudyScene::CornellTextured`] with each texture replaced by its mean
+    /// linear colour (multiplied into the material's albedo).
+    CornellUntextured,
+}
+
+impl StudyScene {
+    /// Every scene.
+    pub const ALL: [StudyScene; 3] = [
+        StudyScene::Cornell,
+        StudyScene::CornellTextured,
+        StudyScene::CornellUntextured,
+    ];
+
+    /// Name on the command line and in cache file names.
+    pub fn name(self) -> &'static str {
+        match self {
+            StudyScene::Cornell => "cornell",
+            StudyScene::CornellTextured => "cornell-textured",
+            StudyScene::CornellUntextured => "cornell-untextured",
+        }
+    }
+
+    /// The scene called `name` ([`StudyScene::name`]).
+    pub fn from_name(name: &str) -> Option<StudyScene> {
+        StudyScene::ALL.into_iter().find(|s| s.name() == name)
+    }
+
+    /// The glTF file of the textured scenes.
+    pub fn gltf_path() -> PathBuf {
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../gpu-tracer/tests/data/gltf/cornell_textured.gltf")
+    }
+
+    /// Builds the scene.
+    ///
+    /// # Errors
+    /// The glTF file cannot be loaded.
+    pub fn load(self) -> Result<Scene> {
+        if self == StudyScene::Cornell {
+            return Ok(cornell_box());
+        }
+        let path = StudyScene::gltf_path();
+        let mut scene = load_gltf(&path, None)
+            .with_context(|| format!("loading {}", path.display()))?
+            .scene;
+        // The study's insets are placed for the Cornell box's camera exactly.
+        scene.camera = cornell_box().camera;
+        if self == StudyScene::CornellUntextured {
+            let means: Vec<Vec3> = scene.images.iter().map(mean_linear_colour).collect();
+            for m in &mut scene.materials {
+                if let Some(t) = m.base_color_texture.take() {
+                    m.albedo *= means[t.image as usize];
+                }
+            }
+        }
+        Ok(scene)
+    }
+}
+
+/// Mean of an sRGB image's texels, decoded to linear RGB.
+pub fn mean_linear_colour(image: &Image) -> Vec3 {
+    let sum = image.texels.iter().fold(Vec3::ZERO, |acc, t| {
+        acc + Vec3::new(
+            kernels::texture::srgb_to_linear(t[0] as u32),
+            kernels::texture::srgb_to_linear(t[1] as u32),
+            kernels::texture::srgb_to_linear(t[2] as u32),
+        )
+    });
+    sum / image.texels.len().max(1) as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn textured_scene_is_the_cornell_box_with_textures() {
+        let plain = cornell_box();
+        let textured = StudyScene::CornellTextured.load().expect("textured");
+        let untextured = StudyScene::CornellUntextured.load().expect("untextured");
+        assert_eq!(textured.triangles.len(), plain.triangles.len());
+        for (a, b) in textured.triangles.iter().zip(&plain.triangles) {
+            assert_eq!((a.object, a.material), (b.object, b.material));
+            for (p, q) in a.vertices.iter().zip(b.vertices) {
+                assert!((*p - q).length() < 1e-3, "{p} vs {q}");
+            }
+        }
+        assert_eq!(textured.materials.len(), plain.materials.len());
+        let light = gpu_tracer::cornell::LIGHT as usize;
+        for (i, (t, p)) in textured.materials.iter().zip(&plain.materials).enumerate() {
+            assert!((t.albedo - p.albedo).length() < 1e-6, "material {i}");
+            assert!((t.emission - p.emission).length() < 1e-4, "material {i}");
+            assert_eq!(t.base_color_texture.is_some(), i != light, "material {i}");
+        }
+        // The checker is high-contrast; the twin's albedo is its mean.
+        let mean = mean_linear_colour(&textured.images[0]);
+        assert!(mean.x > 0.3 && mean.x < 0.5, "{mean}");
+        for (i, (u, t)) in untextured.materials.iter().zip(&textured.materials).enumerate() {
+            assert!(u.base_color_texture.is_none());
+            let want = if i == light { t.albedo } else { t.albedo * mean };
+            assert!((u.albedo - want).length() < 1e-6, "material {i}");
+        }
+        assert_eq!(textured.camera, plain.camera);
+    }
+}

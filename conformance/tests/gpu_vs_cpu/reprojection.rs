@@ -1,0 +1,176 @@
+//! The seed reprojection passes and the motion pass that feeds them, bit
+//! for bit.
+
+use gpu_tracer::gpu::Gpu;
+use sampler_core::sequences::seed::hash_u32;
+use sampler_core::*;
+
+/// Backward motion fields for the reprojection conformance: random, and the
+/// adversarial ones (all pixels to one source, NaN, a uniform shift, a
+/// rotation, a zoom, infinities and huge values).
+fn motion_fields(w: u32, h: u32, salt: u32) -> Vec<(&'static str, Vec<[f32; 2]>)> {
+    let (cx, cy) = (w as f32 / 2.0, h as f32 / 2.0);
+    let field =
+        |f: &dyn Fn(u32, u32) -> [f32; 2]| -> Vec<[f32; 2]> { (0..w * h).map(|i| f(i % w, i / w)).collect() };
+    let unit = |x: u32, y: u32, k: u32| hash_u32(x ^ (y << 12) ^ (k << 24) ^ salt) as f32 / u32::MAX as f32;
+    vec![
+        (
+            "random",
+            field(&|x, y| [unit(x, y, 1) * 12.0 - 6.0, unit(x, y, 2) * 12.0 - 6.0]),
+        ),
+        ("all to one source", field(&|x, y| [cx - x as f32, cy - y as f32])),
+        ("NaN", field(&|_, _| [f32::NAN; 2])),
+        ("uniform shift", field(&|_, _| [-2.25, 1.5])),
+        (
+            "rotation",
+            field(&|x, y| {
+                let (dx, dy) = (x as f32 + 0.5 - cx, y as f32 + 0.5 - cy);
+                let (s, c) = 0.05f32.sin_cos();
+                [c * dx - s * dy - dx, s * dx + c * dy - dy]
+            }),
+        ),
+        (
+            "zoom",
+            field(&|x, y| [(x as f32 + 0.5 - cx) * -0.1, (y as f32 + 0.5 - cy) * -0.1]),
+        ),
+        (
+            "infinities, huge values and NaN patches",
+            field(&|x, y| match hash_u32(x * 31 + y * 977 + salt) % 5 {
+                0 => [f32::INFINITY, 0.0],
+                1 => [0.0, f32::NEG_INFINITY],
+                2 => [1e30, -1e30],
+                3 => [f32::NAN, 0.5],
+                _ => [0.3, -0.7],
+            }),
+        ),
+    ]
+}
+
+/// The GPU reprojection (six passes of `sampler_core::reprojection::passes`,
+/// one atomic) against `sampler_core::reproject_frame`: identical seed
+/// buffers on random and adversarial motion fields, frames with padding on
+/// both axes and several chunks.
+#[test]
+fn reprojection_kernels_match_the_cpu_bit_for_bit() {
+    use gpu_tracer::gpu::{ReprojectPipelines, SeedReprojector};
+    let Some(gpu) = Gpu::for_test("reprojection_kernels_match_the_cpu_bit_for_bit") else {
+        return;
+    };
+    let pipelines = ReprojectPipelines::new(&gpu).expect("pipelines");
+    for (k, &(w, h, block, tile)) in [(37u32, 23u32, 4u32, 16u32), (64, 64, 4, 64), (300, 130, 3, 64)]
+        .iter()
+        .enumerate()
+    {
+        let layout = FrameLayout::new(w, h, block, tile).unwrap();
+        let seeds: Vec<u32> = (0..layout.seed_count() as u32)
+            .map(|i| hash_u32(i ^ (k as u32) << 20))
+            .collect();
+        let seed_buffer = gpu.storage("seeds", &seeds);
+        let reprojector = SeedReprojector::new(&gpu, &pipelines, layout, &seed_buffer).unwrap();
+        for (name, motion) in motion_fields(w, h, k as u32) {
+            gpu.queue
+                .write_buffer(&seed_buffer, 0, bytemuck::cast_slice(&seeds));
+            reprojector.upload_motion(&gpu, &motion).unwrap();
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            reprojector.encode(&mut encoder, &pipelines, None);
+            gpu.queue.submit([encoder.finish()]);
+            let got: Vec<u32> = gpu.read(&seed_buffer, layout.seed_count()).unwrap();
+
+            let mut claims = vec![0; seeds.len()];
+            let mut expected = vec![0; seeds.len()];
+            let stats = reproject_frame(&layout, &motion, &seeds, &mut claims, &mut expected).unwrap();
+            assert_eq!(got, expected, "{w}x{h}, {name}");
+            if name == "uniform shift" || name == "rotation" {
+                assert!(stats.followed > stats.recycled, "{name}: {stats:?}");
+                assert_ne!(expected, seeds, "{name} must move seeds");
+            }
+        }
+    }
+}
+
+/// The motion pass (`entry::motion_cs`) against the CPU's
+/// `gpu_tracer::motion::reprojection_motion` on the same G-buffers: the
+/// same vectors bit for bit, `DISOCCLUDED` where the CPU marks a
+/// disocclusion.
+#[test]
+fn motion_kernel_matches_the_cpu() {
+    use glam::{UVec2, UVec4, Vec2};
+    use gpu_tracer::gpu::{TracePipelines, Tracer};
+    use gpu_tracer::motion::{reprojection_motion, write_visibility};
+    use gpu_tracer::{cornell::cornell_box, SceneGpu, TraceSettings};
+    use kernels::abi::{GBufferGpu, GBUFFER_HIT, GBUFFER_NO_HIT, GBUFFER_PREV_IN_FRONT};
+    let Some(gpu) = Gpu::for_test("motion_kernel_matches_the_cpu") else {
+        return;
+    };
+    let (w, h) = (37u32, 23u32);
+    let n = (w * h) as usize;
+    let scene = SceneGpu::build(&cornell_box()).unwrap();
+    let params = scene.trace_params(&TraceSettings::new(w, h), 0).unwrap();
+    // G-buffers with four objects, misses, points behind the previous
+    // camera, and depths around the 5% tolerance.
+    let texel = |i: u32, salt: u32| {
+        let r = |k: u32| hash_u32(i ^ (k << 16) ^ salt);
+        let object = r(1) % 5;
+        let hit = object < 4;
+        let depth = 2.0 + (r(2) % 8) as f32 * 0.5;
+        GBufferGpu {
+            normal_depth: glam::Vec4::new(0.0, 0.0, 1.0, if hit { depth } else { 0.0 }),
+            motion: glam::Vec4::new(
+                (r(3) % 9) as f32 - 4.0 + (r(4) % 3) as f32 * 0.25,
+                (r(5) % 7) as f32 - 3.0,
+                depth * (0.93 + (r(6) % 15) as f32 * 0.01),
+                0.0,
+            ),
+            ids: if hit {
+                UVec4::new(
+                    object,
+                    0,
+                    0,
+                    GBUFFER_HIT | if r(7) % 9 == 0 { 0 } else { GBUFFER_PREV_IN_FRONT },
+                )
+            } else {
+                UVec4::new(GBUFFER_NO_HIT, GBUFFER_NO_HIT, GBUFFER_NO_HIT, 0)
+            },
+            ..Default::default()
+        }
+    };
+    let previous: Vec<GBufferGpu> = (0..n as u32).map(|i| texel(i, 11)).collect();
+    let current: Vec<GBufferGpu> = (0..n as u32).map(|i| texel(i, 12)).collect();
+
+    let pipelines = TracePipelines::new(&gpu).unwrap();
+    let seeds = gpu.storage_zeroed::<u32>("seeds", n);
+    let motion = gpu.storage_zeroed::<Vec2>("motion", n);
+    let mut tracer = Tracer::new(
+        &gpu,
+        &pipelines,
+        &scene,
+        &params,
+        &seeds,
+        Tracer::color_buffer(&gpu, w, h),
+    );
+    tracer.enable_motion(&gpu, &pipelines, &motion);
+    for g in [&previous, &current] {
+        gpu.queue
+            .write_buffer(&tracer.gbuffer, 0, bytemuck::cast_slice(g));
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        tracer.encode_motion(&mut encoder, &pipelines, None);
+        gpu.queue.submit([encoder.finish()]);
+    }
+    let got: Vec<Vec2> = gpu.read(&motion, n).unwrap();
+
+    let mut vis = vec![UVec2::ZERO; n];
+    write_visibility(&previous, &mut vis);
+    let expected = reprojection_motion(&current, &vis, w, h);
+    for (i, (g, e)) in got.iter().zip(&expected).enumerate() {
+        assert!(
+            g.x.to_bits() == e[0].to_bits() && g.y.to_bits() == e[1].to_bits(),
+            "pixel {i}: GPU {g:?}, CPU {e:?}"
+        );
+    }
+    let gone = kernels::motion::DISOCCLUDED.to_array();
+    let disoccluded = expected.iter().filter(|m| **m == gone).count();
+    assert!(
+        disoccluded > n / 10 && disoccluded < n * 9 / 10,
+        "{disoccluded} of {n} NaN"
+    );
+}

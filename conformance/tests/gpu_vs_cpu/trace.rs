@@ -1,0 +1,514 @@
+//! The path tracer: traced frames (statistically, and pixel for pixel
+//! with the same seeds), the G-buffer of a textured moving scene, and the
+//! feature pass.
+
+use glam::Vec4;
+use gpu_tracer::gpu::{Gpu, PermuteMode};
+use sampler_core::sequences::seed::hash_u32;
+use sampler_core::*;
+
+/// Per-pixel running sums over frames: mean and variance of the luma.
+struct PixelStats {
+    sum: Vec<f64>,
+    sum_sq: Vec<f64>,
+    frames: u32,
+}
+
+impl PixelStats {
+    fn new(n: usize) -> Self {
+        PixelStats {
+            sum: vec![0.0; n],
+            sum_sq: vec![0.0; n],
+            frames: 0,
+        }
+    }
+    fn add(&mut self, color: &[Vec4]) {
+        for (i, c) in color.iter().enumerate() {
+            let v = luma(c.truncate()) as f64;
+            self.sum[i] += v;
+            self.sum_sq[i] += v * v;
+        }
+        self.frames += 1;
+    }
+    fn mean(&self, i: usize) -> f64 {
+        self.sum[i] / self.frames as f64
+    }
+    /// Variance of the mean of pixel `i` (sample variance / frames).
+    fn var_of_mean(&self, i: usize) -> f64 {
+        let n = self.frames as f64;
+        let m = self.mean(i);
+        ((self.sum_sq[i] / n - m * m).max(0.0) * n / (n - 1.0)) / n
+    }
+}
+
+#[test]
+fn path_traced_frames_agree_statistically_with_the_cpu_renderer() {
+    let Some(gpu) = Gpu::for_test("path_traced_frames_agree_statistically_with_the_cpu_renderer") else {
+        return;
+    };
+    compare_trace_statistics(&gpu, kernels::abi::SAMPLER_SEEDS, "seeds");
+}
+
+/// `--sampler screen-sobol` and `--sampler zsobol` on the GPU against the
+/// CPU: per-pixel means agree statistically (independent seeds), and with
+/// the same seeds the frames agree pixel for pixel up to float differences,
+/// which only holds if the GPU reads the same a-priori numbers (keys at
+/// binding 7, key layout and sample indices) as the CPU.
+#[test]
+fn apriori_samplers_agree_with_the_cpu_renderer() {
+    use gpu_tracer::{
+        cornell::cornell_box, render_cpu, render_gpu, RenderJob, SceneGpu, TileChoice, TraceSettings,
+    };
+    let Some(gpu) = Gpu::for_test("apriori_samplers_agree_with_the_cpu_renderer") else {
+        return;
+    };
+    let scene = SceneGpu::build(&cornell_box()).unwrap();
+    use kernels::abi::{SAMPLER_JITTER_ONLY, SAMPLER_SCREEN_SOBOL, SAMPLER_ZSOBOL};
+    for (sampler, name, mode) in [
+        (SAMPLER_SCREEN_SOBOL, "screen-sobol", PermuteMode::White),
+        (SAMPLER_ZSOBOL, "zsobol", PermuteMode::White),
+        // Jitter only: the seeds drive the rest, so permute them as the GPU would.
+        (
+            SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY,
+            "screen-sobol-jitter",
+            PermuteMode::Permute,
+        ),
+        (
+            SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY,
+            "zsobol-jitter",
+            PermuteMode::Permute,
+        ),
+    ] {
+        compare_trace_statistics(&gpu, sampler, name);
+        // Same seeds on both sides: only float rounding differs.
+        let (w, h, frames) = (24u32, 20u32, 8u32);
+        let mut settings = TraceSettings::new(w, h);
+        settings.spp = 4;
+        settings.sampler = sampler;
+        let job = RenderJob {
+            settings,
+            frames,
+            mode,
+            block: 4,
+            tile: TileChoice::Tile64,
+            salt: 5,
+        };
+        let mut cpu_frames = Vec::new();
+        render_cpu(&scene, &job, |_, c| cpu_frames.push(c.to_vec())).unwrap();
+        let mut gpu_frames = Vec::new();
+        let mut collect = |_t: u32, c: &[Vec4]| gpu_frames.push(c.to_vec());
+        render_gpu(&gpu, &scene, &job, |_| {}, Some(&mut collect)).unwrap();
+        let (mut close, mut total) = (0usize, 0usize);
+        for (a, b) in cpu_frames.iter().zip(&gpu_frames) {
+            for (p, q) in a.iter().zip(b) {
+                total += 1;
+                if (*p - *q).abs().max_element() <= 1e-3 * (1.0 + p.abs().max_element()) {
+                    close += 1;
+                }
+            }
+        }
+        let frac = close as f64 / total as f64;
+        eprintln!(
+            "{name}: same seeds, {:.2}% of {total} pixel-frames equal within 1e-3",
+            100.0 * frac
+        );
+        assert_eq!(total, (w * h * frames) as usize);
+        assert!(
+            frac > 0.95,
+            "{name}: only {:.2}% of pixel-frames agree",
+            100.0 * frac
+        );
+    }
+}
+
+/// Per-pixel means of 64 white-mode frames on the CPU and the GPU, from
+/// different salts, with the path's 2D decisions from `sampler`: the
+/// differences must look like noise (mean z^2 near 1 or below). With an
+/// a-priori sampler both sides share those numbers (they depend only on
+/// pixel and frame), which correlates the estimates and makes the test
+/// conservative, never stricter.
+fn compare_trace_statistics(gpu: &Gpu, sampler: u32, name: &str) {
+    use gpu_tracer::{
+        cornell::cornell_box, render_cpu, render_gpu, RenderJob, SceneGpu, TileChoice, TraceSettings,
+    };
+    let scene = SceneGpu::build(&cornell_box()).unwrap();
+    let (w, h, frames) = (24u32, 20u32, 64u32);
+    let mut settings = TraceSettings::new(w, h);
+    settings.spp = 2;
+    settings.sampler = sampler;
+    // White noise on both sides, from different salts: independent estimates
+    // of the same per-pixel expectation.
+    let job = |salt| RenderJob {
+        settings,
+        frames,
+        mode: PermuteMode::White,
+        block: 4,
+        tile: TileChoice::Tile64,
+        salt,
+    };
+    let n = (w * h) as usize;
+    let mut cpu = PixelStats::new(n);
+    render_cpu(&scene, &job(1), |_, c| cpu.add(c)).unwrap();
+    let mut gpu_stats = PixelStats::new(n);
+    let mut collect = |_t: u32, c: &[Vec4]| gpu_stats.add(c);
+    let out = render_gpu(gpu, &scene, &job(1_000_003), |_| {}, Some(&mut collect)).unwrap();
+    assert_eq!(out.last.len(), n);
+    // z-score of the difference of means per pixel; pixels with no variance
+    // on either side (background, light) must agree to float precision.
+    let (mut z2_sum, mut within4, mut counted) = (0.0f64, 0usize, 0usize);
+    for i in 0..n {
+        let var = cpu.var_of_mean(i) + gpu_stats.var_of_mean(i);
+        let d = gpu_stats.mean(i) - cpu.mean(i);
+        if var < 1e-12 {
+            assert!(
+                d.abs() <= 1e-4 * (1.0 + cpu.mean(i).abs()),
+                "pixel {i}: {} vs {}",
+                gpu_stats.mean(i),
+                cpu.mean(i)
+            );
+            continue;
+        }
+        let z = d / var.sqrt();
+        z2_sum += z * z;
+        counted += 1;
+        if z.abs() <= 4.0 {
+            within4 += 1;
+        }
+    }
+    let mean_z2 = z2_sum / counted as f64;
+    let frac4 = within4 as f64 / counted as f64;
+    eprintln!(
+        "{name}: {counted} pixels compared: mean z^2 {mean_z2:.3} (expected ~1), {:.2}% within 4 sigma",
+        100.0 * frac4
+    );
+    // Heavy-tailed path-tracing noise inflates sample variances little at 128
+    // samples per pixel; a biased kernel would push mean z^2 far above 1.
+    assert!(counted > n / 2, "{name}: too few pixels with variance: {counted}");
+    assert!(
+        mean_z2 < 1.6,
+        "{name}: mean z^2 {mean_z2:.3}: GPU and CPU disagree"
+    );
+    assert!(
+        frac4 > 0.99,
+        "only {:.2}% of pixels within 4 sigma",
+        100.0 * frac4
+    );
+    // And the image means agree within 4 sigma (pixels are independent in
+    // white mode, so the variances add).
+    let total = |s: &PixelStats| (0..n).map(|i| s.mean(i)).sum::<f64>() / n as f64;
+    let (tc, tg) = (total(&cpu), total(&gpu_stats));
+    let sigma = ((0..n)
+        .map(|i| cpu.var_of_mean(i) + gpu_stats.var_of_mean(i))
+        .sum::<f64>())
+    .sqrt()
+        / n as f64;
+    eprintln!("{name}: image means {tc:.4} (CPU) vs {tg:.4} (GPU), sigma {sigma:.4}");
+    assert!(
+        (tc - tg).abs() < 4.0 * sigma,
+        "{name}: image means {tc:.4} (CPU) vs {tg:.4} (GPU), sigma {sigma:.4}"
+    );
+}
+
+/// A textured, moving scene: a checker-textured floor (nearest, repeat), a
+/// wall with a bilinear clamp texture, a light whose emission is textured,
+/// and a block that moved since the previous frame under a camera that
+/// moved too. The G-buffer's integer parts (ids, flags) agree bit for bit
+/// between the GPU's `gbuffer_cs` and the CPU's `gbuffer_frame`, its float
+/// parts within 1e-4 (relative), and the traced colour with the same seeds
+/// within 1e-3 on at least 95% of the pixels (texture decoding uses `pow`,
+/// whose last bits differ between the host's libm and the device).
+#[test]
+fn textured_moving_scene_and_gbuffer_agree_with_the_cpu() {
+    use glam::{Vec2, Vec3};
+    use gpu_tracer::cpu::{gbuffer_frame, render_frame, white_seeds};
+    use gpu_tracer::gpu::{TracePipelines, Tracer};
+    use gpu_tracer::scene::{Camera, Filter, Image, Material, Scene, TextureRef, Triangle, Wrap};
+    use gpu_tracer::{SceneGpu, TraceSettings};
+    use kernels::abi::{GBUFFER_HIT, GBUFFER_PREV_IN_FRONT};
+    let Some(gpu) = Gpu::for_test("textured_moving_scene_and_gbuffer_agree_with_the_cpu") else {
+        return;
+    };
+    let checker = Image {
+        name: "checker".into(),
+        width: 4,
+        height: 4,
+        texels: (0..16)
+            .map(|i| {
+                if (i % 4 + i / 4) % 2 == 0 {
+                    [250, 240, 230, 255]
+                } else {
+                    [20, 40, 90, 255]
+                }
+            })
+            .collect(),
+    };
+    let gradient = Image {
+        name: "gradient".into(),
+        width: 3,
+        height: 2,
+        texels: vec![
+            [255, 0, 0, 255],
+            [0, 255, 0, 255],
+            [0, 0, 255, 255],
+            [9, 99, 199, 255],
+            [128; 4],
+            [255; 4],
+        ],
+    };
+    let tex = |image, wrap, filter| TextureRef {
+        image,
+        wrap_u: wrap,
+        wrap_v: wrap,
+        filter,
+    };
+    let quad = |c: [Vec3; 4], uv: f32, material: u32, object: u32| {
+        let uvs = [
+            Vec2::ZERO,
+            Vec2::new(uv, 0.0),
+            Vec2::new(uv, uv),
+            Vec2::new(0.0, uv),
+        ];
+        [
+            Triangle {
+                vertices: [c[0], c[1], c[2]],
+                uvs: [uvs[0], uvs[1], uvs[2]],
+                material,
+                object,
+            },
+            Triangle {
+                vertices: [c[0], c[2], c[3]],
+                uvs: [uvs[0], uvs[2], uvs[3]],
+                material,
+                object,
+            },
+        ]
+    };
+    let v = Vec3::new;
+    let mut triangles = Vec::new();
+    triangles.extend(quad(
+        [v(-2., 0., -2.), v(-2., 0., 2.), v(2., 0., 2.), v(2., 0., -2.)],
+        3.0,
+        0,
+        0,
+    ));
+    triangles.extend(quad(
+        [v(-2., 0., -2.), v(2., 0., -2.), v(2., 2., -2.), v(-2., 2., -2.)],
+        1.5,
+        1,
+        1,
+    ));
+    triangles.extend(quad(
+        [
+            v(-0.5, 1.9, -0.5),
+            v(0.5, 1.9, -0.5),
+            v(0.5, 1.9, 0.5),
+            v(-0.5, 1.9, 0.5),
+        ],
+        1.0,
+        2,
+        2,
+    ));
+    let block_first = triangles.len();
+    triangles.extend(quad(
+        [
+            v(-0.3, 0.0, 0.2),
+            v(0.3, 0.0, 0.2),
+            v(0.3, 0.6, 0.2),
+            v(-0.3, 0.6, 0.2),
+        ],
+        1.0,
+        3,
+        3,
+    ));
+    let mut light = Material::new("light", Vec3::ZERO, Vec3::splat(6.0));
+    light.emission_texture = Some(tex(1, Wrap::Repeat, Filter::Nearest));
+    let mut floor = Material::new("floor", Vec3::ONE, Vec3::ZERO);
+    floor.base_color_texture = Some(tex(0, Wrap::Repeat, Filter::Nearest));
+    let mut wall = Material::new("wall", Vec3::splat(0.9), Vec3::ZERO);
+    wall.base_color_texture = Some(tex(1, Wrap::Clamp, Filter::Bilinear));
+    let camera = |x: f32| Camera {
+        origin: v(x, 1.0, 3.5),
+        target: v(0.0, 0.6, 0.0),
+        up: Vec3::Y,
+        fov_y_degrees: 55.0,
+    };
+    let scene = Scene {
+        triangles,
+        materials: vec![
+            floor,
+            wall,
+            light,
+            Material::new("block", Vec3::splat(0.6), Vec3::ZERO),
+        ],
+        images: vec![checker, gradient],
+        camera: camera(0.0),
+    };
+    // The block moved by +0.1 in x since the previous frame; the camera by 0.05.
+    let mut gpu_scene = SceneGpu::build(&scene).unwrap();
+    let previous: Vec<[Vec3; 3]> = scene.triangles.iter().map(|t| t.vertices).collect();
+    let mut now = previous.clone();
+    for t in &mut now[block_first..] {
+        for p in t.iter_mut() {
+            p.x += 0.1;
+        }
+    }
+    gpu_scene.set_positions(&now).unwrap();
+    gpu_scene.set_previous_positions(&previous).unwrap();
+    gpu_scene.set_cameras(&camera(0.05), &camera(0.0)).unwrap();
+
+    let (w, h) = (40u32, 32u32);
+    let mut settings = TraceSettings::new(w, h);
+    settings.spp = 2;
+    settings.max_depth = 4;
+    let params = gpu_scene.trace_params(&settings, 1).unwrap();
+    let seeds = white_seeds(w, h, 9);
+    let n = (w * h) as usize;
+    let mut cpu_gbuffer = vec![Default::default(); n];
+    gbuffer_frame(&gpu_scene, &params, &mut cpu_gbuffer).unwrap();
+    let mut cpu_color = vec![Vec4::ZERO; n];
+    render_frame(&gpu_scene, &params, &seeds, &mut cpu_color).unwrap();
+
+    let pipelines = TracePipelines::new(&gpu).unwrap();
+    let seed_buffer = gpu.storage("seeds", &seeds);
+    let color = Tracer::color_buffer(&gpu, w, h);
+    let tracer = Tracer::new(&gpu, &pipelines, &gpu_scene, &params, &seed_buffer, color);
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    tracer.encode_gbuffer(&mut encoder, &pipelines, None);
+    tracer.encode_trace(&mut encoder, &pipelines, None);
+    gpu.queue.submit([encoder.finish()]);
+    let gpu_gbuffer = tracer.read_gbuffer(&gpu).unwrap();
+    let gpu_color = tracer.read_color(&gpu).unwrap();
+
+    let close = |a: Vec4, b: Vec4| (a - b).abs().max_element() <= 1e-4 * (1.0 + a.abs().max_element());
+    let mut moving_block = 0;
+    for (i, (c, g)) in cpu_gbuffer.iter().zip(&gpu_gbuffer).enumerate() {
+        assert_eq!(c.ids, g.ids, "pixel {i}: ids");
+        assert!(
+            close(c.normal_depth, g.normal_depth),
+            "pixel {i}: {:?} vs {:?}",
+            c,
+            g
+        );
+        assert!(close(c.albedo, g.albedo), "pixel {i}: {:?} vs {:?}", c, g);
+        assert!(close(c.motion, g.motion), "pixel {i}: {:?} vs {:?}", c, g);
+        if c.ids.x == 3 {
+            assert_eq!(c.ids.w, GBUFFER_HIT | GBUFFER_PREV_IN_FRONT);
+            moving_block += 1;
+        }
+    }
+    // The block is visible, and its motion differs from the wall's behind it.
+    assert!(moving_block > 10, "block covers {moving_block} pixels");
+    let agree = cpu_color
+        .iter()
+        .zip(&gpu_color)
+        .filter(|(p, q)| (**p - **q).abs().max_element() <= 1e-3 * (1.0 + p.abs().max_element()))
+        .count();
+    eprintln!(
+        "textured moving scene: {agree} of {n} pixels within 1e-3; G-buffer ids identical on {}",
+        gpu.describe()
+    );
+    assert!(
+        agree as f64 >= 0.95 * n as f64,
+        "only {agree} of {n} pixels agree"
+    );
+    // The textures show: the floor's albedo takes both checker colours.
+    let floor_albedos: std::collections::BTreeSet<u32> = cpu_gbuffer
+        .iter()
+        .filter(|g| g.ids.x == 0)
+        .map(|g| (g.albedo.x * 100.0) as u32)
+        .collect();
+    assert!(floor_albedos.len() >= 2, "{floor_albedos:?}");
+}
+
+/// The tracer's feature pass (`entry::features_cs`) against the CPU's
+/// `kernels::surface_features` on the same G-buffer and colour: identical
+/// ids and depths, normals within the encoding's precision and sort keys
+/// within 1e-6 relative (a shader's division need not round like the
+/// host's).
+#[test]
+fn feature_pass_matches_the_cpu() {
+    use glam::{UVec4, Vec3};
+    use gpu_tracer::gpu::{TracePipelines, Tracer};
+    use gpu_tracer::{cornell::cornell_box, SceneGpu, TraceSettings};
+    use kernels::abi::{GBufferGpu, GBUFFER_HIT, GBUFFER_NO_HIT};
+    use kernels::surface_features::{demodulated_intensity, surface_feature};
+    use sampler_core::features::surface::decode_normal;
+    let Some(gpu) = Gpu::for_test("feature_pass_matches_the_cpu") else {
+        return;
+    };
+    let (w, h) = (29u32, 17u32);
+    let n = (w * h) as usize;
+    let scene = SceneGpu::build(&cornell_box()).unwrap();
+    let params = scene.trace_params(&TraceSettings::new(w, h), 0).unwrap();
+    let unit = |i: u32, k: u32| hash_u32(i ^ (k << 20)) as f32 / u32::MAX as f32;
+    let gbuffer: Vec<GBufferGpu> = (0..n as u32)
+        .map(|i| {
+            if i % 7 == 0 {
+                return GBufferGpu {
+                    ids: UVec4::new(GBUFFER_NO_HIT, GBUFFER_NO_HIT, GBUFFER_NO_HIT, 0),
+                    ..Default::default()
+                };
+            }
+            let normal = Vec3::new(unit(i, 1) - 0.5, unit(i, 2) - 0.5, unit(i, 3) - 0.5).normalize();
+            GBufferGpu {
+                normal_depth: normal.extend(1.0 + 9.0 * unit(i, 4)),
+                albedo: Vec4::new(unit(i, 5), unit(i, 6), unit(i, 7) * 0.01, 0.0),
+                ids: UVec4::new(i % 5, 0, 0, GBUFFER_HIT),
+                ..Default::default()
+            }
+        })
+        .collect();
+    let color: Vec<Vec4> = (0..n as u32)
+        .map(|i| Vec4::new(unit(i, 8) * 3.0, unit(i, 9), unit(i, 10), 1.0))
+        .collect();
+
+    let pipelines = TracePipelines::new(&gpu).unwrap();
+    let seeds = gpu.storage_zeroed::<u32>("seeds", n);
+    let features = gpu.storage_zeroed::<SurfaceFeature>("features", n);
+    let keys = gpu.storage_zeroed::<f32>("keys", n);
+    let mut tracer = Tracer::new(
+        &gpu,
+        &pipelines,
+        &scene,
+        &params,
+        &seeds,
+        Tracer::color_buffer(&gpu, w, h),
+    );
+    tracer.enable_features(&gpu, &pipelines, &features, &keys);
+    gpu.queue
+        .write_buffer(&tracer.gbuffer, 0, bytemuck::cast_slice(&gbuffer));
+    gpu.queue
+        .write_buffer(&tracer.color, 0, bytemuck::cast_slice(&color));
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    tracer.encode_features(&mut encoder, &pipelines, None);
+    gpu.queue.submit([encoder.finish()]);
+    let got_features: Vec<SurfaceFeature> = gpu.read(&features, n).unwrap();
+    let got_keys: Vec<f32> = gpu.read(&keys, n).unwrap();
+
+    let mut demodulated = 0;
+    for i in 0..n {
+        let (f, k) = (
+            surface_feature(&gbuffer[i]),
+            demodulated_intensity(color[i], &gbuffer[i]),
+        );
+        let g = got_features[i];
+        assert_eq!((g.id, g.depth.to_bits()), (f.id, f.depth.to_bits()), "pixel {i}");
+        if f.id != NO_SURFACE {
+            assert!(
+                decode_normal(g.normal).dot(decode_normal(f.normal)) > 0.999_99,
+                "pixel {i}: normal {:x} vs {:x}",
+                g.normal,
+                f.normal
+            );
+        }
+        assert!(
+            (got_keys[i] - k).abs() <= 1e-6 * k.abs(),
+            "pixel {i}: key {} vs {k}",
+            got_keys[i]
+        );
+        if k != luma(color[i].truncate()) {
+            demodulated += 1;
+        }
+    }
+    assert!(demodulated > n / 2, "only {demodulated} of {n} keys demodulated");
+}

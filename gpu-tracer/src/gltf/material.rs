@@ -1,0 +1,271 @@
+//! Materials and textures: glTF materials as diffuse [`Material`]s, their
+//! textures as [`TextureRef`]s with the sampler's settings, and the images
+//! they use decoded and converted to 8-bit sRGB RGBA.
+
+use super::loader::{check_uri, label, short_uri, Loader};
+use crate::error::{Error, Result};
+use crate::scene::{Filter, Image, Material, TextureRef, Wrap};
+use glam::{Vec3, Vec4};
+
+/// Albedo of primitives without a material (glTF's default material: base
+/// colour factor 1).
+pub const DEFAULT_ALBEDO: Vec3 = Vec3::ONE;
+
+impl<'p> Loader<'p> {
+    /// Scene materials in file order (texture `image` fields still hold
+    /// glTF image indices) and the texture coordinate set of each textured
+    /// material.
+    pub(super) fn materials(&mut self) -> Result<(Vec<Material>, Vec<Option<u32>>)> {
+        let mut materials = Vec::new();
+        let mut sets = Vec::new();
+        let (mut metallic, mut normal, mut occlusion, mut alpha) = (false, false, false, false);
+        for m in self.document.materials() {
+            let index = m.index().unwrap_or(materials.len());
+            let name = m
+                .name()
+                .map_or_else(|| format!("material {index}"), str::to_string);
+            let element = || label("material", index, m.name());
+            let pbr = m.pbr_metallic_roughness();
+            metallic |= pbr.metallic_factor() > 0.0 || pbr.metallic_roughness_texture().is_some();
+            normal |= m.normal_texture().is_some();
+            occlusion |= m.occlusion_texture().is_some();
+            alpha |= m.alpha_mode() != gltf::material::AlphaMode::Opaque;
+            let albedo = Vec4::from(pbr.base_color_factor()).truncate();
+            let strength = m.emissive_strength().unwrap_or(1.0);
+            let emission = Vec3::from(m.emissive_factor()) * strength;
+            for (what, c) in [("base colour factor", albedo), ("emission", emission)] {
+                if !c.is_finite() || c.min_element() < 0.0 {
+                    return Err(self.content(element(), format!("{what} {c} is NaN, infinite or negative")));
+                }
+            }
+            let base = pbr.base_color_texture();
+            let emissive = m.emissive_texture();
+            let set = match (&base, &emissive) {
+                (Some(b), Some(e)) if b.tex_coord() != e.tex_coord() => {
+                    return Err(self.content(
+                        element(),
+                        format!(
+                            "base colour texture reads TEXCOORD_{} but emissive texture reads TEXCOORD_{}: one set per material is supported",
+                            b.tex_coord(),
+                            e.tex_coord()
+                        ),
+                    ))
+                }
+                (Some(t), _) | (None, Some(t)) => Some(t.tex_coord()),
+                (None, None) => None,
+            };
+            materials.push(Material {
+                name,
+                albedo,
+                emission,
+                base_color_texture: base.map(|t| texture_ref(&t.texture())),
+                emission_texture: emissive.map(|t| texture_ref(&t.texture())),
+            });
+            sets.push(set);
+        }
+        if metallic {
+            self.notices
+                .push("metallic materials are rendered as diffuse (metallic/roughness not supported)".into());
+        }
+        if normal || occlusion {
+            self.notices
+                .push("normal and occlusion textures are ignored".into());
+        }
+        if alpha {
+            self.notices
+                .push("alpha (BLEND and MASK alpha modes) is ignored: surfaces are opaque".into());
+        }
+        Ok((materials, sets))
+    }
+
+    /// Decodes the images the materials use; returns them and the map from
+    /// glTF image index to scene image index.
+    pub(super) fn images(&self, materials: &[Material]) -> Result<(Vec<Image>, Vec<Option<u32>>)> {
+        let mut image_of = vec![None; self.document.images().len()];
+        let mut images = Vec::new();
+        let used = materials
+            .iter()
+            .flat_map(|m| [m.base_color_texture, m.emission_texture])
+            .flatten()
+            .map(|t| t.image as usize);
+        for i in used {
+            if image_of.get(i).is_none_or(|x| x.is_some()) {
+                continue;
+            }
+            let Some(image) = self.document.images().nth(i) else {
+                continue;
+            };
+            let name = match (image.name(), image.source()) {
+                (Some(n), _) => n.to_string(),
+                (None, gltf::image::Source::Uri { uri, .. }) if !uri.starts_with("data:") => short_uri(uri),
+                _ => format!("image {i}"),
+            };
+            let element = format!("image {i} ('{name}')");
+            if let gltf::image::Source::Uri { uri, .. } = image.source() {
+                check_uri(self.path, &element, uri)?;
+            }
+            let data = gltf::image::Data::from_source(image.source(), Some(self.base), &self.buffers)
+                .map_err(|source| Error::GltfLoad {
+                    path: self.path.to_path_buf(),
+                    element: element.clone(),
+                    source,
+                })?;
+            let image = convert_image(name, &data).map_err(|reason| self.content(&element, reason))?;
+            image_of[i] = Some(images.len() as u32);
+            images.push(image);
+        }
+        Ok((images, image_of))
+    }
+}
+
+/// A [`TextureRef`] with the texture's sampler settings; `image` holds the
+/// glTF image index until remapped.
+fn texture_ref(texture: &gltf::Texture) -> TextureRef {
+    use gltf::texture::{MagFilter, WrappingMode};
+    let sampler = texture.sampler();
+    let wrap = |m| match m {
+        WrappingMode::Repeat => Wrap::Repeat,
+        WrappingMode::ClampToEdge => Wrap::Clamp,
+        WrappingMode::MirroredRepeat => Wrap::Mirror,
+    };
+    TextureRef {
+        image: texture.source().index() as u32,
+        wrap_u: wrap(sampler.wrap_s()),
+        wrap_v: wrap(sampler.wrap_t()),
+        filter: match sampler.mag_filter() {
+            Some(MagFilter::Nearest) => Filter::Nearest,
+            Some(MagFilter::Linear) | None => Filter::Bilinear,
+        },
+    }
+}
+
+/// Converts a decoded image to 8-bit sRGB RGBA (see the module docs).
+fn convert_image(name: String, data: &gltf::image::Data) -> std::result::Result<Image, String> {
+    use gltf::image::Format;
+    #[derive(Clone, Copy)]
+    enum Kind {
+        U8,
+        U16,
+        F32,
+    }
+    let (channels, kind) = match data.format {
+        Format::R8 => (1, Kind::U8),
+        Format::R8G8 => (2, Kind::U8),
+        Format::R8G8B8 => (3, Kind::U8),
+        Format::R8G8B8A8 => (4, Kind::U8),
+        Format::R16 => (1, Kind::U16),
+        Format::R16G16 => (2, Kind::U16),
+        Format::R16G16B16 => (3, Kind::U16),
+        Format::R16G16B16A16 => (4, Kind::U16),
+        Format::R32G32B32FLOAT => (3, Kind::F32),
+        Format::R32G32B32A32FLOAT => (4, Kind::F32),
+    };
+    let bytes_per_channel = match kind {
+        Kind::U8 => 1,
+        Kind::U16 => 2,
+        Kind::F32 => 4,
+    };
+    let texel_bytes = channels * bytes_per_channel;
+    let expected = (data.width as usize)
+        .checked_mul(data.height as usize)
+        .and_then(|n| n.checked_mul(texel_bytes));
+    if data.width == 0 || data.height == 0 || expected != Some(data.pixels.len()) {
+        return Err(format!(
+            "decoded to {}x{} {:?} with {} bytes",
+            data.width,
+            data.height,
+            data.format,
+            data.pixels.len()
+        ));
+    }
+    let channel = |c: &[u8]| -> u8 {
+        match kind {
+            Kind::U8 => c[0],
+            Kind::U16 => ((u32::from(u16::from_ne_bytes([c[0], c[1]])) * 255 + 32767) / 65535) as u8,
+            Kind::F32 => {
+                let v = f32::from_ne_bytes([c[0], c[1], c[2], c[3]]);
+                // NaN maps to 0.
+                (v.clamp(0.0, 1.0) * 255.0).round().max(0.0) as u8
+            }
+        }
+    };
+    let texels = data
+        .pixels
+        .chunks_exact(texel_bytes)
+        .map(|t| {
+            let c: Vec<u8> = t.chunks_exact(bytes_per_channel).map(channel).collect();
+            match c.as_slice() {
+                [l] => [*l, *l, *l, 255],
+                [l, a] => [*l, *l, *l, *a],
+                [r, g, b] => [*r, *g, *b, 255],
+                [r, g, b, a, ..] => [*r, *g, *b, *a],
+                [] => [0, 0, 0, 255],
+            }
+        })
+        .collect();
+    Ok(Image {
+        name,
+        width: data.width,
+        height: data.height,
+        texels,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn images_of_every_decoded_format_become_srgb_rgba8() {
+        use gltf::image::{Data, Format};
+        let img = |format, pixels: Vec<u8>| Data {
+            pixels,
+            format,
+            width: 1,
+            height: 1,
+        };
+        let cases = [
+            (img(Format::R8, vec![7]), [7, 7, 7, 255]),
+            (img(Format::R8G8, vec![7, 9]), [7, 7, 7, 9]),
+            (img(Format::R8G8B8, vec![1, 2, 3]), [1, 2, 3, 255]),
+            (img(Format::R8G8B8A8, vec![1, 2, 3, 4]), [1, 2, 3, 4]),
+            (
+                img(Format::R16, 65535u16.to_ne_bytes().to_vec()),
+                [255, 255, 255, 255],
+            ),
+            (
+                img(
+                    Format::R16G16B16A16,
+                    [0u16, 257, 32768, 65535]
+                        .iter()
+                        .flat_map(|v| v.to_ne_bytes())
+                        .collect(),
+                ),
+                [0, 1, 128, 255],
+            ),
+            (
+                img(
+                    Format::R32G32B32FLOAT,
+                    [0.5f32, -1.0, 2.0].iter().flat_map(|v| v.to_ne_bytes()).collect(),
+                ),
+                [128, 0, 255, 255],
+            ),
+            (
+                img(
+                    Format::R32G32B32A32FLOAT,
+                    [f32::NAN, 1.0, 0.0, 0.25]
+                        .iter()
+                        .flat_map(|v| v.to_ne_bytes())
+                        .collect(),
+                ),
+                [0, 255, 0, 64],
+            ),
+        ];
+        for (data, texel) in cases {
+            let format = data.format;
+            let image = convert_image("t".into(), &data).unwrap_or_else(|e| panic!("{format:?}: {e}"));
+            assert_eq!(image.texels, vec![texel], "{format:?}");
+        }
+        assert!(convert_image("t".into(), &img(Format::R8G8B8, vec![1, 2])).is_err());
+    }
+}

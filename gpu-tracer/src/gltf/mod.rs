@@ -1,0 +1,300 @@
+//! Scenes from glTF 2.0 files (`.gltf` with external or embedded buffers
+//! and images, and `.glb`), with the `gltf` crate.
+//!
+//! # What is loaded
+//!
+//! - **Geometry**: every mesh primitive of the file's default scene (scene 0
+//!   when none is marked default) with the node hierarchy's transforms.
+//!   `TRIANGLES`, `TRIANGLE_STRIP` and `TRIANGLE_FAN` primitives, indexed or
+//!   not (strips and fans are converted to triangles, dropping the
+//!   degenerate ones that repeat a vertex); `POINTS` and `LINE*` primitives
+//!   are an error. Positions must be `VEC3` floats. A mirroring node
+//!   transform (negative determinant) swaps two vertices of each triangle
+//!   so that the front side (counter-clockwise, the emitting side) stays the
+//!   authored one. Each (node, mesh) pair is one object
+//!   ([`Triangle::object`]), numbered in scene traversal order (depth first,
+//!   children in file order).
+//! - **Materials**: base colour factor (rgb; alpha ignored) is the albedo,
+//!   the base colour texture multiplies it; emissive factor times
+//!   `KHR_materials_emissive_strength` is the emission, the emissive texture
+//!   multiplies it. Textures keep their sampler's wrap modes and
+//!   magnification filter (`NEAREST` -> [`Filter::Nearest`], `LINEAR` or
+//!   none -> [`Filter::Bilinear`]) and read the `TEXCOORD_n` set the
+//!   material names (float or normalised 8/16-bit). Everything is diffuse:
+//!   metallic/roughness, normal and occlusion maps and alpha are ignored
+//!   with a notice. A primitive without material gets glTF's default (albedo
+//!   1, no emission).
+//! - **Images**: whatever the `gltf` crate decodes (PNG, JPEG), converted to
+//!   8-bit sRGB RGBA: grey (`R8`) and grey-alpha (`R8G8`) images are
+//!   expanded, 16-bit channels are rounded to 8 bits, float channels are
+//!   taken as already-encoded values in `[0, 1]` and clamped.
+//! - **Camera**: a perspective camera attached to a node (the N-th camera
+//!   node in traversal order, see [`load_gltf`]), looking along the node's
+//!   `-Z` with `+Y` up; its vertical field of view is used and its aspect
+//!   ratio ignored (the rendered image's aspect applies). Without a camera,
+//!   [`Camera::framing`] frames the scene's bounds. Orthographic cameras are
+//!   an error.
+//! - **Animation**: translation, rotation and scale channels of all the
+//!   file's animations (STEP, LINEAR, CUBICSPLINE), in a [`Rig`];
+//!   morph-target weight channels are ignored with a notice. Skins and morph
+//!   targets are ignored (bind pose, base mesh) with a notice.
+//!
+//! [`GltfScene::scene`] is the rest pose (every node at its file transform);
+//! [`Rig::pose`] gives the animated triangles and camera at any time.
+//!
+//! Extensions other than `KHR_materials_emissive_strength` are ignored with
+//! a notice when merely used (`KHR_texture_transform`, `KHR_lights_punctual`,
+//! ...) and rejected by the `gltf` crate when required.
+//!
+//! [`Filter::Nearest`]: crate::scene::Filter::Nearest
+//! [`Filter::Bilinear`]: crate::scene::Filter::Bilinear
+//!
+//! # Where each part is read
+//!
+//! [`load_gltf`] opens the file with `loader` and assembles the scene here
+//! from what the other parts read:
+//! - `loader`: the file, its document and buffers, with the checks the
+//!   `gltf` crate needs before it indexes anything (GLB header, raw JSON,
+//!   buffer views, URIs, accessors);
+//! - `nodes`: the scene's node hierarchy and rest transforms;
+//! - `mesh`: the triangles of each mesh primitive;
+//! - `material`: materials, texture references and image conversion;
+//! - `camera`: the chosen camera node;
+//! - `animation`: the animation channels;
+//! - `tests`: tests of the whole loader on the fixtures.
+
+mod animation;
+mod camera;
+mod loader;
+mod material;
+mod mesh;
+mod nodes;
+#[cfg(test)]
+mod tests;
+
+pub use material::DEFAULT_ALBEDO;
+
+use crate::animation::{camera_from_matrix, MeshInstance, Node, Rig};
+use crate::error::Result;
+use crate::scene::{Camera, Material, Scene, Triangle};
+use glam::Vec3;
+use loader::{label, Loader};
+use std::path::Path;
+
+/// The extensions whose content is used; others are noticed and ignored.
+const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_materials_emissive_strength"];
+
+/// A loaded glTF scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GltfScene {
+    /// Triangles (at the rest pose), materials, images and camera (the
+    /// chosen camera node's, at the rest pose, or an automatic framing).
+    pub scene: Scene,
+    /// Hierarchy, animation, mesh instances and camera node; its
+    /// [`Rig::local`] is parallel to `scene.triangles`.
+    pub rig: Rig,
+    /// One line per ignored feature of the file (unsupported extension,
+    /// metallic/roughness, normal maps, morph targets, ...), for the user.
+    pub notices: Vec<String>,
+}
+
+/// Loads a glTF 2.0 file: `.gltf` (JSON with external `.bin`/image files or
+/// embedded base64 data URIs) or `.glb` (binary container).
+///
+/// `camera_index` picks the N-th (0-based) node with a camera in scene
+/// traversal order (depth first from the scene's root nodes, children in
+/// file order); `None` takes the first one, or frames the scene
+/// automatically when there is none ([`GltfScene::rig`] then has no
+/// camera). See the [module documentation](self) for what is supported.
+///
+/// # Errors
+/// Every error names the file and the element at fault.
+/// - [`Error::GltfLoad`]: the file, a buffer or an image cannot be read,
+///   parsed or decoded (missing or truncated file, malformed JSON or GLB,
+///   missing `.bin`, buffer shorter than declared, undecodable image), or
+///   the `gltf` crate's validation fails (an index out of range, a missing
+///   required property, an unsupported required extension);
+/// - [`Error::NonFiniteVertex`]: a position is NaN or infinite (`model`
+///   names the mesh and primitive, `vertex` the vertex of the primitive);
+/// - [`Error::GltfContent`]: anything else that makes the content unusable:
+///   no scene, no triangle in the scene, a node hierarchy cycle, a
+///   non-finite node transform, an accessor of the wrong type, out of its
+///   buffer, or with NaN/infinite texture coordinates, a vertex index out of
+///   range, a `POINTS`/`LINE*` primitive, a textured material on a primitive
+///   without the texture coordinates it names (or base colour and emissive
+///   textures naming different sets), an invalid material colour or image,
+///   a camera index out of range (the message says how many camera nodes
+///   there are), an orthographic or degenerate camera, invalid animation
+///   data (times not finite and strictly increasing, values not finite, the
+///   wrong number of values).
+///
+/// [`Error::GltfLoad`]: crate::Error::GltfLoad
+/// [`Error::NonFiniteVertex`]: crate::Error::NonFiniteVertex
+/// [`Error::GltfContent`]: crate::Error::GltfContent
+pub fn load_gltf(path: impl AsRef<Path>, camera_index: Option<usize>) -> Result<GltfScene> {
+    Loader::open(path.as_ref())?.load(camera_index)
+}
+
+impl<'p> Loader<'p> {
+    /// Reads the scene's nodes, meshes, materials, images, camera and
+    /// animation, and assembles them into a [`GltfScene`].
+    fn load(mut self, camera_index: Option<usize>) -> Result<GltfScene> {
+        let document = self.document.clone();
+        let scene = match document.default_scene().or_else(|| document.scenes().next()) {
+            Some(s) => s,
+            None => return Err(self.content("scenes", "the file has no scene")),
+        };
+        let scene_label = label("scene", scene.index(), scene.name());
+        if document.scenes().len() > 1 {
+            self.notices.push(format!(
+                "the file has {} scenes: only {scene_label} is loaded",
+                document.scenes().len()
+            ));
+        }
+        for ext in document.extensions_used() {
+            if !SUPPORTED_EXTENSIONS.contains(&ext) {
+                self.notices
+                    .push(format!("extension {ext} is not supported: ignored"));
+            }
+        }
+
+        // Nodes in depth-first order; `rig_index[gltf node]`.
+        let order = self.traverse(&scene)?;
+        let mut rig_index = vec![None; document.nodes().len()];
+        for (i, (node, _)) in order.iter().enumerate() {
+            rig_index[node.index()] = Some(i);
+        }
+        let mut nodes = Vec::with_capacity(order.len());
+        for (node, parent) in &order {
+            nodes.push(Node {
+                name: node
+                    .name()
+                    .map_or_else(|| format!("node {}", node.index()), str::to_string),
+                parent: *parent,
+                rest: self.rest_transform(node)?,
+            });
+        }
+        let mut rig = Rig {
+            nodes,
+            ..Rig::default()
+        };
+        let rest_world = rig.rest_transforms();
+
+        let (mut materials, material_sets) = self.materials()?;
+        let (images, image_of) = self.images(&materials)?;
+        for m in &mut materials {
+            for t in [&mut m.base_color_texture, &mut m.emission_texture]
+                .into_iter()
+                .flatten()
+            {
+                t.image = image_of.get(t.image as usize).copied().flatten().unwrap_or(0);
+            }
+        }
+        let default_material = materials.len() as u32;
+
+        // Geometry.
+        let mut triangles = Vec::new();
+        let mut uses_default = false;
+        let (mut morph, mut skinned, mut colours) = (false, false, false);
+        for (rig_node, (node, _)) in order.iter().enumerate() {
+            let Some(mesh) = node.mesh() else { continue };
+            skinned |= node.skin().is_some();
+            let world = rest_world[rig_node];
+            let first_triangle = triangles.len();
+            let object = rig.instances.len() as u32;
+            let mesh_label = label("mesh", mesh.index(), mesh.name());
+            for (k, primitive) in mesh.primitives().enumerate() {
+                let element = format!("{mesh_label} primitive {k}");
+                morph |= primitive.morph_targets().len() > 0;
+                colours |= primitive.get(&gltf::Semantic::Colors(0)).is_some();
+                let material = match primitive.material().index() {
+                    Some(i) => i as u32,
+                    None => {
+                        uses_default = true;
+                        default_material
+                    }
+                };
+                let set = primitive.material().index().and_then(|i| material_sets[i]);
+                let prim = self.primitive(&primitive, &element, set)?;
+                for (corners, uvs) in prim {
+                    let mut local = corners;
+                    let mut uvs = uvs;
+                    if world.determinant() < 0.0 {
+                        local.swap(1, 2);
+                        uvs.swap(1, 2);
+                    }
+                    let vertices = local.map(|v| world.transform_point3(v));
+                    if let Some(vertex) = vertices.iter().position(|v| !v.is_finite()) {
+                        return Err(self.content(
+                            element,
+                            format!(
+                                "vertex {vertex} of triangle {} is not finite after the node transforms",
+                                triangles.len() - first_triangle
+                            ),
+                        ));
+                    }
+                    rig.local.push(local);
+                    triangles.push(Triangle {
+                        vertices,
+                        uvs,
+                        material,
+                        object,
+                    });
+                }
+            }
+            rig.instances.push(MeshInstance {
+                node: rig_node,
+                first_triangle,
+                triangle_count: triangles.len() - first_triangle,
+            });
+        }
+        if triangles.is_empty() {
+            return Err(self.content(scene_label, "contains no triangles"));
+        }
+        if uses_default {
+            materials.push(Material::new("default", DEFAULT_ALBEDO, Vec3::ZERO));
+        }
+        if morph {
+            self.notices
+                .push("morph targets are not supported: meshes are rendered with their base shape".into());
+        }
+        if skinned {
+            self.notices
+                .push("skins are not supported: skinned meshes are rendered at their bind pose".into());
+        }
+        if colours {
+            self.notices.push("vertex colours (COLOR_0) are ignored".into());
+        }
+
+        rig.camera = self.camera(&order, camera_index)?;
+        rig.channels = self.channels(&rig_index)?;
+
+        let mut scene = Scene {
+            triangles,
+            materials,
+            images,
+            camera: Camera::framing(Vec3::ZERO, Vec3::ONE),
+        };
+        scene.camera = match rig.camera {
+            Some(c) => {
+                let camera = camera_from_matrix(&rest_world[c.node], c.fov_y_degrees);
+                if camera.basis().is_err() {
+                    return Err(self.content(
+                        format!("camera node '{}'", rig.nodes[c.node].name),
+                        "degenerate camera transform",
+                    ));
+                }
+                camera
+            }
+            None => {
+                let (lo, hi) = scene.bounds();
+                Camera::framing(lo, hi)
+            }
+        };
+        Ok(GltfScene {
+            scene,
+            rig,
+            notices: self.notices,
+        })
+    }
+}

@@ -1,0 +1,606 @@
+//! The buffers of a scene for the kernels ([`SceneGpu`]): BVH, triangles in
+//! leaf order with their attributes, materials, images and the emitter list.
+
+use super::{Camera, CameraBasis, Filter, Image, Scene, TextureRef, Triangle, Wrap};
+use crate::bvh::build_bvh;
+use crate::error::{Error, Result};
+use glam::{UVec4, Vec4};
+use glam::{Vec2, Vec3};
+use kernels::abi::{
+    BvhNodeGpu, EmitterGpu, MaterialGpu, TriangleAttrGpu, TriangleGpu, FILTER_BILINEAR, GBUFFER_NO_HIT,
+    IMAGE_HEADER_WORDS, TEXTURE_NONE, WRAP_CLAMP, WRAP_MIRROR, WRAP_REPEAT,
+};
+use kernels::trace::normal_and_area;
+
+/// Largest material count: indices are stored as exact `f32` integers.
+pub const MAX_MATERIALS: usize = 1 << 24;
+/// Largest triangle count the `u32` indices of the kernels address
+/// (node indices of a BVH2 reach twice the primitive count).
+pub const MAX_TRIANGLES: usize = (u32::MAX / 2) as usize;
+
+/// The buffers of a scene, ready to upload (or to hand to the CPU renderer).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneGpu {
+    /// BVH2 nodes, root at index 0.
+    pub nodes: Vec<BvhNodeGpu>,
+    /// Triangles in BVH leaf order.
+    pub triangles: Vec<TriangleGpu>,
+    /// Materials with albedo clamped to `[0, 1]`.
+    pub materials: Vec<MaterialGpu>,
+    /// Texture coordinates and ids, parallel to `triangles`.
+    pub attrs: Vec<TriangleAttrGpu>,
+    /// The images buffer (`kernels::abi::IMAGE_HEADER_WORDS`); one zero word
+    /// for a scene without images (wgpu refuses empty buffers).
+    pub images: Vec<u32>,
+    /// Number of images in `images`.
+    pub image_count: u32,
+    /// The previous frame's vertex positions, parallel to `triangles`
+    /// (`w` = 0): equal to the current ones until
+    /// [`SceneGpu::set_previous_positions`] says otherwise.
+    pub previous: Vec<TriangleGpu>,
+    /// The previous frame's camera (motion vectors); the current one until
+    /// [`SceneGpu::set_cameras`] says otherwise.
+    pub prev_camera: CameraBasis,
+    /// Emitter list; holds one [`EmitterGpu::NONE`] when the scene has no
+    /// emitter (wgpu refuses empty buffers): use [`SceneGpu::emitter_count`].
+    pub emitters: Vec<EmitterGpu>,
+    /// Number of meaningful entries of `emitters`.
+    pub emitter_count: u32,
+    /// `original_index[i]` = index in [`Scene::triangles`] of `triangles[i]`.
+    pub original_index: Vec<u32>,
+    /// Depth of the deepest BVH leaf (root = 0).
+    pub bvh_depth: usize,
+    /// The camera's basis.
+    pub camera: CameraBasis,
+}
+
+impl SceneGpu {
+    /// Validates `scene` and builds its buffers: BVH (obvhs, medium
+    /// preset), triangles reordered to leaf order with material index and
+    /// emitter-selection probability in `w`, materials, and the emitter list
+    /// (every front-emitting triangle with positive area and emission,
+    /// picked with probability proportional to `area * mean(emission)`).
+    ///
+    /// # Errors
+    /// [`Error::NoTriangles`] for an empty scene, [`Error::NonFiniteVertex`],
+    /// [`Error::InvalidMaterial`], [`Error::MaterialIndex`],
+    /// [`Error::SceneTooLarge`], [`Error::InvalidCamera`],
+    /// [`Error::BvhTooDeep`].
+    pub fn build(scene: &Scene) -> Result<SceneGpu> {
+        if scene.triangles.is_empty() {
+            return Err(Error::NoTriangles {
+                path: "<scene>".into(),
+            });
+        }
+        if scene.triangles.len() > MAX_TRIANGLES {
+            return Err(Error::SceneTooLarge {
+                what: "triangles",
+                count: scene.triangles.len(),
+                limit: MAX_TRIANGLES,
+            });
+        }
+        if scene.materials.len() > MAX_MATERIALS {
+            return Err(Error::SceneTooLarge {
+                what: "materials",
+                count: scene.materials.len(),
+                limit: MAX_MATERIALS,
+            });
+        }
+        let camera = scene.camera.basis()?;
+        let mut materials = Vec::with_capacity(scene.materials.len());
+        for m in &scene.materials {
+            let ok = m.albedo.is_finite()
+                && m.emission.is_finite()
+                && m.albedo.min_element() >= 0.0
+                && m.emission.min_element() >= 0.0;
+            if !ok {
+                return Err(Error::InvalidMaterial { name: m.name.clone() });
+            }
+            let texture = |t: &Option<TextureRef>| -> Result<(u32, u32)> {
+                match t {
+                    None => Ok((TEXTURE_NONE, 0)),
+                    Some(t) if (t.image as usize) < scene.images.len() => Ok((t.image, sampler_flags(t))),
+                    Some(t) => Err(Error::InvalidTexture {
+                        material: m.name.clone(),
+                        reason: format!("image {} of {}", t.image, scene.images.len()),
+                    }),
+                }
+            };
+            let (base, base_flags) = texture(&m.base_color_texture)?;
+            let (emit, emit_flags) = texture(&m.emission_texture)?;
+            materials.push(MaterialGpu {
+                albedo: m.albedo.clamp(Vec3::ZERO, Vec3::ONE).extend(0.0),
+                emission: m.emission.extend(0.0),
+                textures: UVec4::new(base, base_flags, emit, emit_flags),
+            });
+        }
+        let (images, image_count) = pack_images(&scene.images)?;
+        for (i, t) in scene.triangles.iter().enumerate() {
+            if t.object == GBUFFER_NO_HIT {
+                return Err(Error::InvalidParameter {
+                    name: "object id",
+                    value: t.object,
+                    expected: "below kernels::abi::GBUFFER_NO_HIT",
+                });
+            }
+            check_triangle(i, &t.vertices, "<scene>")?;
+            if t.material as usize >= materials.len() {
+                return Err(Error::MaterialIndex {
+                    triangle: i,
+                    material: t.material,
+                    count: materials.len(),
+                });
+            }
+        }
+
+        let g = build_geometry(&scene.triangles, &materials)?;
+        let previous = g.triangles.iter().map(positions_only).collect();
+        Ok(SceneGpu {
+            nodes: g.nodes,
+            triangles: g.triangles,
+            materials,
+            attrs: g.attrs,
+            images,
+            image_count,
+            previous,
+            prev_camera: camera,
+            emitters: g.emitters,
+            emitter_count: g.emitter_count,
+            original_index: g.original_index,
+            bvh_depth: g.bvh_depth,
+            camera,
+        })
+    }
+
+    /// Moves the scene's vertices to `positions` (given in the order of
+    /// [`Scene::triangles`] of the scene this was built from), keeping
+    /// materials, images, texture coordinates and ids: rebuilds the BVH, the
+    /// leaf order and the emitter list (areas change). The previous
+    /// positions become the new positions too: call
+    /// [`SceneGpu::set_previous_positions`] afterwards for motion vectors.
+    ///
+    /// # Errors
+    /// [`Error::BufferSize`] when `positions` does not have one entry per
+    /// triangle, [`Error::NonFiniteVertex`], [`Error::BvhTooDeep`]; nothing
+    /// changes then.
+    pub fn set_positions(&mut self, positions: &[[Vec3; 3]]) -> Result<()> {
+        if positions.len() != self.triangles.len() {
+            return Err(Error::BufferSize {
+                buffer: "positions",
+                expected: self.triangles.len(),
+                actual: positions.len(),
+            });
+        }
+        check_positions(positions, "<positions>")?;
+        let mut scene_order = vec![Triangle::new([Vec3::ZERO; 3], 0); positions.len()];
+        for ((t, a), &orig) in self.triangles.iter().zip(&self.attrs).zip(&self.original_index) {
+            let o = orig as usize;
+            scene_order[o] = Triangle {
+                vertices: positions[o],
+                uvs: [
+                    Vec2::new(a.uv01.x, a.uv01.y),
+                    Vec2::new(a.uv01.z, a.uv01.w),
+                    Vec2::new(a.uv2.x, a.uv2.y),
+                ],
+                material: t.v0.w as u32,
+                object: a.ids.x,
+            };
+        }
+        let g = build_geometry(&scene_order, &self.materials)?;
+        self.previous = g.triangles.iter().map(positions_only).collect();
+        self.nodes = g.nodes;
+        self.triangles = g.triangles;
+        self.attrs = g.attrs;
+        self.emitters = g.emitters;
+        self.emitter_count = g.emitter_count;
+        self.original_index = g.original_index;
+        self.bvh_depth = g.bvh_depth;
+        Ok(())
+    }
+
+    /// Sets this frame's camera and the previous frame's (for motion
+    /// vectors; pass the same camera twice for a still one).
+    ///
+    /// # Errors
+    /// [`Error::InvalidCamera`] when either is degenerate; nothing changes
+    /// then.
+    pub fn set_cameras(&mut self, current: &Camera, previous: &Camera) -> Result<()> {
+        let (current, previous) = (current.basis()?, previous.basis()?);
+        self.camera = current;
+        self.prev_camera = previous;
+        Ok(())
+    }
+
+    /// Sets the previous frame's vertex positions, given in the order of
+    /// [`Scene::triangles`] (the scene this was built from): where each
+    /// triangle was one frame ago, for the motion vectors of moving objects.
+    ///
+    /// # Errors
+    /// [`Error::BufferSize`] when `previous` does not have one entry per
+    /// triangle; [`Error::NonFiniteVertex`] for a NaN or infinite
+    /// coordinate. Nothing changes then.
+    pub fn set_previous_positions(&mut self, previous: &[[Vec3; 3]]) -> Result<()> {
+        if previous.len() != self.triangles.len() {
+            return Err(Error::BufferSize {
+                buffer: "previous positions",
+                expected: self.triangles.len(),
+                actual: previous.len(),
+            });
+        }
+        check_positions(previous, "<previous positions>")?;
+        for (p, &orig) in self.previous.iter_mut().zip(&self.original_index) {
+            let [a, b, c] = previous[orig as usize];
+            *p = TriangleGpu {
+                v0: a.extend(0.0),
+                v1: b.extend(0.0),
+                v2: c.extend(0.0),
+            };
+        }
+        Ok(())
+    }
+
+    /// Total emitted power `sum(area * mean(emission))` over the emitter
+    /// list, in radiance units x area (useful to compare scenes' brightness).
+    pub fn emitted_power(&self) -> f32 {
+        self.emitters[..self.emitter_count as usize]
+            .iter()
+            .map(|e| {
+                let t = &self.triangles[e.triangle as usize];
+                let m = &self.materials[t.v0.w as usize];
+                e.area * (m.emission.x + m.emission.y + m.emission.z) / 3.0
+            })
+            .sum()
+    }
+}
+
+/// The geometry part of a [`SceneGpu`]: BVH, leaf-ordered triangles and
+/// attributes, emitter list.
+struct Geometry {
+    nodes: Vec<BvhNodeGpu>,
+    triangles: Vec<TriangleGpu>,
+    attrs: Vec<TriangleAttrGpu>,
+    emitters: Vec<EmitterGpu>,
+    emitter_count: u32,
+    original_index: Vec<u32>,
+    bvh_depth: usize,
+}
+
+/// Builds the BVH of `triangles_in` (validated), reorders them into leaf
+/// order with their attributes, and builds the emitter list (every
+/// front-emitting triangle with positive area and emission, picked with
+/// probability proportional to `area * mean(emission)`).
+fn build_geometry(triangles_in: &[Triangle], materials: &[MaterialGpu]) -> Result<Geometry> {
+    let vertices: Vec<[Vec3; 3]> = triangles_in.iter().map(|t| t.vertices).collect();
+    let bvh = build_bvh(&vertices)?;
+
+    // Triangles in leaf order; emitters with power-proportional selection.
+    let mut triangles = Vec::with_capacity(bvh.primitive_indices.len());
+    let mut attrs = Vec::with_capacity(bvh.primitive_indices.len());
+    let mut emitters = Vec::new();
+    let mut total_power = 0.0f64;
+    for (i, &orig) in bvh.primitive_indices.iter().enumerate() {
+        let t = triangles_in[orig as usize];
+        let [a, b, c] = t.vertices;
+        triangles.push(TriangleGpu {
+            v0: a.extend(t.material as f32),
+            v1: b.extend(0.0),
+            v2: c.extend(0.0),
+        });
+        attrs.push(TriangleAttrGpu {
+            uv01: Vec4::new(t.uvs[0].x, t.uvs[0].y, t.uvs[1].x, t.uvs[1].y),
+            uv2: Vec4::new(t.uvs[2].x, t.uvs[2].y, 0.0, 0.0),
+            ids: UVec4::new(t.object, orig, 0, 0),
+        });
+        let emission = materials[t.material as usize].emission.truncate();
+        let (_, area) = normal_and_area(a, b, c);
+        let power = area as f64 * (emission.x as f64 + emission.y as f64 + emission.z as f64) / 3.0;
+        if power > 0.0 {
+            total_power += power;
+            emitters.push(EmitterGpu {
+                triangle: i as u32,
+                cdf: total_power as f32, // normalised below
+                pdf: power as f32,
+                area,
+            });
+        }
+    }
+    let emitter_count = emitters.len() as u32;
+    let mut running = 0.0f64;
+    let n = emitters.len();
+    for (k, e) in emitters.iter_mut().enumerate() {
+        let p = e.pdf as f64 / total_power;
+        running += p;
+        e.pdf = p as f32;
+        e.cdf = if k + 1 == n { 1.0 } else { running as f32 };
+        triangles[e.triangle as usize].v1.w = e.pdf;
+    }
+    if emitters.is_empty() {
+        emitters.push(EmitterGpu::NONE);
+    }
+    Ok(Geometry {
+        nodes: bvh.nodes,
+        triangles,
+        attrs,
+        emitters,
+        emitter_count,
+        original_index: bvh.primitive_indices,
+        bvh_depth: bvh.depth,
+    })
+}
+
+/// [`Error::NonFiniteVertex`] for the first triangle of `positions` with a
+/// NaN or infinite coordinate.
+fn check_positions(positions: &[[Vec3; 3]], path: &str) -> Result<()> {
+    for (i, t) in positions.iter().enumerate() {
+        check_triangle(i, t, path)?;
+    }
+    Ok(())
+}
+
+/// [`Error::NonFiniteVertex`] when a vertex of triangle `i` is NaN or
+/// infinite.
+fn check_triangle(i: usize, vertices: &[Vec3; 3], path: &str) -> Result<()> {
+    match vertices.iter().position(|v| !v.is_finite()) {
+        Some(vertex) => Err(Error::NonFiniteVertex {
+            path: path.into(),
+            model: format!("triangle {i}"),
+            vertex,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// A triangle's positions with the `w` words cleared.
+fn positions_only(t: &TriangleGpu) -> TriangleGpu {
+    TriangleGpu {
+        v0: t.v0.truncate().extend(0.0),
+        v1: t.v1.truncate().extend(0.0),
+        v2: t.v2.truncate().extend(0.0),
+    }
+}
+
+/// The kernels' sampler flags of a texture (`kernels::abi::WRAP_REPEAT` ...).
+fn sampler_flags(t: &TextureRef) -> u32 {
+    let wrap = |w: Wrap| match w {
+        Wrap::Repeat => WRAP_REPEAT,
+        Wrap::Clamp => WRAP_CLAMP,
+        Wrap::Mirror => WRAP_MIRROR,
+    };
+    let filter = match t.filter {
+        Filter::Nearest => 0,
+        Filter::Bilinear => FILTER_BILINEAR,
+    };
+    wrap(t.wrap_u) | wrap(t.wrap_v) << 2 | filter
+}
+
+/// Largest images buffer, in `u32` words: offsets are `u32`, and wgpu
+/// binds at most 2^31 bytes on common adapters.
+pub const MAX_IMAGE_WORDS: usize = 1 << 29;
+
+/// The images buffer of `images` (`kernels::abi::IMAGE_HEADER_WORDS`) and
+/// the image count.
+fn pack_images(images: &[Image]) -> Result<(Vec<u32>, u32)> {
+    let header = images.len() * IMAGE_HEADER_WORDS as usize;
+    let texels: usize = images.iter().map(|i| i.texels.len()).sum();
+    if header + texels > MAX_IMAGE_WORDS {
+        return Err(Error::SceneTooLarge {
+            what: "texels",
+            count: header + texels,
+            limit: MAX_IMAGE_WORDS,
+        });
+    }
+    let mut out = vec![0u32; header];
+    for (i, image) in images.iter().enumerate() {
+        let expected = image.width as usize * image.height as usize;
+        if image.width == 0 || image.height == 0 || image.texels.len() != expected {
+            return Err(Error::InvalidImage {
+                name: image.name.clone(),
+                width: image.width,
+                height: image.height,
+                texels: image.texels.len(),
+            });
+        }
+        let h = i * IMAGE_HEADER_WORDS as usize;
+        out[h] = out.len() as u32;
+        out[h + 1] = image.width;
+        out[h + 2] = image.height;
+        out.extend(image.texels.iter().map(|t| u32::from_le_bytes(*t)));
+    }
+    if out.is_empty() {
+        out.push(0);
+    }
+    Ok((out, images.len() as u32))
+}
+
+#[cfg(test)]
+pub(super) mod tests {
+    use super::*;
+    use crate::scene::Material;
+    use glam::Vec4;
+
+    /// A unit quad of material `light` (emitting `emission`) in front of a
+    /// bigger grey triangle, with the camera on `+z`.
+    pub(in crate::scene) fn quad_scene(emission: Vec3) -> Scene {
+        let a = Vec3::new(0.0, 0.0, 0.0);
+        let b = Vec3::new(1.0, 0.0, 0.0);
+        let c = Vec3::new(1.0, 1.0, 0.0);
+        let d = Vec3::new(0.0, 1.0, 0.0);
+        let big = |p: Vec3| p * 3.0 + Vec3::new(-1.0, -1.0, -1.0);
+        Scene {
+            triangles: vec![
+                Triangle::new([a, b, c], 1),
+                Triangle::new([a, c, d], 1),
+                Triangle::new([big(a), big(b), big(c)], 0),
+            ],
+            materials: vec![
+                Material::new("grey", Vec3::new(0.5, 2.0, 0.5), Vec3::ZERO),
+                Material::new("light", Vec3::ZERO, emission),
+            ],
+            images: Vec::new(),
+            camera: Camera {
+                origin: Vec3::new(0.5, 0.5, 3.0),
+                target: Vec3::new(0.5, 0.5, 0.0),
+                up: Vec3::Y,
+                fov_y_degrees: 60.0,
+            },
+        }
+    }
+
+    #[test]
+    fn emitter_list_and_leaf_order() {
+        let scene = quad_scene(Vec3::new(3.0, 2.0, 1.0));
+        let gpu = SceneGpu::build(&scene).expect("valid");
+        assert_eq!(gpu.emitter_count, 2);
+        assert_eq!(gpu.emitters.len(), 2);
+        // Equal areas and emission: 1/2 each, cdf ends at exactly 1.
+        assert!((gpu.emitters[0].pdf - 0.5).abs() < 1e-6);
+        assert_eq!(gpu.emitters[1].cdf, 1.0);
+        for e in &gpu.emitters {
+            let t = gpu.triangles[e.triangle as usize];
+            assert_eq!(t.v1.w, e.pdf);
+            assert!((e.area - 0.5).abs() < 1e-6);
+            assert_eq!(gpu.materials[t.v0.w as usize].emission.x, 3.0);
+        }
+        // Reordered triangles are a permutation of the input.
+        let mut seen = gpu.original_index.clone();
+        seen.sort_unstable();
+        assert_eq!(seen, vec![0, 1, 2]);
+        for (i, &o) in gpu.original_index.iter().enumerate() {
+            assert_eq!(
+                gpu.triangles[i].v0.truncate(),
+                scene.triangles[o as usize].vertices[0]
+            );
+        }
+        // Albedo clamped to [0, 1].
+        assert_eq!(gpu.materials[0].albedo, Vec4::new(0.5, 1.0, 0.5, 0.0));
+        assert!((gpu.emitted_power() - 2.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn scene_without_emitters_gets_a_padding_entry() {
+        let gpu = SceneGpu::build(&quad_scene(Vec3::ZERO)).expect("valid");
+        assert_eq!(gpu.emitter_count, 0);
+        assert_eq!(gpu.emitters, vec![EmitterGpu::NONE]);
+        assert!(gpu.triangles.iter().all(|t| t.v1.w == 0.0));
+    }
+
+    #[test]
+    fn invalid_scenes_are_errors() {
+        let mut s = quad_scene(Vec3::ONE);
+        s.triangles[1].material = 9;
+        assert!(matches!(
+            SceneGpu::build(&s),
+            Err(Error::MaterialIndex {
+                triangle: 1,
+                material: 9,
+                count: 2
+            })
+        ));
+        let mut s = quad_scene(Vec3::ONE);
+        s.triangles[2].vertices[1].y = f32::NAN;
+        assert!(matches!(
+            SceneGpu::build(&s),
+            Err(Error::NonFiniteVertex { vertex: 1, .. })
+        ));
+        let mut s = quad_scene(Vec3::ONE);
+        s.materials[0].emission.x = -1.0;
+        assert!(matches!(SceneGpu::build(&s), Err(Error::InvalidMaterial { .. })));
+        let mut s = quad_scene(Vec3::ONE);
+        s.camera.up = Vec3::Z;
+        assert!(matches!(SceneGpu::build(&s), Err(Error::InvalidCamera)));
+        let mut s = quad_scene(Vec3::ONE);
+        s.triangles.clear();
+        assert!(matches!(SceneGpu::build(&s), Err(Error::NoTriangles { .. })));
+    }
+
+    #[test]
+    fn set_positions_rebuilds_the_geometry_and_keeps_the_attributes() {
+        let mut scene = quad_scene(Vec3::ONE);
+        scene.triangles[2].object = 5;
+        scene.triangles[2].uvs = [Vec2::new(0.1, 0.2), Vec2::new(0.3, 0.4), Vec2::new(0.5, 0.6)];
+        let mut gpu = SceneGpu::build(&scene).expect("valid");
+        let moved: Vec<[Vec3; 3]> = scene
+            .triangles
+            .iter()
+            .map(|t| t.vertices.map(|v| v + Vec3::new(0.0, 2.0, 0.0)))
+            .collect();
+        gpu.set_positions(&moved).expect("valid");
+        let mut want = scene.clone();
+        for (t, m) in want.triangles.iter_mut().zip(&moved) {
+            t.vertices = *m;
+        }
+        let rebuilt = SceneGpu::build(&want).expect("valid");
+        assert_eq!(gpu.triangles, rebuilt.triangles);
+        assert_eq!(gpu.attrs, rebuilt.attrs);
+        assert_eq!(gpu.nodes, rebuilt.nodes);
+        assert_eq!(gpu.emitters, rebuilt.emitters);
+        // Previous positions: the new ones until set, then the given ones.
+        assert_eq!(gpu.previous[0].v0.truncate(), gpu.triangles[0].v0.truncate());
+        let before: Vec<[Vec3; 3]> = scene.triangles.iter().map(|t| t.vertices).collect();
+        gpu.set_previous_positions(&before).expect("valid");
+        for (p, &o) in gpu.previous.iter().zip(&gpu.original_index) {
+            assert_eq!(p.v1.truncate(), before[o as usize][1]);
+        }
+        assert!(matches!(
+            gpu.set_positions(&moved[..2]),
+            Err(Error::BufferSize {
+                expected: 3,
+                actual: 2,
+                ..
+            })
+        ));
+        let mut nan = moved.clone();
+        nan[1][2].z = f32::NAN;
+        assert!(matches!(
+            gpu.set_positions(&nan),
+            Err(Error::NonFiniteVertex { .. })
+        ));
+        assert!(matches!(
+            gpu.set_previous_positions(&nan),
+            Err(Error::NonFiniteVertex { .. })
+        ));
+    }
+
+    #[test]
+    fn textures_are_packed_and_validated() {
+        let mut scene = quad_scene(Vec3::ONE);
+        scene.images = vec![
+            Image {
+                name: "a".into(),
+                width: 2,
+                height: 1,
+                texels: vec![[1, 2, 3, 4], [5, 6, 7, 8]],
+            },
+            Image {
+                name: "b".into(),
+                width: 1,
+                height: 1,
+                texels: vec![[9, 9, 9, 9]],
+            },
+        ];
+        scene.materials[0].base_color_texture = Some(TextureRef {
+            image: 1,
+            wrap_u: Wrap::Clamp,
+            wrap_v: Wrap::Mirror,
+            filter: Filter::Bilinear,
+        });
+        let gpu = SceneGpu::build(&scene).expect("valid");
+        assert_eq!(gpu.image_count, 2);
+        assert_eq!(&gpu.images[..8], &[8, 2, 1, 0, 10, 1, 1, 0]);
+        assert_eq!(gpu.images[8], 0x0403_0201);
+        assert_eq!(gpu.images[10], 0x0909_0909);
+        let m = gpu.materials[0].textures;
+        assert_eq!(
+            (m.x, m.y, m.z),
+            (1, WRAP_CLAMP | WRAP_MIRROR << 2 | FILTER_BILINEAR, TEXTURE_NONE)
+        );
+        let mut bad = scene.clone();
+        bad.materials[1].emission_texture = bad.materials[0]
+            .base_color_texture
+            .map(|t| TextureRef { image: 2, ..t });
+        assert!(matches!(SceneGpu::build(&bad), Err(Error::InvalidTexture { .. })));
+        let mut bad = scene.clone();
+        bad.images[0].texels.pop();
+        assert!(matches!(SceneGpu::build(&bad), Err(Error::InvalidImage { .. })));
+    }
+}

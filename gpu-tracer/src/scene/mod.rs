@@ -1,0 +1,87 @@
+//! Scenes: triangles with diffuse/emissive materials and a pinhole camera
+//! ([`Scene`]), and their buffer form for the kernels ([`SceneGpu`]).
+//!
+//! A scene comes from the built-in Cornell box ([`crate::cornell`]), an OBJ
+//! file ([`crate::obj`]) or a glTF file ([`crate::gltf`]).
+//! [`SceneGpu::build`] validates it, builds the BVH ([`crate::bvh`]),
+//! reorders triangles into BVH leaf order and builds the emitter list for
+//! next-event estimation. The CPU renderer and the GPU host upload exactly
+//! these arrays; [`SceneGpu::trace_params`] adds the frame's
+//! [`TraceSettings`].
+//!
+//! - this file: [`Scene`] and its [`Triangle`]s;
+//! - `camera`: [`Camera`] and its [`CameraBasis`];
+//! - `material`: [`Material`], its [`TextureRef`]s ([`Wrap`], [`Filter`])
+//!   and the [`Image`]s they name;
+//! - `buffers`: [`SceneGpu`], the buffers the kernels read, and the limits
+//!   on their sizes;
+//! - `settings`: [`TraceSettings`], the per-frame settings of the trace
+//!   pass, and [`SceneGpu::trace_params`].
+
+mod buffers;
+mod camera;
+mod material;
+mod settings;
+
+pub use buffers::{SceneGpu, MAX_IMAGE_WORDS, MAX_MATERIALS, MAX_TRIANGLES};
+pub use camera::{Camera, CameraBasis};
+pub use material::{Filter, Image, Material, TextureRef, Wrap};
+pub use settings::{screen_sobol_max_spp, TraceSettings, ZSOBOL_MAX_SPP};
+
+use glam::{Vec2, Vec3};
+
+/// A triangle with its material. The front side (the only one that emits)
+/// is the one the right-hand normal `(v1 - v0) x (v2 - v0)` points to, i.e.
+/// vertices are counter-clockwise seen from the front (the OBJ and glTF
+/// convention).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Triangle {
+    /// Vertices in world units.
+    pub vertices: [Vec3; 3],
+    /// Texture coordinates of the vertices (glTF convention: `(0, 0)` is the
+    /// top-left texel of an image, `v` grows downwards); zero where the
+    /// scene has none. Read only when the material has a texture.
+    pub uvs: [Vec2; 3],
+    /// Index into [`Scene::materials`].
+    pub material: u32,
+    /// Object id reported by the G-buffer: the same for every triangle of
+    /// one object (a glTF mesh instance, an OBJ model, a Cornell-box wall or
+    /// block); any value below [`kernels::abi::GBUFFER_NO_HIT`].
+    pub object: u32,
+}
+
+impl Triangle {
+    /// A triangle of object 0 without texture coordinates.
+    pub fn new(vertices: [Vec3; 3], material: u32) -> Self {
+        Triangle {
+            vertices,
+            uvs: [Vec2::ZERO; 3],
+            material,
+            object: 0,
+        }
+    }
+}
+
+/// A scene: triangles, materials, images and a camera.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// All triangles; at least one for a renderable scene.
+    pub triangles: Vec<Triangle>,
+    /// Materials indexed by [`Triangle::material`].
+    pub materials: Vec<Material>,
+    /// Images indexed by [`TextureRef::image`].
+    pub images: Vec<Image>,
+    /// The viewpoint.
+    pub camera: Camera,
+}
+
+impl Scene {
+    /// Axis-aligned bounds `(min, max)` of all vertices; `(+inf, -inf)` for
+    /// an empty scene.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        self.triangles.iter().flat_map(|t| t.vertices).fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), v| (lo.min(v), hi.max(v)),
+        )
+    }
+}

@@ -1,0 +1,270 @@
+//! Settings of the trace pass ([`TraceSettings`]) and the [`TraceParams`]
+//! they make with a scene's buffers ([`SceneGpu::trace_params`]).
+
+use super::buffers::SceneGpu;
+use crate::error::{Error, Result};
+use kernels::abi::{
+    TraceParams, MAX_DEPTH_LIMIT, SAMPLER_JITTER_ONLY, SAMPLER_KIND_MASK, SAMPLER_SCREEN_SOBOL,
+    SAMPLER_ZSOBOL, SEED_MODE_ADVANCE,
+};
+
+/// Settings of the trace pass that do not depend on the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TraceSettings {
+    /// Visible width in pixels, `>= 1`.
+    pub width: u32,
+    /// Visible height in pixels, `>= 1`.
+    pub height: u32,
+    /// Seed-buffer stride in seeds, `>= width` (the padded width of
+    /// `sampler_core::FrameLayout`).
+    pub padded_width: u32,
+    /// Samples per pixel per frame, `>= 1`.
+    pub spp: u32,
+    /// Maximum path length in segments, `1..=MAX_DEPTH_LIMIT`.
+    pub max_depth: u32,
+    /// First path vertex subject to Russian roulette (see
+    /// [`TraceParams::rr_depth`]).
+    pub rr_depth: u32,
+    /// [`kernels::abi::SEED_MODE_FIXED`] or [`SEED_MODE_ADVANCE`].
+    pub seed_mode: u32,
+    /// Source of the path's 2D decisions (jitter, light samples, BSDF
+    /// directions): [`kernels::abi::SAMPLER_SEEDS`]
+    /// (the seed stream), [`SAMPLER_SCREEN_SOBOL`] (at most
+    /// [`screen_sobol_max_spp`] spp) or [`SAMPLER_ZSOBOL`] (at most
+    /// [`ZSOBOL_MAX_SPP`] spp, width and height at most
+    /// `sampler_core::sequences::zsobol::ZSOBOL_TILE`); either a-priori sampler may be
+    /// ORed with [`SAMPLER_JITTER_ONLY`] (only the position inside the pixel
+    /// from the sampler, the rest from the seeds: for the seed permutation).
+    /// See [`TraceParams::sampler`].
+    pub sampler: u32,
+}
+
+/// Largest spp per frame of [`SAMPLER_ZSOBOL`]: `2^ZSOBOL_MAX_LOG2_SPP` = 256.
+pub const ZSOBOL_MAX_SPP: u32 = 1 << sampler_core::sequences::zsobol::ZSOBOL_MAX_LOG2_SPP;
+
+/// Largest spp per frame of [`SAMPLER_SCREEN_SOBOL`] with the default keys
+/// (`sampler_core::defaults::screen_sobol_keys()`): the spp its last key
+/// level is optimised for, `2^(levels - 1)` (16).
+pub fn screen_sobol_max_spp() -> u32 {
+    1 << (sampler_core::defaults::screen_sobol_keys().layout().levels - 1)
+}
+
+impl TraceSettings {
+    /// Settings for a `width x height` frame with an unpadded seed buffer,
+    /// 1 spp, max depth 8, Russian roulette from vertex 3 and
+    /// [`kernels::abi::SEED_MODE_FIXED`].
+    pub fn new(width: u32, height: u32) -> Self {
+        TraceSettings {
+            width,
+            height,
+            padded_width: width,
+            spp: 1,
+            max_depth: 8,
+            rr_depth: 3,
+            seed_mode: kernels::abi::SEED_MODE_FIXED,
+            sampler: kernels::abi::SAMPLER_SEEDS,
+        }
+    }
+}
+
+impl SceneGpu {
+    /// The [`TraceParams`] of frame `frame` with these settings.
+    ///
+    /// # Errors
+    /// [`Error::FrameSize`] for a zero size or `padded_width < width`;
+    /// [`Error::InvalidParameter`] for `spp == 0`, `max_depth` outside
+    /// `1..=MAX_DEPTH_LIMIT`, an unknown `seed_mode` or `sampler`, or a
+    /// sampler that does not support the settings (spp above
+    /// [`screen_sobol_max_spp`] for screen-space Sobol; spp above
+    /// [`ZSOBOL_MAX_SPP`] or a side above 4096 for ZSobol).
+    ///
+    /// The key-layout fields are those of
+    /// `sampler_core::defaults::screen_sobol_keys()`, the keys the CPU
+    /// renderer and the GPU tracer use.
+    pub fn trace_params(&self, settings: &TraceSettings, frame: u32) -> Result<TraceParams> {
+        let s = settings;
+        if s.width == 0 || s.height == 0 || s.padded_width < s.width {
+            return Err(Error::FrameSize {
+                width: s.width,
+                height: s.height,
+                padded_width: s.padded_width,
+            });
+        }
+        if s.spp == 0 {
+            return Err(Error::InvalidParameter {
+                name: "spp",
+                value: s.spp,
+                expected: ">= 1",
+            });
+        }
+        if s.max_depth == 0 || s.max_depth > MAX_DEPTH_LIMIT {
+            return Err(Error::InvalidParameter {
+                name: "max_depth",
+                value: s.max_depth,
+                expected: "1..=64 (kernels::abi::MAX_DEPTH_LIMIT)",
+            });
+        }
+        if s.seed_mode > SEED_MODE_ADVANCE {
+            return Err(Error::InvalidParameter {
+                name: "seed_mode",
+                value: s.seed_mode,
+                expected: "0 (fixed) or 1 (advance by frame)",
+            });
+        }
+        let zsobol_tile = sampler_core::sequences::zsobol::ZSOBOL_TILE;
+        let kind = s.sampler & SAMPLER_KIND_MASK;
+        let flags = s.sampler & !SAMPLER_KIND_MASK;
+        let sampler_checks: [(&'static str, u32, bool, &'static str); 4] = [
+            (
+                "sampler",
+                s.sampler,
+                kind <= SAMPLER_ZSOBOL
+                    && (flags == 0 || (flags == SAMPLER_JITTER_ONLY && kind != kernels::abi::SAMPLER_SEEDS)),
+                "0 (seeds), 1 (screen-sobol) or 2 (zsobol), the last two optionally ORed with 256 (jitter only)",
+            ),
+            (
+                "spp",
+                s.spp,
+                kind != SAMPLER_SCREEN_SOBOL || s.spp <= screen_sobol_max_spp(),
+                "at most 16 with the screen-sobol sampler (its keys are optimised for 1, 2, 4, 8 and 16 spp)",
+            ),
+            (
+                "spp",
+                s.spp,
+                kind != SAMPLER_ZSOBOL || s.spp <= ZSOBOL_MAX_SPP,
+                "at most 256 with the zsobol sampler (its sample index is 32 bits)",
+            ),
+            (
+                "width or height",
+                s.width.max(s.height),
+                kind != SAMPLER_ZSOBOL || s.width.max(s.height) <= zsobol_tile,
+                "at most 4096 with the zsobol sampler (its pixel order repeats every 4096 pixels)",
+            ),
+        ];
+        for (name, value, ok, expected) in sampler_checks {
+            if !ok {
+                return Err(Error::InvalidParameter {
+                    name,
+                    value,
+                    expected,
+                });
+            }
+        }
+        let key_layout = sampler_core::defaults::screen_sobol_keys().layout();
+        let c = &self.camera;
+        Ok(TraceParams {
+            width: s.width,
+            height: s.height,
+            padded_width: s.padded_width,
+            spp: s.spp,
+            max_depth: s.max_depth,
+            frame,
+            triangle_count: self.triangles.len() as u32,
+            emitter_count: self.emitter_count,
+            seed_mode: s.seed_mode,
+            node_count: self.nodes.len() as u32,
+            rr_depth: s.rr_depth,
+            tan_half_fov_y: c.tan_half_fov_y,
+            camera_origin: c.origin.extend(0.0),
+            camera_forward: c.forward.extend(0.0),
+            camera_right: c.right.extend(0.0),
+            camera_up: c.up.extend(0.0),
+            sampler: s.sampler,
+            key_side_log2: key_layout.side_log2,
+            key_pairs: key_layout.pairs,
+            key_levels: key_layout.levels,
+            prev_camera_origin: self.prev_camera.origin.extend(0.0),
+            prev_camera_forward: self.prev_camera.forward.extend(0.0),
+            prev_camera_right: self.prev_camera.right.extend(0.0),
+            prev_camera_up: self.prev_camera.up.extend(0.0),
+            prev_tan_half_fov_y: self.prev_camera.tan_half_fov_y,
+            image_count: self.image_count,
+            pad0: 0,
+            pad1: 0,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::buffers::tests::quad_scene;
+    use glam::Vec3;
+
+    #[test]
+    fn trace_params_validation() {
+        let gpu = SceneGpu::build(&quad_scene(Vec3::ONE)).expect("valid");
+        let ok = TraceSettings::new(16, 8);
+        let p = gpu.trace_params(&ok, 5).expect("valid");
+        assert_eq!(
+            (p.width, p.height, p.padded_width, p.frame, p.emitter_count),
+            (16, 8, 16, 5, 2)
+        );
+        assert_eq!(p.node_count as usize, gpu.nodes.len());
+        let bad = [
+            TraceSettings { width: 0, ..ok },
+            TraceSettings {
+                padded_width: 15,
+                ..ok
+            },
+            TraceSettings { spp: 0, ..ok },
+            TraceSettings { max_depth: 0, ..ok },
+            TraceSettings { max_depth: 65, ..ok },
+            TraceSettings { seed_mode: 2, ..ok },
+            TraceSettings { sampler: 3, ..ok },
+            TraceSettings {
+                sampler: SAMPLER_JITTER_ONLY,
+                ..ok
+            },
+            TraceSettings {
+                sampler: SAMPLER_ZSOBOL | 1 << 9,
+                ..ok
+            },
+            TraceSettings {
+                sampler: SAMPLER_SCREEN_SOBOL,
+                spp: 17,
+                ..ok
+            },
+            TraceSettings {
+                sampler: SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY,
+                spp: 17,
+                ..ok
+            },
+            TraceSettings {
+                sampler: SAMPLER_ZSOBOL,
+                spp: 257,
+                ..ok
+            },
+            TraceSettings {
+                sampler: SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY,
+                width: 4097,
+                padded_width: 4097,
+                ..ok
+            },
+            TraceSettings {
+                sampler: SAMPLER_ZSOBOL,
+                width: 4097,
+                padded_width: 4097,
+                ..ok
+            },
+        ];
+        for s in bad {
+            assert!(gpu.trace_params(&s, 0).is_err(), "{s:?}");
+        }
+        for (sampler, spp) in [
+            (SAMPLER_SCREEN_SOBOL, 16),
+            (SAMPLER_ZSOBOL, 256),
+            (SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY, 16),
+            (SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY, 256),
+        ] {
+            let p = gpu
+                .trace_params(&TraceSettings { sampler, spp, ..ok }, 0)
+                .expect("supported");
+            let layout = sampler_core::defaults::screen_sobol_keys().layout();
+            assert_eq!(
+                (p.sampler, p.key_side_log2, p.key_pairs, p.key_levels),
+                (sampler, layout.side_log2, layout.pairs, layout.levels)
+            );
+        }
+    }
+}

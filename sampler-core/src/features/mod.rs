@@ -1,0 +1,16 @@
+//! **Features**: the feature-aware permutation, which never moves a seed to
+//! a surface it did not sample.
+//!
+//! - [`surface`]: what a pixel shows ([`SurfaceFeature`](crate::SurfaceFeature):
+//!   surface id, depth, normal), the rule that decides whether two pixels show
+//!   the same surface ([`same_surface`](crate::same_surface)), and the sort key
+//!   with the albedo divided out ([`demodulated_luma`](crate::demodulated_luma)).
+//! - [`permute`]: the permutation in groups of one surface inside each block
+//!   and retargeting cut at edges
+//!   ([`permute_frame_features`](crate::permute_frame_features)), and the
+//!   per-block / per-seed functions the GPU kernels call.
+//! - `cpu` (private): its CPU fast path, identical output.
+
+mod cpu;
+pub mod permute;
+pub mod surface;

@@ -1,0 +1,483 @@
+//! The feature-aware permutation: sort what the seed controls, and never
+//! move a seed to a surface it did not sample.
+//!
+//! The plain permutation ([`crate::permute_frame`]) assumes that a seed's
+//! estimate survives a move inside its block and along the retarget
+//! table's offsets. Across an edge (another object, a crease, a depth
+//! jump) it does not. This module keeps every move on one surface, as
+//! [`same_surface`] decides from per-pixel [`SurfaceFeature`]s:
+//!
+//! 1. **Groups inside a block** ([`block_groups`]): the connected components
+//!    of the block's pixels under [`same_surface`]. Each group is sorted on
+//!    its own ([`sort_block_grouped`]): its seeds, ordered by key, go onto its
+//!    own positions, ordered by dither rank. A block with one group is
+//!    sorted exactly as [`crate::sort_block`] sorts it.
+//! 2. **Retargeting cut at edges** ([`retarget_features_pixel`]): the
+//!    table's permutation `π` is a set of cycles; an edge `p -> π(p)` whose
+//!    ends are not the same surface is **cut**. Cuts split each cycle into
+//!    chains `s -> π(s) -> ... -> e` whose inner edges are all uncut. Every
+//!    seed moves along its uncut edge as before; the seed at a chain's end
+//!    `e` (whose edge is cut) goes to the chain's start `s` instead of
+//!    crossing. A cycle without cuts is applied as it is; with cuts, each
+//!    chain becomes a cycle of its own.
+//!
+//! # Invariant (proof sketch)
+//!
+//! The output is a permutation of the input. Each position `q` receives
+//! exactly one seed: if the edge into `q` (from `π⁻¹(q)`) is uncut, the seed
+//! of `π⁻¹(q)`; if it is cut, `q` starts exactly one chain, and the seed of
+//! that chain's end (found by walking `π⁻¹` back from the end until a cut
+//! edge, which exists because the end's own edge is cut and lies on the
+//! same cycle). Every seed is sent once: along its uncut edge, or (its edge
+//! cut) to its chain's start. No seed crosses a cut edge; a seed that jumps
+//! to its chain's start reaches it along uncut edges only, so it stays on
+//! the surface connected to it by same-surface steps.
+//!
+//! Padding positions (outside the visible frame) form a surface of their
+//! own: an edge between padding and a visible pixel is cut, two padding
+//! positions are never cut apart.
+//!
+//! # Cost
+//!
+//! One more `u32` scratch buffer (the table's inverse for the frame, built
+//! by a scatter), and a walk per chain end whose total length is at most the
+//! number of seeds on cut cycles (each chain is walked once).
+
+use crate::error::{Buffer, Error};
+use crate::features::surface::{edge_is_cut, same_surface, FeatureThresholds, SurfaceFeature};
+use crate::permutation::dither::{tile_texel, DitherTile};
+use crate::permutation::layout::{FrameLayout, FrameParams};
+use crate::permutation::retarget::{retarget_destination, RetargetTables};
+use crate::permutation::sort::{intensity_key, sort_block, Intensity, MAX_BLOCK_PIXELS};
+use crate::sequences::walk::{step_index, walk_offset};
+use glam::UVec2;
+
+/// The groups of a block's `len` pixels: `groups[i]` is the smallest index
+/// `j` of a pixel connected to pixel `i` by a chain of [`same_surface`]
+/// pairs (so pixel `i` starts a group iff `groups[i] == i`). Block-local
+/// indices are row-major inside the block, as the sorting pass lists them.
+#[inline]
+#[allow(clippy::needless_range_loop)]
+pub fn block_groups(
+    len: u32,
+    features: &[SurfaceFeature; MAX_BLOCK_PIXELS],
+    thresholds: &FeatureThresholds,
+    groups: &mut [u32; MAX_BLOCK_PIXELS],
+) {
+    let n = if len as usize > MAX_BLOCK_PIXELS {
+        MAX_BLOCK_PIXELS
+    } else {
+        len as usize
+    };
+    for i in 0..n {
+        groups[i] = 0;
+    }
+    // Fast path: every pixel the same surface as the first makes one group
+    // (the usual block, inside a surface): n - 1 tests instead of n^2 / 2.
+    let mut one = true;
+    for i in 1..n {
+        if !same_surface(&features[i], &features[0], thresholds) {
+            one = false;
+        }
+    }
+    if one {
+        return;
+    }
+    // Union-find with the smaller root winning, so roots are component minima.
+    for i in 0..n {
+        groups[i] = i as u32;
+    }
+    for i in 1..n {
+        for j in 0..i {
+            if same_surface(&features[i], &features[j], thresholds) {
+                let a = find(groups, i as u32);
+                let b = find(groups, j as u32);
+                if a < b {
+                    groups[b as usize] = a;
+                } else if b < a {
+                    groups[a as usize] = b;
+                }
+            }
+        }
+    }
+    for i in 0..n {
+        groups[i] = find(groups, i as u32);
+    }
+}
+
+#[inline]
+fn find(parent: &[u32; MAX_BLOCK_PIXELS], mut i: u32) -> u32 {
+    while parent[i as usize] != i {
+        i = parent[i as usize];
+    }
+    i
+}
+
+/// [`crate::sort_block`] inside groups: pixel `i` of group `groups[i]`
+/// takes the position of the same rank among its group's positions, ranks
+/// ordered by `(group, value, index)`. With every `groups[i]` equal this is
+/// exactly [`crate::sort_block`].
+#[allow(clippy::needless_range_loop)]
+#[inline]
+pub fn sort_block_grouped(
+    len: u32,
+    groups: &[u32; MAX_BLOCK_PIXELS],
+    keys: &[u32; MAX_BLOCK_PIXELS],
+    dither: &[u32; MAX_BLOCK_PIXELS],
+    seeds: &[u32; MAX_BLOCK_PIXELS],
+    out: &mut [u32; MAX_BLOCK_PIXELS],
+) {
+    let n = if len as usize > MAX_BLOCK_PIXELS {
+        MAX_BLOCK_PIXELS
+    } else {
+        len as usize
+    };
+    let mut position_of_rank = [0u32; MAX_BLOCK_PIXELS];
+    for j in 0..n {
+        let (gj, dj) = (groups[j], dither[j]);
+        let mut rank = 0usize;
+        for i in 0..n {
+            let (gi, di) = (groups[i], dither[i]);
+            if gi < gj || (gi == gj && (di < dj || (di == dj && i < j))) {
+                rank += 1;
+            }
+        }
+        position_of_rank[rank] = j as u32;
+    }
+    for i in 0..n {
+        let (gi, ki) = (groups[i], keys[i]);
+        let mut rank = 0usize;
+        for j in 0..n {
+            let (gj, kj) = (groups[j], keys[j]);
+            if gj < gi || (gj == gi && (kj < ki || (kj == ki && j < i))) {
+                rank += 1;
+            }
+        }
+        out[position_of_rank[rank] as usize] = seeds[i];
+    }
+}
+
+/// The feature-aware sorting pass of block `(bx, by)` with tile offset
+/// `offset`: as [`crate::sort_block_at_offset`], in groups
+/// ([`block_groups`]) of `features` (`width * height`, row-major).
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn sort_block_features_at_offset<T: Intensity>(
+    params: &FrameParams,
+    offset: UVec2,
+    bx: u32,
+    by: u32,
+    intensities: &[T],
+    features: &[SurfaceFeature],
+    thresholds: &FeatureThresholds,
+    tile: &[u32],
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+) {
+    let x0 = bx * params.block;
+    let y0 = by * params.block;
+    let mut keys = [0u32; MAX_BLOCK_PIXELS];
+    let mut dither = [0u32; MAX_BLOCK_PIXELS];
+    let mut seeds = [0u32; MAX_BLOCK_PIXELS];
+    let mut index = [0u32; MAX_BLOCK_PIXELS];
+    let mut feats = [SurfaceFeature::default(); MAX_BLOCK_PIXELS];
+    let mut len = 0usize;
+    for dy in 0..params.block {
+        for dx in 0..params.block {
+            let x = x0 + dx;
+            let y = y0 + dy;
+            if x < params.padded_width && y < params.padded_height {
+                let s = (y * params.padded_width + x) as usize;
+                if x < params.width && y < params.height {
+                    let v = (y * params.width + x) as usize;
+                    keys[len] = intensity_key(intensities[v].intensity());
+                    dither[len] = tile[tile_texel(UVec2::new(x, y), offset, params.tile_log2) as usize];
+                    seeds[len] = seeds_in[s];
+                    feats[len] = features[v];
+                    index[len] = s as u32;
+                    len += 1;
+                } else {
+                    seeds_out[s] = seeds_in[s];
+                }
+            }
+        }
+    }
+    let mut groups = [0u32; MAX_BLOCK_PIXELS];
+    block_groups(len as u32, &feats, thresholds, &mut groups);
+    let mut one_group = true;
+    #[allow(clippy::needless_range_loop)] // iterators over arrays do not compile for shaders
+    for i in 0..len {
+        if groups[i] != 0 {
+            one_group = false;
+        }
+    }
+    let mut out = [0u32; MAX_BLOCK_PIXELS];
+    if one_group {
+        // The same result, with the plain sort's cheaper comparisons.
+        sort_block(len as u32, &keys, &dither, &seeds, &mut out);
+    } else {
+        sort_block_grouped(len as u32, &groups, &keys, &dither, &seeds, &mut out);
+    }
+    for i in 0..len {
+        seeds_out[index[i] as usize] = out[i];
+    }
+}
+
+/// The retarget destination of padded-buffer index `p` (`π(p)`) with tile
+/// offset `offset` and packed table `table`.
+#[inline]
+pub fn retarget_index(params: &FrameParams, offset: UVec2, table: &[u32], p: u32) -> u32 {
+    let pw = params.padded_width;
+    let padded = UVec2::new(pw, params.padded_height);
+    let d = retarget_destination(
+        UVec2::new(p % pw, p / pw),
+        offset,
+        params.tile_log2,
+        table,
+        padded,
+    );
+    d.y * pw + d.x
+}
+
+/// First step of the feature-aware retarget, one per seed: records the
+/// inverse of the table's permutation, `sources[π(p)] = p`.
+#[inline]
+pub fn record_source(params: &FrameParams, offset: UVec2, table: &[u32], p: u32, sources: &mut [u32]) {
+    sources[retarget_index(params, offset, table, p) as usize] = p;
+}
+
+/// Second step, one per seed `p`: sends `seeds_in[p]` along its edge if it
+/// is uncut, else to the start of its chain (module docs). `sources` is
+/// the inverse from [`record_source`].
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn retarget_features_pixel(
+    params: &FrameParams,
+    offset: UVec2,
+    table: &[u32],
+    sources: &[u32],
+    features: &[SurfaceFeature],
+    thresholds: &FeatureThresholds,
+    p: u32,
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+) {
+    let d = retarget_index(params, offset, table, p);
+    if !edge_is_cut(params, features, thresholds, p, d) {
+        seeds_out[d as usize] = seeds_in[p as usize];
+        return;
+    }
+    // Walk back along uncut edges to the chain's start. Terminates: the
+    // cut edge p -> d lies on this cycle.
+    let mut q = p;
+    loop {
+        let r = sources[q as usize];
+        if edge_is_cut(params, features, thresholds, r, q) {
+            break;
+        }
+        q = r;
+    }
+    seeds_out[q as usize] = seeds_in[p as usize];
+}
+
+/// The feature-aware permutation of a frame: grouped sort of `intensities`
+/// (`width * height`, e.g. [`crate::features::surface::demodulated_luma`] values)
+/// against `D_frame`, then the retarget of step `frame -> frame + 1` cut at
+/// edges (module docs). `features` is the frame's [`SurfaceFeature`]
+/// buffer (`width * height`); `sorted` and `sources` are scratch
+/// (`seed_count` each; their contents afterwards are unspecified). Output:
+/// a permutation of `seeds_in`; with features that make every pixel one
+/// surface, identical to [`crate::permute_frame`].
+///
+/// Where the plain CPU fast path applies (block side 2, 4 or 8 dividing a
+/// tile of 16 to 128 texels) this runs a fast path (the plain fused
+/// permutation, then a repair of split blocks and cut edges); elsewhere
+/// [`permute_frame_features_reference`]. Both give identical output.
+///
+/// # Errors
+/// [`Error::TileSize`] if the tile or tables do not match the layout;
+/// [`Error::BufferSize`] for a buffer of the wrong length.
+///
+/// # Example
+///
+/// Two surfaces side by side: seeds are permuted, and none crosses from one to
+/// the other.
+///
+/// ```
+/// use sampler_core::{defaults, permute_frame_features, FeatureThresholds, FrameLayout, SurfaceFeature};
+/// use glam::Vec3;
+/// let layout = FrameLayout::new(64, 32, 4, 64)?;
+/// let (tile, tables) = (defaults::tile_64(), defaults::tables_64());
+/// let (w, n) = (layout.padded_width(), layout.seed_count());
+/// let features: Vec<SurfaceFeature> = (0..64 * 32)
+///     .map(|i| SurfaceFeature::new(if i % 64 < 30 { 0 } else { 1 }, 5.0, Vec3::Z))
+///     .collect();
+/// let image: Vec<f32> = (0..64 * 32).map(|i| (i * 7919 % 101) as f32).collect();
+/// let seeds: Vec<u32> = (0..n as u32).collect(); // seed = its pixel index
+/// let (mut sorted, mut sources, mut next) = (vec![0; n], vec![0; n], vec![0; n]);
+/// let thresholds = FeatureThresholds::DEFAULT;
+/// permute_frame_features(&layout, 0, &image, &features, &thresholds, &tile, &tables, &seeds,
+///                        &mut sorted, &mut sources, &mut next)?;
+/// let mut check = next.clone();
+/// check.sort();
+/// assert_eq!(check, seeds); // a permutation
+/// for (p, &s) in next.iter().enumerate() {
+///     let (x, y, sx, sy) = (p as u32 % w, p as u32 / w, s % w, s / w);
+///     if x < 64 && y < 32 && sx < 64 && sy < 32 {
+///         assert_eq!(x < 30, sx < 30, "seed {s} crossed the edge"); // stays on its surface
+///     }
+/// }
+/// # Ok::<(), sampler_core::Error>(())
+/// ```
+#[allow(clippy::too_many_arguments)]
+pub fn permute_frame_features<T: Intensity>(
+    layout: &FrameLayout,
+    frame: u32,
+    intensities: &[T],
+    features: &[SurfaceFeature],
+    thresholds: &FeatureThresholds,
+    tile: &DitherTile<'_>,
+    tables: &RetargetTables<'_>,
+    seeds_in: &[u32],
+    sorted: &mut [u32],
+    sources: &mut [u32],
+    seeds_out: &mut [u32],
+) -> Result<(), Error> {
+    check_feature_buffers(
+        layout,
+        intensities,
+        features,
+        tile,
+        tables,
+        seeds_in,
+        sorted,
+        sources,
+        seeds_out,
+    )?;
+    let params = layout.params(frame);
+    if crate::features::cpu::applies(&params) {
+        let table = tables.table(step_index(frame, params.tile_log2));
+        crate::features::cpu::permute_features_fast(
+            &params,
+            intensities,
+            features,
+            thresholds,
+            tile.values(),
+            table,
+            seeds_in,
+            sorted,
+            sources,
+            seeds_out,
+        );
+        return Ok(());
+    }
+    permute_frame_features_reference(
+        layout,
+        frame,
+        intensities,
+        features,
+        thresholds,
+        tile,
+        tables,
+        seeds_in,
+        sorted,
+        sources,
+        seeds_out,
+    )
+}
+
+/// The reference form of [`permute_frame_features`]: [`sort_block_features_at_offset`]
+/// for every block into `sorted`, [`record_source`] for every seed into
+/// `sources` (the table's inverse), then [`retarget_features_pixel`] for every
+/// seed, as the GPU kernels run them. Identical output to
+/// [`permute_frame_features`], which takes a faster path on the CPU where
+/// it can; afterwards `sorted` holds the sorted seeds and `sources` the
+/// inverse.
+///
+/// # Errors
+/// As [`permute_frame_features`].
+#[allow(clippy::too_many_arguments)]
+pub fn permute_frame_features_reference<T: Intensity>(
+    layout: &FrameLayout,
+    frame: u32,
+    intensities: &[T],
+    features: &[SurfaceFeature],
+    thresholds: &FeatureThresholds,
+    tile: &DitherTile<'_>,
+    tables: &RetargetTables<'_>,
+    seeds_in: &[u32],
+    sorted: &mut [u32],
+    sources: &mut [u32],
+    seeds_out: &mut [u32],
+) -> Result<(), Error> {
+    check_feature_buffers(
+        layout,
+        intensities,
+        features,
+        tile,
+        tables,
+        seeds_in,
+        sorted,
+        sources,
+        seeds_out,
+    )?;
+    let params = layout.params(frame);
+    let offset = walk_offset(frame, params.tile_log2);
+    for by in 0..params.blocks_y() {
+        for bx in 0..params.blocks_x() {
+            sort_block_features_at_offset(
+                &params,
+                offset,
+                bx,
+                by,
+                intensities,
+                features,
+                thresholds,
+                tile.values(),
+                seeds_in,
+                sorted,
+            );
+        }
+    }
+    let table = tables.table(step_index(frame, params.tile_log2)).packed();
+    for p in 0..params.seed_count() {
+        record_source(&params, offset, table, p, sources);
+    }
+    for p in 0..params.seed_count() {
+        retarget_features_pixel(
+            &params, offset, table, sources, features, thresholds, p, sorted, seeds_out,
+        );
+    }
+    Ok(())
+}
+
+/// The checks of [`permute_frame_features`].
+#[allow(clippy::too_many_arguments)]
+fn check_feature_buffers<T>(
+    layout: &FrameLayout,
+    intensities: &[T],
+    features: &[SurfaceFeature],
+    tile: &DitherTile<'_>,
+    tables: &RetargetTables<'_>,
+    seeds_in: &[u32],
+    sorted: &[u32],
+    sources: &[u32],
+    seeds_out: &[u32],
+) -> Result<(), Error> {
+    if tile.tile() != layout.tile() || tables.tile() != layout.tile() {
+        return Err(Error::TileSize { tile: tile.tile() });
+    }
+    layout.check_intensity_buffer(intensities.len())?;
+    if features.len() != layout.pixel_count() {
+        return Err(Error::BufferSize {
+            buffer: Buffer::Features,
+            expected: layout.pixel_count(),
+            actual: features.len(),
+        });
+    }
+    layout.check_seed_buffer(Buffer::SeedsIn, seeds_in.len())?;
+    layout.check_seed_buffer(Buffer::SeedsOut, seeds_out.len())?;
+    layout.check_seed_buffer(Buffer::Scratch, sorted.len())?;
+    layout.check_seed_buffer(Buffer::Scratch, sources.len())?;
+    Ok(())
+}
