@@ -43,7 +43,7 @@ pub fn render_frame(
     check_len("seed buffer", stride * params.height as usize, seeds.len(), true)?;
     check_len("frame colour buffer", pixels, color.len(), false)?;
     let keys = sampler_core::defaults::screen_sobol_keys();
-    if sampler_kind(params) == SAMPLER_SCREEN_SOBOL {
+    if [SAMPLER_SCREEN_SOBOL, kernels::abi::SAMPLER_SPATIOTEMPORAL].contains(&sampler_kind(params)) {
         let l = keys.layout();
         let fields = [
             ("key_side_log2", params.key_side_log2, l.side_log2),
@@ -60,7 +60,7 @@ pub fn render_frame(
             }
         }
     }
-    let keys = keys.keys();
+    let keys = crate::sampler_data::sampler_buffer();
     let rays = color
         .par_chunks_mut(width)
         .enumerate()
@@ -525,9 +525,9 @@ mod tests {
 
     #[test]
     fn apriori_samplers_use_the_default_keys() {
-        use kernels::abi::{SAMPLER_JITTER_ONLY, SAMPLER_SEEDS, SAMPLER_ZSOBOL};
+        use kernels::abi::{SAMPLER_JITTER_ONLY, SAMPLER_SEEDS, SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL};
         let scene = SceneGpu::build(&cornell_box()).expect("scene");
-        let keys = sampler_core::defaults::screen_sobol_keys();
+        let keys = crate::sampler_data::sampler_buffer();
         let mut settings = TraceSettings::new(16, 12);
         settings.spp = 2;
         let seeds = white_seeds(16, 12, 3);
@@ -538,6 +538,7 @@ mod tests {
             SAMPLER_ZSOBOL,
             SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY,
             SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY,
+            SAMPLER_SPATIOTEMPORAL,
         ];
         for sampler in samplers {
             settings.sampler = sampler;
@@ -549,7 +550,7 @@ mod tests {
                     &params,
                     glam::UVec2::new(x, y),
                     seeds[(y * 16 + x) as usize],
-                    keys.keys(),
+                    keys,
                     &scene.nodes,
                     &scene.triangles,
                     &scene.materials,

@@ -23,6 +23,8 @@
 //!   the scene of each frame with its motion ([`timeline::SceneSequence`]).
 //!
 //! Rendering:
+//! - [`sampler_data`]: the a-priori samplers' keys and shift tile, as the
+//!   trace kernel reads them ([`sampler_data::sampler_buffer`]).
 //! - [`cpu`]: [`cpu::render_frame`] traces a frame with rayon over rows by
 //!   calling `kernels::trace_pixel`, exactly what the GPU's `trace_cs` runs
 //!   per pixel; [`cpu::accumulate_frame`] is the running mean.
@@ -70,6 +72,7 @@ pub mod image_out;
 pub mod motion;
 pub mod obj;
 pub mod render;
+pub mod sampler_data;
 pub mod scene;
 pub mod timeline;
 

@@ -196,6 +196,9 @@ enum SamplerArg {
     ScreenSobolJitter,
     /// The pixel jitter from `zsobol`, the rest from the seeds.
     ZsobolJitter,
+    /// Each pixel continues one progressive Owen-scrambled Sobol sequence
+    /// across frames, rotated by a blue-noise shift (blue in time).
+    Spatiotemporal,
 }
 
 impl SamplerArg {
@@ -306,6 +309,7 @@ fn render(args: RenderArgs) -> Result<()> {
         SamplerArg::Zsobol => SAMPLER_ZSOBOL,
         SamplerArg::ScreenSobolJitter => SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY,
         SamplerArg::ZsobolJitter => SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY,
+        SamplerArg::Spatiotemporal => kernels::abi::SAMPLER_SPATIOTEMPORAL,
     };
     // Settings the chosen sampler does not support fail here, before any work.
     sequence

@@ -17,7 +17,7 @@
 //! | module | what it offers | entry points |
 //! |---|---|---|
 //! | [`limits`], [`error`] | the size limits every input is checked against; the crate's [`Error`] | |
-//! | [`sequences`] | R1/R2/R_d ([`sequences::r2`]), the tile's offset walk ([`sequences::walk`]), seeds and random streams ([`sequences::seed`]), Sobol ([`sequences::sobol`]), Owen scrambling ([`sequences::owen`]), the a-priori screen-space samplers ([`sequences::screen_sobol`], [`sequences::zsobol`]) | [`walk_offset`], [`initial_seed`], [`RandomStream`], [`ScreenSobolKeys::sample`], [`zsobol_sample`] |
+//! | [`sequences`] | R1/R2/R_d ([`sequences::r2`]), the tile's offset walk ([`sequences::walk`]), seeds and random streams ([`sequences::seed`]), Sobol ([`sequences::sobol`]), Owen scrambling ([`sequences::owen`]), the a-priori screen-space samplers ([`sequences::screen_sobol`], [`sequences::zsobol`]) and the spatiotemporal one ([`sequences::spatiotemporal`]) | [`walk_offset`], [`initial_seed`], [`RandomStream`], [`ScreenSobolKeys::sample`], [`zsobol_sample`] |
 //! | [`permutation`] | the seed permutation: frame layout, dither tile, sorting pass ([`permutation::sort`]), retargeting pass ([`permutation::retarget`]), the frame passes and their CPU fast path ([`permutation::frame`]) | [`permute_frame`], [`permute_frame_rows`], [`sort_block_in_frame`], [`retarget_pixel`] |
 //! | [`reprojection`] | bijective reprojection of seeds along motion vectors, on the CPU and as GPU passes ([`reprojection::passes`]) | [`reproject_frame`] |
 //! | [`features`] | the feature-aware permutation: sort within one surface, never retarget across an edge ([`features::surface`], [`features::permute`]) | [`permute_frame_features`], [`same_surface`] |
@@ -92,5 +92,6 @@ pub use sequences::screen_sobol::{
 };
 pub use sequences::seed::{initial_seed, random_f32, random_u32, RandomStream};
 pub use sequences::sobol::{sobol, sobol_u32, SOBOL_DIMENSIONS};
+pub use sequences::spatiotemporal::{spatiotemporal_pair_u32, spatiotemporal_shift_u32};
 pub use sequences::walk::{step_index, step_of_index, walk_offset, walk_step, STEP_COUNT};
 pub use sequences::zsobol::{zsobol_sample, zsobol_sample_u32};

@@ -16,15 +16,30 @@ pub fn build_bin(package: &str, bin: &str) -> PathBuf {
     build_target(package, "--bin", bin, "")
 }
 
-/// `cargo build --profile test -p package <kind> name`; the artifact is in
-/// `target/debug/<subdir>/name`.
+/// `cargo build --profile test --workspace --tests <kind> name` (`name`
+/// belongs to `package`); the artifact is in `target/debug/<subdir>/name`.
+///
+/// `--workspace --tests` resolves features exactly as `cargo test --workspace`
+/// does (dev-dependencies' features included), so after that command's build
+/// this one has nothing to do; with `-p package` alone the tool's dependencies
+/// (wgpu, naga, image) were compiled a second time with other features, which
+/// took minutes of a cold test run.
 fn build_target(package: &str, kind: &str, name: &str, subdir: &str) -> PathBuf {
     let status = Command::new(env!("CARGO"))
-        .args(["build", "--profile", "test", "-p", package, kind, name, "--quiet"])
+        .args([
+            "build",
+            "--profile",
+            "test",
+            "--workspace",
+            "--tests",
+            kind,
+            name,
+            "--quiet",
+        ])
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .status()
         .expect("cargo runs");
-    assert!(status.success(), "cargo build -p {package} {kind} {name} failed");
+    assert!(status.success(), "cargo build of {package} {kind} {name} failed");
     // target/debug/deps/<this test> -> target/debug/<subdir>/<name>
     let exe = std::env::current_exe().expect("test executable path");
     let dir = exe.parent().and_then(|d| d.parent()).expect("target/<profile>");

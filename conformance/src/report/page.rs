@@ -44,6 +44,7 @@ fn colour(m: Method) -> RGBColor {
         Method::DitherFilterAdapted => RGBColor(110, 190, 50),
         Method::ScreenSobol => RGBColor(204, 121, 167),
         Method::ZSobol => RGBColor(86, 180, 233),
+        Method::Spatiotemporal => RGBColor(240, 228, 66),
         Method::FeaturePermute => RGBColor(0, 170, 170),
         Method::FeaturePermuteJitter => RGBColor(0, 100, 100),
         Method::FeaturePermuteRawKey => RGBColor(120, 120, 40),

@@ -4,6 +4,7 @@
 use super::config::{ACCUMULATION_SNAPSHOTS, GOAL_FRAME};
 use super::feature_diagnostics::SeedTracker;
 use super::filtered::{FilteredErrors, FilteredMeter};
+use super::history::HistoryMeter;
 use super::insets::crop;
 use super::method::Method;
 use super::result::{MethodRun, Snapshot, StudyResult};
@@ -136,12 +137,12 @@ impl Study {
             Method::DitherFilterAdapted => {
                 render_dither(self, sampler_core::defaults::filter_adapted_128(), &mut on_frame)?
             }
-            Method::ScreenSobol | Method::ZSobol => {
+            Method::ScreenSobol | Method::ZSobol | Method::Spatiotemporal => {
                 let mut settings = self.config.settings();
-                settings.sampler = if method == Method::ScreenSobol {
-                    kernels::abi::SAMPLER_SCREEN_SOBOL
-                } else {
-                    kernels::abi::SAMPLER_ZSOBOL
+                settings.sampler = match method {
+                    Method::ScreenSobol => kernels::abi::SAMPLER_SCREEN_SOBOL,
+                    Method::ZSobol => kernels::abi::SAMPLER_ZSOBOL,
+                    _ => kernels::abi::SAMPLER_SPATIOTEMPORAL,
                 };
                 let job = RenderJob {
                     settings,
@@ -181,6 +182,8 @@ struct Meter<'a> {
     /// zero motion, and the first filter error.
     filters: Option<(FilteredMeter, Vec<Vec2>)>,
     filter_error: Option<anyhow::Error>,
+    /// The exponential history of the frames ([`super::history`]).
+    history: HistoryMeter,
     /// Per inset: `1 / luma(albedo)` of each pixel's primary hit (1 below
     /// `ALBEDO_FLOOR`), from the still camera's G-buffer, for
     /// [`MethodRun::lf_demodulated`].
@@ -216,6 +219,7 @@ impl<'a> Meter<'a> {
                     error: Vec::new(),
                 },
                 filtered: Vec::new(),
+                history: Default::default(),
             },
             analyzer: SpectrumAnalyzer::new(),
             blur1: GaussianBlur::new(1.0)?,
@@ -237,6 +241,7 @@ impl<'a> Meter<'a> {
                 false => None,
             },
             filter_error: None,
+            history: HistoryMeter::new(study.config.size)?,
             inset_inverse_albedo: {
                 let inverse: Vec<f32> = study
                     .gbuffer
@@ -333,6 +338,8 @@ impl<'a> Meter<'a> {
             self.run.snapshot.rgb = color.iter().map(|c| c.truncate()).collect();
             self.run.snapshot.error = error;
         }
+        let luma: Vec<f32> = color.iter().map(|c| c.intensity()).collect();
+        self.history.frame(&luma, &reference.luma, &self.study.regions);
         if let Some((filters, still)) = self.filters.as_mut() {
             let s = self.study;
             if let Err(e) = filters.frame(color, &s.gbuffer, still, &reference.luma, &s.regions) {
@@ -367,6 +374,7 @@ impl<'a> Meter<'a> {
         if let Some((filters, _)) = self.filters.take() {
             self.run.filtered = filters.finish();
         }
+        self.run.history = std::mem::replace(&mut self.history, HistoryMeter::new(1)?).finish();
         ensure!(
             self.run.rmse.len() == self.study.config.frames as usize,
             "the renderer delivered {} of {} frames",

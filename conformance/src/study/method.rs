@@ -28,6 +28,10 @@ pub enum Method {
     ScreenSobol,
     /// Fresh white seeds, the path's 2D decisions from ZSobol (`--sampler zsobol`).
     ZSobol,
+    /// Fresh white seeds, the path's 2D decisions from the spatiotemporal sampler
+    /// (`--sampler spatiotemporal`, issue 29): each pixel continues one progressive
+    /// Owen-scrambled Sobol sequence across frames, rotated by a blue-noise shift.
+    Spatiotemporal,
     /// The feature-aware permutation (issue 14, `SequenceOptions::features` of the
     /// tracer's CPU loop): demodulated sort keys, blocks sorted in groups of one
     /// surface, retarget moves cut at edges, features from the G-buffer.
@@ -45,7 +49,7 @@ pub enum Method {
 
 impl Method {
     /// Every method, white first.
-    pub const ALL: [Method; 13] = [
+    pub const ALL: [Method; 14] = [
         Method::White,
         Method::Sort,
         Method::Permute,
@@ -55,6 +59,7 @@ impl Method {
         Method::DitherFilterAdapted,
         Method::ScreenSobol,
         Method::ZSobol,
+        Method::Spatiotemporal,
         Method::FeaturePermute,
         Method::FeaturePermuteJitter,
         Method::FeaturePermuteRawKey,
@@ -104,6 +109,7 @@ impl Method {
             Method::DitherFilterAdapted => "bn-dither-fa",
             Method::ScreenSobol => "screen-sobol",
             Method::ZSobol => "zsobol",
+            Method::Spatiotemporal => "spatiotemporal",
             Method::FeaturePermute => "feature-permute",
             Method::FeaturePermuteJitter => "feature-permute-jitter",
             Method::FeaturePermuteRawKey => "feature-permute-raw-key",
@@ -125,6 +131,9 @@ impl Method {
             }
             Method::ScreenSobol => "white seeds + screen-space Sobol (our keys) on every 2D decision",
             Method::ZSobol => "white seeds + ZSobol on every 2D decision",
+            Method::Spatiotemporal => {
+                "white seeds + one progressive Sobol sequence per pixel across frames, blue-noise shifts"
+            }
             Method::FeaturePermute => {
                 "feature-aware permute: demodulated keys, groups of one surface, cut retarget moves"
             }

@@ -16,6 +16,8 @@
 //!   blue-noise dither).
 //! - [`feature_diagnostics`]: what the feature-aware permutation treats differently.
 //! - [`filtered`]: each method's error after the real-time filters.
+//! - [`history`]: each method's error after an exponential history alone (EMA, no
+//!   clamp) and after the EMA then a Gaussian blur.
 //! - [`result`]: the measured study and every figure read off it.
 //! - `meter`: [`Study::run`] and the per-frame measurement.
 //!
@@ -111,6 +113,7 @@
 pub mod config;
 pub mod feature_diagnostics;
 pub mod filtered;
+pub mod history;
 pub mod insets;
 mod meter;
 pub mod method;
@@ -122,10 +125,11 @@ pub mod walks;
 
 pub use config::{StudyConfig, ACCUMULATION_POINTS, ACCUMULATION_SNAPSHOTS, GOAL_FRAME};
 pub use feature_diagnostics::FeatureDiagnostics;
+pub use history::{HistoryErrors, EMA_ALPHA, EMA_FROM};
 pub use insets::{crop, Inset, Surface};
 pub use method::Method;
 pub use reference::{default_cache_dir, Reference};
-pub use result::{MethodRun, Metric, Snapshot, StudyResult};
+pub use result::{HistoryMetric, MethodRun, Metric, Snapshot, StudyResult, TEMPORAL_MEANS};
 pub use scene::StudyScene;
 pub use setup::Study;
 pub use walks::{permute_with_offset, render_dither, render_walk, Walk};

@@ -5,6 +5,7 @@
 use super::config::{StudyConfig, ACCUMULATION_POINTS, GOAL_FRAME};
 use super::feature_diagnostics::FeatureDiagnostics;
 use super::filtered::{pooled_sum, FilteredErrors, STUDY_FILTERS};
+use super::history::{HistoryErrors, EMA_ALPHA, EMA_FROM};
 use super::insets::Inset;
 use super::method::Method;
 use crate::metrics::regions::Region;
@@ -80,6 +81,9 @@ pub struct MethodRun {
     /// ([`STUDY_FILTERS`]; empty when the study's
     /// [`StudyConfig::filters`] is off).
     pub filtered: Vec<FilteredErrors>,
+    /// The error after the exponential history alone and after the history
+    /// then a Gaussian blur ([`super::history`]).
+    pub history: HistoryErrors,
 }
 
 impl MethodRun {
@@ -109,6 +113,18 @@ pub struct StudyResult {
     /// study frame: the filters' own error floor ([`Self::filter_bias`]).
     pub filter_bias: Vec<FilteredErrors>,
 }
+
+/// Which error of the history ([`super::history`]) a figure reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HistoryMetric {
+    /// The exponential history alone.
+    Ema,
+    /// The history, then a Gaussian blur of sigma 1.
+    EmaBlur1,
+}
+
+/// Frame counts at which the temporal table reports the accumulated mean.
+pub const TEMPORAL_MEANS: [u32; 3] = [8, 32, 128];
 
 /// A relative figure: `method / white` for one metric.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -278,6 +294,14 @@ impl StudyResult {
                 );
             }
         }
+        if c.frames as usize > EMA_FROM {
+            s += &format!(
+                "\nWhat a history keeps (still camera; EMA alpha {EMA_ALPHA} from frame 0, no clamp, RMSE over frames \
+                 {EMA_FROM}..; EMA + G1: then a Gaussian blur of sigma 1; mean n: the mean of the first n frames, \
+                 reference noise not removed; white = 1):\n\n"
+            );
+            s += &self.temporal_markdown();
+        }
         if self.runs.iter().any(|r| !r.filtered.is_empty()) {
             s += &format!(
                 "\nAfter the real-time filters (RMSE of the filtered frame against the reference over frames {from}.., \
@@ -432,6 +456,91 @@ impl MethodRun {
     /// The errors after `chain`, if measured.
     pub fn filtered(&self, chain: FilterChain) -> Option<&FilteredErrors> {
         self.filtered.iter().find(|f| f.chain == chain)
+    }
+}
+
+impl StudyResult {
+    /// RMSE of `method`'s history ([`HistoryMetric`]) over frames
+    /// [`EMA_FROM`].. in `region` (`None`: the whole image), relative to white
+    /// noise's history. `None` for a missing run, too few frames or an empty region.
+    pub fn pooled_history(
+        &self,
+        method: Method,
+        metric: HistoryMetric,
+        region: Option<Region>,
+    ) -> Option<f64> {
+        let series = |r: &MethodRun| -> Option<f64> {
+            let h = &r.history;
+            pooled_sum(
+                match metric {
+                    HistoryMetric::Ema => &h.ema,
+                    HistoryMetric::EmaBlur1 => &h.ema_blur1,
+                },
+                region,
+                EMA_FROM,
+            )
+        };
+        let (m, w) = (series(self.run(method)?)?, series(self.run(Method::White)?)?);
+        (w > 0.0).then(|| (m / w).sqrt())
+    }
+
+    /// RMSE of the mean of `method`'s first `n` frames in `region` (`None`:
+    /// the whole image; reference noise not removed), relative to white's.
+    pub fn accumulated_region(&self, method: Method, n: usize, region: Option<Region>) -> Option<f64> {
+        let get = |r: &MethodRun| -> Option<f64> {
+            let v = r.acc_regions.get(n.checked_sub(1)?)?;
+            Some(match region {
+                Some(k) => v[k as usize],
+                None => v.iter().sum(),
+            })
+        };
+        let (m, w) = (get(self.run(method)?)?, get(self.run(Method::White)?)?);
+        (w > 0.0).then(|| (m / w).sqrt())
+    }
+
+    /// Markdown table of what a history keeps (issue 29): per method, the
+    /// RMSE after the EMA alone per region, after the EMA then a Gaussian
+    /// blur, and of the mean of the first 8 / 32 / 128 frames, white = 1.
+    pub fn temporal_markdown(&self) -> String {
+        let cell = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
+        let mut s = format!(
+            "| method | EMA {EMA_ALPHA} whole | EMA emitter zone | EMA edges | EMA interior | EMA + G1 whole | EMA + G1 interior"
+        );
+        for n in TEMPORAL_MEANS {
+            s += &format!(" | mean {n} whole | mean {n} interior");
+        }
+        s += " |
+|---|---|---|---|---|---|---";
+        s += &"|---|---".repeat(TEMPORAL_MEANS.len());
+        s += "|\n";
+        for r in &self.runs {
+            let m = r.method;
+            s += &format!(
+                "| {} | {}",
+                m.name(),
+                cell(self.pooled_history(m, HistoryMetric::Ema, None))
+            );
+            for region in Region::ALL {
+                s += &format!(
+                    " | {}",
+                    cell(self.pooled_history(m, HistoryMetric::Ema, Some(region)))
+                );
+            }
+            s += &format!(
+                " | {} | {}",
+                cell(self.pooled_history(m, HistoryMetric::EmaBlur1, None)),
+                cell(self.pooled_history(m, HistoryMetric::EmaBlur1, Some(Region::Interior)))
+            );
+            for n in TEMPORAL_MEANS {
+                s += &format!(
+                    " | {} | {}",
+                    cell(self.accumulated_region(m, n as usize, None)),
+                    cell(self.accumulated_region(m, n as usize, Some(Region::Interior)))
+                );
+            }
+            s += " |\n";
+        }
+        s
     }
 }
 

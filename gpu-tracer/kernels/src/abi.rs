@@ -22,7 +22,7 @@
 //! | | 4 | storage, read | `[EmitterGpu]` (at least one entry: pad with [`EmitterGpu::NONE`]) |
 //! | | 5 | storage, read | seeds `[u32]`, `padded_width * padded_height` |
 //! | | 6 | storage, write | frame colour `[Vec4]`, `width * height` |
-//! | | 7 | storage, read | screen-space Sobol keys `[u32]` laid out as [`TraceParams::key_side_log2`], [`TraceParams::key_pairs`], [`TraceParams::key_levels`] say (`sampler_core::sequences::screen_sobol`; the host binds `sampler_core::defaults::screen_sobol_keys()`); read only with [`SAMPLER_SCREEN_SOBOL`] (with or without [`SAMPLER_JITTER_ONLY`]), at least one element |
+//! | | 7 | storage, read | screen-space Sobol keys `[u32]` laid out as [`TraceParams::key_side_log2`], [`TraceParams::key_pairs`], [`TraceParams::key_levels`] say (`sampler_core::sequences::screen_sobol`; the host binds `sampler_core::defaults::screen_sobol_keys()`), then the [`SPATIOTEMPORAL_TILE_LOG2`]-sided shift tile of [`SAMPLER_SPATIOTEMPORAL`] (the host appends `sampler_core::defaults::tile_64()`'s ranks); read only with [`SAMPLER_SCREEN_SOBOL`] (with or without [`SAMPLER_JITTER_ONLY`]) and [`SAMPLER_SPATIOTEMPORAL`], at least one element |
 //! | | 8 | storage, read | `[TriangleAttrGpu]`, parallel to binding 2 |
 //! | | 9 | storage, read | images `[u32]` (layout in [`IMAGE_HEADER_WORDS`]), at least one element |
 //! | [`GBUFFER_ENTRY`] | 0 | uniform | [`TraceParams`] (current and previous camera) |
@@ -150,6 +150,17 @@ pub const SAMPLER_SCREEN_SOBOL: u32 = 1;
 /// most 4096 pixels wide and high (ZSobol's tile). Russian roulette still
 /// reads the seed stream.
 pub const SAMPLER_ZSOBOL: u32 = 2;
+/// [`TraceParams::sampler`]: the path's 2D decisions come from the
+/// spatiotemporal sampler (`sampler_core::sequences::spatiotemporal`), one
+/// dimension pair each: every pixel continues one progressive
+/// Owen-scrambled Sobol sequence across frames (index `frame * spp + s`),
+/// rotated by a per-pixel shift read from the dither tile that follows the
+/// screen-space Sobol keys in binding 7 (at `ScreenSobolLayout::key_count()`
+/// of the keys' layout, side `2^`[`SPATIOTEMPORAL_TILE_LOG2`]). Any spp.
+/// Russian roulette still reads the seed stream.
+pub const SAMPLER_SPATIOTEMPORAL: u32 = 3;
+/// `log2` of the side of [`SAMPLER_SPATIOTEMPORAL`]'s shift tile (64x64).
+pub const SPATIOTEMPORAL_TILE_LOG2: u32 = 6;
 /// Flag of [`TraceParams::sampler`], ORed with [`SAMPLER_SCREEN_SOBOL`] or
 /// [`SAMPLER_ZSOBOL`]: only the position inside the pixel (sampler pair 0)
 /// comes from the a-priori sampler; every other number comes from the seed
@@ -162,7 +173,8 @@ pub const SAMPLER_ZSOBOL: u32 = 2;
 /// jitter").
 pub const SAMPLER_JITTER_ONLY: u32 = 1 << 8;
 /// The bits of [`TraceParams::sampler`] that name the sampler
-/// ([`SAMPLER_SEEDS`], [`SAMPLER_SCREEN_SOBOL`] or [`SAMPLER_ZSOBOL`]); the
+/// ([`SAMPLER_SEEDS`], [`SAMPLER_SCREEN_SOBOL`], [`SAMPLER_ZSOBOL`] or
+/// [`SAMPLER_SPATIOTEMPORAL`]); the
 /// rest are flags ([`SAMPLER_JITTER_ONLY`]).
 pub const SAMPLER_KIND_MASK: u32 = 0xFF;
 

@@ -56,11 +56,13 @@
 
 use crate::abi::{
     TraceParams, MAX_DEPTH_LIMIT, SAMPLER_JITTER_ONLY, SAMPLER_KIND_MASK, SAMPLER_SCREEN_SOBOL,
-    SAMPLER_ZSOBOL, SEED_MODE_ADVANCE,
+    SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL, SEED_MODE_ADVANCE, SPATIOTEMPORAL_TILE_LOG2,
 };
 use crate::sampler_entry::{screen_sobol_pair, zsobol_pair};
 use glam::{UVec2, Vec2};
+use sampler_core::sequences::r2::q32_to_f32;
 use sampler_core::sequences::screen_sobol::ScreenSobolLayout;
+use sampler_core::sequences::spatiotemporal::{spatiotemporal_pair_u32, spatiotemporal_shift_at};
 use sampler_core::RandomStream;
 
 /// Stream dimensions used before the first vertex (pixel jitter).
@@ -105,7 +107,7 @@ pub fn sampler_kind(params: &TraceParams) -> u32 {
 #[inline]
 pub fn apriori_scope(params: &TraceParams) -> u32 {
     let kind = sampler_kind(params);
-    if kind != SAMPLER_SCREEN_SOBOL && kind != SAMPLER_ZSOBOL {
+    if kind != SAMPLER_SCREEN_SOBOL && kind != SAMPLER_ZSOBOL && kind != SAMPLER_SPATIOTEMPORAL {
         APRIORI_NONE
     } else if params.sampler & SAMPLER_JITTER_ONLY != 0 {
         APRIORI_JITTER
@@ -152,21 +154,30 @@ pub fn pair_bsdf(depth: u32) -> u32 {
 ///   sequence; each frame is an independent randomisation instead, and the
 ///   mean converges across frames as Monte Carlo over per-frame stratified
 ///   estimates.
+/// - [`SAMPLER_SPATIOTEMPORAL`]: index `frame * spp + s` of the shared
+///   progressive sequence, rotated by the pixel's shift read from the tile
+///   stored after the keys (`sampler_core::sequences::spatiotemporal`): one
+///   sequence per pixel across frames, so its mean converges like the
+///   sequence's and its error is anti-correlated from frame to frame.
 /// - any other value: `Vec2::ZERO` (unused).
 #[inline]
 pub fn apriori_pair(params: &TraceParams, keys: &[u32], pixel: UVec2, s: u32, pair: u32) -> Vec2 {
     let spp = params.spp.max(1);
     let kind = sampler_kind(params);
+    let layout = ScreenSobolLayout {
+        side_log2: params.key_side_log2,
+        pairs: params.key_pairs.max(1),
+        levels: params.key_levels.max(1),
+        pad: 0,
+    };
     if kind == SAMPLER_SCREEN_SOBOL {
-        let layout = ScreenSobolLayout {
-            side_log2: params.key_side_log2,
-            pairs: params.key_pairs.max(1),
-            levels: params.key_levels.max(1),
-            pad: 0,
-        };
         screen_sobol_pair(keys, layout, spp, params.frame, pixel, s, pair)
     } else if kind == SAMPLER_ZSOBOL {
         zsobol_pair(spp, params.frame, pixel, s, pair)
+    } else if kind == SAMPLER_SPATIOTEMPORAL {
+        let shift = spatiotemporal_shift_at(keys, layout.key_count(), SPATIOTEMPORAL_TILE_LOG2, pixel, pair);
+        let v = spatiotemporal_pair_u32(shift, params.frame, spp, s, pair);
+        Vec2::new(q32_to_f32(v[0]), q32_to_f32(v[1]))
     } else {
         Vec2::ZERO
     }

@@ -144,8 +144,8 @@ impl Tracer {
         let n = (params.width * params.height) as usize;
         let params_buf = gpu.uniform("trace params", params);
         let keys = gpu.storage(
-            "screen-space sobol keys",
-            sampler_core::defaults::screen_sobol_keys().keys(),
+            "a-priori sampler keys and shift tile",
+            crate::sampler_data::sampler_buffer(),
         );
         let accum = gpu.storage_zeroed::<Vec4>("accumulation", n);
         let gbuffer = gpu.storage_zeroed::<GBufferGpu>("g-buffer", n);

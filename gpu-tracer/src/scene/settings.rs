@@ -118,9 +118,10 @@ impl SceneGpu {
             (
                 "sampler",
                 s.sampler,
-                kind <= SAMPLER_ZSOBOL
+                kind <= kernels::abi::SAMPLER_SPATIOTEMPORAL
                     && (flags == 0 || (flags == SAMPLER_JITTER_ONLY && kind != kernels::abi::SAMPLER_SEEDS)),
-                "0 (seeds), 1 (screen-sobol) or 2 (zsobol), the last two optionally ORed with 256 (jitter only)",
+                "0 (seeds), 1 (screen-sobol), 2 (zsobol) or 3 (spatiotemporal), the last three optionally ORed \
+                 with 256 (jitter only)",
             ),
             (
                 "spp",
@@ -211,7 +212,7 @@ mod tests {
             TraceSettings { max_depth: 0, ..ok },
             TraceSettings { max_depth: 65, ..ok },
             TraceSettings { seed_mode: 2, ..ok },
-            TraceSettings { sampler: 3, ..ok },
+            TraceSettings { sampler: 4, ..ok },
             TraceSettings {
                 sampler: SAMPLER_JITTER_ONLY,
                 ..ok
@@ -256,6 +257,7 @@ mod tests {
             (SAMPLER_ZSOBOL, 256),
             (SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY, 16),
             (SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY, 256),
+            (kernels::abi::SAMPLER_SPATIOTEMPORAL, 4096),
         ] {
             let p = gpu
                 .trace_params(&TraceSettings { sampler, spp, ..ok }, 0)

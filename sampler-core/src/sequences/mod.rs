@@ -12,6 +12,9 @@
 //!   with optimised per-pixel keys ([`screen_sobol`],
 //!   [`ScreenSobolKeys::sample`](crate::ScreenSobolKeys::sample)) and
 //!   Morton-ordered ZSobol ([`zsobol`], [`zsobol_sample`](crate::zsobol_sample)).
+//! - A spatiotemporal a-priori sampler whose pixels each continue one
+//!   progressive sequence across frames, rotated by a blue-noise shift
+//!   ([`spatiotemporal`], [`spatiotemporal_pair_u32`](crate::spatiotemporal_pair_u32)).
 //!
 //! Everything here is `u32`/`f32` arithmetic that compiles with rust-gpu and
 //! gives the same bits on the CPU and in shaders. Nothing here depends on the
@@ -22,5 +25,6 @@ pub mod r2;
 pub mod screen_sobol;
 pub mod seed;
 pub mod sobol;
+pub mod spatiotemporal;
 pub mod walk;
 pub mod zsobol;

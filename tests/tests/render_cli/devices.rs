@@ -81,3 +81,32 @@ fn gpu_device_renders_or_fails_clearly() {
         eprintln!("SKIPPED: {t}");
     }
 }
+
+/// On a headless machine (no `XDG_RUNTIME_DIR`) a render prints no `error:`
+/// line: the Vulkan loader's window-system complaint is kept away by giving
+/// the process a private runtime directory (`gpu::prepare_headless_environment`).
+#[test]
+fn a_headless_render_prints_no_error_line() {
+    let exe = tracer();
+    let dir = tempfile::tempdir().unwrap();
+    let o = std::process::Command::new(&exe)
+        .args([
+            "render", "--device", "gpu", "--width", "16", "--height", "16", "--frames", "1", "--out",
+        ])
+        .arg(dir.path())
+        .env_remove("XDG_RUNTIME_DIR")
+        .output()
+        .expect("the tool starts");
+    let t = text(&o);
+    assert!(
+        !t.lines()
+            .any(|l| l.trim_start().starts_with("error:") && l.contains("XDG_RUNTIME_DIR")),
+        "{t}"
+    );
+    if o.status.success() {
+        assert_eq!(png_size(&dir.path().join("last.png")), (16, 16));
+    } else {
+        assert!(t.contains("no GPU adapter") && !gpu_required(), "{t}");
+        eprintln!("SKIPPED GPU part: {t}");
+    }
+}

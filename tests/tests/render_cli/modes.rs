@@ -58,6 +58,7 @@ fn cpu_render_with_each_apriori_sampler() {
         ("screen-sobol", "permute"),
         ("screen-sobol-jitter", "permute"),
         ("zsobol-jitter", "permute"),
+        ("spatiotemporal", "white"),
     ] {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("out");

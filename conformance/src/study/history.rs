@@ -1,0 +1,146 @@
+//! What a history buffer keeps: each method's error after an exponential
+//! moving average of its frames (issue 29, "Measure what TAA sees").
+//!
+//! A real-time renderer shows a history, not a raw frame. With a still camera
+//! no reprojection and no neighbourhood clamp are needed, so the plain EMA
+//! isolates what the frames' temporal structure buys:
+//!
+//! ```text
+//! h_0 = luma(frame_0),  h_t = (1 - alpha) h_{t-1} + alpha luma(frame_t),  alpha = EMA_ALPHA
+//! ```
+//!
+//! Per frame, per region ([`Region::ALL`] order), [`HistoryMeter`] records the
+//! squared sum of `h_t - luma(reference)` (the EMA alone) and of the same
+//! error after a toroidal Gaussian blur of sigma 1 (EMA then Gaussian: FAST's
+//! rendered metric, the stand-in for a history followed by a denoiser). On
+//! temporally white input the EMA keeps `alpha / (2 - alpha)` of the per-frame
+//! variance (0.229 of the RMS for alpha 0.1); it keeps less only where each
+//! pixel's error is anti-correlated from frame to frame (blue in time).
+//! Figures pool frames [`EMA_FROM`].. so that the start (`h_0` is one frame)
+//! has faded: `0.9^16 = 0.19`.
+
+use crate::metrics::regions::Region;
+use crate::{GaussianBlur, Grid};
+use anyhow::Result;
+
+/// Weight of the new frame in the history (TAA's usual 0.1).
+pub const EMA_ALPHA: f32 = 0.1;
+/// First frame pooled into the history figures.
+pub const EMA_FROM: usize = 16;
+
+/// Per frame, the squared error sums of the history per region.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct HistoryErrors {
+    /// Entry `t`: sum over each region of `(h_t - reference)^2`.
+    pub ema: Vec<[f64; 3]>,
+    /// Entry `t`: the same after a Gaussian blur of sigma 1 of the whole error image.
+    pub ema_blur1: Vec<[f64; 3]>,
+}
+
+/// Runs the EMA over a method's frames and records [`HistoryErrors`].
+pub(crate) struct HistoryMeter {
+    size: usize,
+    history: Vec<f32>,
+    blur: GaussianBlur,
+    errors: HistoryErrors,
+}
+
+impl HistoryMeter {
+    /// A meter for `size x size` frames.
+    pub(crate) fn new(size: u32) -> Result<Self> {
+        Ok(HistoryMeter {
+            size: size as usize,
+            history: Vec::new(),
+            blur: GaussianBlur::new(1.0)?,
+            errors: HistoryErrors::default(),
+        })
+    }
+
+    /// Adds the next frame's luma and records the history's error against
+    /// `reference` luma in each region.
+    pub(crate) fn frame(&mut self, luma: &[f32], reference: &[f32], regions: &[Region]) {
+        if self.history.is_empty() {
+            self.history = luma.to_vec();
+        } else {
+            for (h, l) in self.history.iter_mut().zip(luma) {
+                *h += EMA_ALPHA * (l - *h);
+            }
+        }
+        let error: Vec<f32> = self.history.iter().zip(reference).map(|(h, r)| h - r).collect();
+        self.errors.ema.push(region_squares(&error, regions));
+        let grid = Grid::new(self.size, self.size, error).expect("frame size");
+        self.errors
+            .ema_blur1
+            .push(region_squares(self.blur.apply(&grid).data(), regions));
+    }
+
+    /// The recorded errors.
+    pub(crate) fn finish(self) -> HistoryErrors {
+        self.errors
+    }
+}
+
+/// Sum of `error^2` over each region ([`Region::ALL`] order).
+fn region_squares(error: &[f32], regions: &[Region]) -> [f64; 3] {
+    let mut sums = [0.0f64; 3];
+    for (e, r) in error.iter().zip(regions) {
+        sums[*r as usize] += (*e as f64) * (*e as f64);
+    }
+    sums
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// White noise through the EMA keeps `alpha / (2 - alpha)` of its variance;
+    /// its first difference over frames (blue in time, same variance) keeps
+    /// `alpha` times that.
+    #[test]
+    fn the_ema_keeps_the_analytic_share_of_white_noise_and_less_of_blue() {
+        let size = 32;
+        let n = size * size;
+        let regions = vec![Region::Interior; n];
+        let reference = vec![0.0f32; n];
+        let mut white = HistoryMeter::new(size as u32).unwrap();
+        let mut blue = HistoryMeter::new(size as u32).unwrap();
+        let mut state = 1u32;
+        let mut previous = vec![0.0f32; n];
+        let frames = 400;
+        for _ in 0..frames {
+            let frame: Vec<f32> = (0..n)
+                .map(|_| {
+                    state = sampler_core::sequences::seed::hash_u32(state);
+                    (state >> 8) as f32 / (1 << 24) as f32 - 0.5
+                })
+                .collect();
+            white.frame(&frame, &reference, &regions);
+            let difference: Vec<f32> = frame
+                .iter()
+                .zip(&previous)
+                .map(|(v, p)| (v - p) * std::f32::consts::FRAC_1_SQRT_2)
+                .collect();
+            blue.frame(&difference, &reference, &regions);
+            previous = frame;
+        }
+        let (w, b) = (white.finish(), blue.finish());
+        let mean = |e: &HistoryErrors| {
+            e.ema[EMA_FROM..].iter().map(|v| v[2]).sum::<f64>() / ((frames as usize - EMA_FROM) * n) as f64
+        };
+        let expected = (1.0 / 12.0) * (EMA_ALPHA / (2.0 - EMA_ALPHA)) as f64;
+        let measured = mean(&w);
+        assert!(
+            (measured / expected - 1.0).abs() < 0.05,
+            "white EMA variance {measured} vs {expected}"
+        );
+        let ratio = mean(&b) / measured;
+        assert!(
+            (ratio / EMA_ALPHA as f64 - 1.0).abs() < 0.15,
+            "blue-in-time EMA keeps {ratio} of white's"
+        );
+        // The blur removes most of white noise's (spatially white) error.
+        let blurred = w.ema_blur1[EMA_FROM..].iter().map(|v| v[2]).sum::<f64>();
+        let plain = w.ema[EMA_FROM..].iter().map(|v| v[2]).sum::<f64>();
+        assert!(blurred < 0.2 * plain, "{blurred} vs {plain}");
+    }
+}

@@ -1,0 +1,210 @@
+//! A spatiotemporal a-priori sampler: every pixel continues **one
+//! progressive** Owen-scrambled Sobol sequence across frames, rotated by a
+//! per-pixel blue-noise shift (issue 29, "Blue in time").
+//!
+//! # Why
+//!
+//! A real-time renderer shows an exponential history of its frames. Samplers
+//! that re-randomise every frame (the seed permutation's streams, the
+//! screen-space samplers' per-frame keys) make each pixel's error white in
+//! time, and a history of white-in-time error keeps `alpha / (2 - alpha)` of
+//! the per-frame variance whatever the spatial arrangement. A pixel whose
+//! samples over frames are the consecutive points of one low-discrepancy
+//! sequence has an error that is anti-correlated from frame to frame (its
+//! running mean converges faster than `1/sqrt(n)`), so the history keeps less.
+//!
+//! # Sampling
+//!
+//! Sample `s` of frame `t` at `spp` samples per pixel has the sequence index
+//! `n = t * spp + s` (wrapping). Dimension pair `k` of pixel `p` is
+//!
+//! ```text
+//! x_k(p, n) = frac( sobol_owen(shuffle(n, seed_k), dims 0 and 1, seed_k) + shift_k(p) )
+//! ```
+//!
+//! - `sobol_owen(shuffle(n))` is the 2D Owen-scrambled Sobol (0, 2)-sequence
+//!   with its index shuffled by a nested scramble ([`shuffle_index`]): every
+//!   aligned block of `2^m` consecutive indices (so every prefix of `2^m`
+//!   frames at 1 spp) is a (0, m, 2)-net, and the independent `seed_k` of
+//!   each pair decorrelates the pairs ("padding"). It is the **same** for
+//!   every pixel.
+//! - `shift_k(p)` is a toroidal (Cranley-Patterson) rotation, constant over
+//!   time, read from a blue-noise dither tile ([`spatiotemporal_shift_u32`]):
+//!   coordinate `c` of pair `k` reads the tile at `p + o_(2k + c + 1)`, where
+//!   `o_i` is the tile's R2 walk offset ([`walk_offset`]), so the coordinates
+//!   read well-separated parts of the tile. In any one frame all pixels share
+//!   the sequence point and differ only by their shift, so where neighbours
+//!   integrate the same function their errors are the function of a
+//!   blue-noise shift: blue in space, every frame.
+//!
+//! So the sampler needs no per-frame data and no history, and its sequence
+//! continues for 2^32 samples; nothing here is optimised for a filter yet
+//! (the two coordinates of a shift are two scalar blue-noise reads, not a
+//! jointly blue 2D vector): the measured figures are in `QUALITY.md`,
+//! "Blue in time".
+//!
+//! All arithmetic is `u32` with `wrapping_*` (0.32 fixed point: `x_q32 / 2^32`);
+//! identical on the CPU and in shaders.
+
+use crate::sequences::owen::{owen_sobol_u32, shuffle_index};
+use crate::sequences::seed::hash_u32;
+use crate::sequences::walk::walk_offset;
+use glam::UVec2;
+
+/// Seed of the shared sequence, so that a renderer's pairs match the
+/// library's reference (any fixed value works; this one is `hash("st")`-like:
+/// the ASCII bytes `"stsb"`).
+pub const SPATIOTEMPORAL_SEED: u32 = 0x7374_7362;
+
+/// The sequence index of sample `s` of `frame` at `spp` samples per pixel:
+/// `frame * spp + s`, wrapping.
+#[inline]
+pub fn spatiotemporal_index(frame: u32, spp: u32, s: u32) -> u32 {
+    frame.wrapping_mul(spp).wrapping_add(s)
+}
+
+/// The per-pixel shift of pair `pair`, both coordinates in 0.32 fixed point:
+/// coordinate `c` is the rank `r` of the `2^side_log2`-sided square `tile`
+/// (row-major, ranks `0..4^side_log2`) at texel `(pixel + o) mod side`,
+/// `o = walk_offset(2 pair + c + 1, side_log2)`, as `(r + 0.5) / 4^side_log2`.
+/// `side_log2` must be in `1..=15`; a texel past the end of `tile` reads rank 0
+/// (no panic in shaders).
+#[inline]
+pub fn spatiotemporal_shift_u32(tile: &[u32], side_log2: u32, pixel: UVec2, pair: u32) -> [u32; 2] {
+    spatiotemporal_shift_at(tile, 0, side_log2, pixel, pair)
+}
+
+/// [`spatiotemporal_shift_u32`] with the tile stored in `buffer` from index
+/// `start` on (shaders bind it after other data; no sub-slice needed).
+#[inline]
+pub fn spatiotemporal_shift_at(
+    buffer: &[u32],
+    start: usize,
+    side_log2: u32,
+    pixel: UVec2,
+    pair: u32,
+) -> [u32; 2] {
+    let mask = (1u32 << side_log2).wrapping_sub(1);
+    let bits = 2 * side_log2;
+    let mut out = [0u32; 2];
+    let mut c = 0;
+    while c < 2 {
+        let o = walk_offset(pair.wrapping_mul(2).wrapping_add(c as u32 + 1), side_log2);
+        let x = pixel.x.wrapping_add(o.x) & mask;
+        let y = pixel.y.wrapping_add(o.y) & mask;
+        let i = start.wrapping_add(((y << side_log2) | x) as usize);
+        let rank = if i < buffer.len() { buffer[i] } else { 0 };
+        out[c] = (rank << (32 - bits)) | (1u32 << (31 - bits));
+        c += 1;
+    }
+    out
+}
+
+/// Pair `pair` of sequence index `index` before the per-pixel shift: the 2D
+/// Owen-scrambled Sobol point of the shuffled index, both coordinates in 0.32
+/// fixed point. The same for every pixel.
+#[inline]
+pub fn spatiotemporal_point_u32(index: u32, pair: u32, seed: u32) -> [u32; 2] {
+    let pair_seed = hash_u32(seed ^ hash_u32(pair ^ 0x2545_F491));
+    let shuffled = shuffle_index(index, pair_seed);
+    [
+        owen_sobol_u32(shuffled, 0, pair_seed),
+        owen_sobol_u32(shuffled, 1, pair_seed),
+    ]
+}
+
+/// Pair `pair` of sample `s` of `frame` (at `spp` samples per pixel) of the
+/// pixel whose shift is `shift` ([`spatiotemporal_shift_u32`]), both
+/// coordinates in 0.32 fixed point: [`spatiotemporal_point_u32`] of
+/// [`spatiotemporal_index`] rotated by `shift` (a wrapping add).
+#[inline]
+pub fn spatiotemporal_pair_u32(shift: [u32; 2], frame: u32, spp: u32, s: u32, pair: u32) -> [u32; 2] {
+    let p = spatiotemporal_point_u32(spatiotemporal_index(frame, spp, s), pair, SPATIOTEMPORAL_SEED);
+    [p[0].wrapping_add(shift[0]), p[1].wrapping_add(shift[1])]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every `2^m` consecutive frames of one pixel (1 spp), from frame 0 and
+    /// from any aligned start, put exactly one point in each of the `2^m`
+    /// elementary intervals of every shape, once the pixel's shift is undone.
+    #[test]
+    fn each_pixel_is_a_progressive_net_over_frames() {
+        let tile: [u32; 16] = [5, 12, 0, 9, 14, 3, 10, 7, 1, 8, 15, 4, 11, 6, 13, 2];
+        for (pixel, pair) in [
+            (UVec2::new(0, 0), 0),
+            (UVec2::new(3, 1), 1),
+            (UVec2::new(77, 12), 5),
+        ] {
+            let shift = spatiotemporal_shift_u32(&tile, 2, pixel, pair);
+            for m in [2u32, 4, 6] {
+                let n = 1u32 << m;
+                for start in [0, n, 5 * n] {
+                    for xbits in 0..=m {
+                        let ybits = m - xbits;
+                        let mut seen = [false; 64];
+                        for t in start..start + n {
+                            let v = spatiotemporal_pair_u32(shift, t, 1, 0, pair);
+                            let (x, y) = (v[0].wrapping_sub(shift[0]), v[1].wrapping_sub(shift[1]));
+                            let cell =
+                                ((x as u64 >> (32 - xbits)) << ybits | (y as u64 >> (32 - ybits))) as usize;
+                            assert!(
+                                !seen[cell],
+                                "pixel {pixel} pair {pair} m {m} start {start} shape {xbits}x{ybits}"
+                            );
+                            seen[cell] = true;
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// In one frame every pixel gets the same point rotated by its own shift,
+    /// and the shifts over one tile period are the tile's ranks, each once.
+    #[test]
+    fn shifts_are_the_tiles_ranks_and_frames_share_one_point() {
+        let side_log2 = 3;
+        let n = 1u32 << (2 * side_log2);
+        // A permutation of 0..64 as a stand-in tile.
+        let tile: [u32; 64] = core::array::from_fn(|i| ((i as u32).wrapping_mul(37) + 11) % n);
+        for pair in 0..3 {
+            for c in 0..2 {
+                let mut seen = [false; 64];
+                for y in 0..8 {
+                    for x in 0..8 {
+                        let s = spatiotemporal_shift_u32(&tile, side_log2, UVec2::new(x, y), pair);
+                        let rank = (s[c] >> (32 - 2 * side_log2)) as usize;
+                        assert_eq!(
+                            s[c] & ((1 << (32 - 2 * side_log2)) - 1),
+                            1 << (31 - 2 * side_log2)
+                        );
+                        assert!(!seen[rank]);
+                        seen[rank] = true;
+                    }
+                }
+            }
+        }
+        let a = spatiotemporal_shift_u32(&tile, side_log2, UVec2::new(1, 2), 0);
+        let b = spatiotemporal_shift_u32(&tile, side_log2, UVec2::new(6, 5), 0);
+        assert_ne!(a, b);
+        for frame in [0, 1, 17] {
+            let pa = spatiotemporal_pair_u32(a, frame, 4, 3, 0);
+            let pb = spatiotemporal_pair_u32(b, frame, 4, 3, 0);
+            assert_eq!(pa[0].wrapping_sub(a[0]), pb[0].wrapping_sub(b[0]));
+            assert_eq!(pa[1].wrapping_sub(a[1]), pb[1].wrapping_sub(b[1]));
+        }
+        // Different pairs are scrambled independently.
+        assert_ne!(
+            spatiotemporal_point_u32(5, 0, 1),
+            spatiotemporal_point_u32(5, 1, 1)
+        );
+        // A short tile reads rank 0 instead of panicking.
+        let short = spatiotemporal_shift_u32(&tile[..1], side_log2, UVec2::new(7, 7), 0);
+        assert!(short
+            .iter()
+            .all(|&v| v >> (32 - 2 * side_log2) == 0 || v >> (32 - 2 * side_log2) == tile[0]));
+    }
+}
