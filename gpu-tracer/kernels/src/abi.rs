@@ -157,7 +157,8 @@ pub const SAMPLER_ZSOBOL: u32 = 2;
 /// rotated by a per-pixel shift read from the dither tile that follows the
 /// screen-space Sobol keys in binding 7 (at `ScreenSobolLayout::key_count()`
 /// of the keys' layout, side `2^`[`SPATIOTEMPORAL_TILE_LOG2`]). Any spp.
-/// Russian roulette still reads the seed stream.
+/// Russian roulette reads the sampler too (`crate::numbers::pair_roulette`):
+/// with this sampler no number of a path comes from the seed.
 pub const SAMPLER_SPATIOTEMPORAL: u32 = 3;
 /// `log2` of the side of [`SAMPLER_SPATIOTEMPORAL`]'s shift tile (64x64).
 pub const SPATIOTEMPORAL_TILE_LOG2: u32 = 6;

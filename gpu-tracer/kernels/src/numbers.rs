@@ -41,11 +41,13 @@
 //! | 0 ([`PAIR_JITTER`]) | position inside the pixel |
 //! | `1 + 2 d` ([`pair_light`]) | vertex `d`: emitter and point on it |
 //! | `2 + 2 d` ([`pair_bsdf`]) | vertex `d`: BSDF direction |
+//! | `1 + 2 MAX_DEPTH_LIMIT + d` ([`pair_roulette`]) | vertex `d`: Russian roulette ([`SAMPLER_SPATIOTEMPORAL`] only) |
 //!
 //! The first pairs are the ones the screen-space Sobol keys are optimised
 //! for (jitter, vertex 0's light, vertex 0's BSDF, vertex 1's light with the
 //! default 4 pairs); later pairs are valid, unoptimised Owen-scrambled
-//! sequences. Russian roulette still reads the seed stream, so `seed_mode`
+//! sequences. Russian roulette still reads the seed stream (except with
+//! [`SAMPLER_SPATIOTEMPORAL`], whose every decision is its own), so `seed_mode`
 //! and the seed permutation keep applying to it. The a-priori pairs are the
 //! same for every seed: they depend only on the pixel, the frame and the
 //! sample.
@@ -130,6 +132,14 @@ pub fn pair_light(depth: u32) -> u32 {
 #[inline]
 pub fn pair_bsdf(depth: u32) -> u32 {
     2 + 2 * depth
+}
+
+/// A-priori sampler pair of vertex `depth`'s Russian roulette (its first
+/// coordinate; [`SAMPLER_SPATIOTEMPORAL`] only): `1 + 2 MAX_DEPTH_LIMIT + depth`,
+/// after every light and BSDF pair of the longest path.
+#[inline]
+pub fn pair_roulette(depth: u32) -> u32 {
+    1 + 2 * MAX_DEPTH_LIMIT + depth
 }
 
 /// Pair `pair` (dimensions `2 pair`, `2 pair + 1`) of sample `s` of `pixel`
@@ -285,10 +295,17 @@ impl PathNumbers {
         }
     }
 
-    /// Vertex `depth`'s Russian-roulette number (always the seed stream).
+    /// Vertex `depth`'s Russian-roulette number: coordinate 0 of sampler pair
+    /// [`pair_roulette`] when [`SAMPLER_SPATIOTEMPORAL`] drives every decision
+    /// (so that the decision to continue a path is stratified over frames
+    /// too), else the seed stream (the other samplers keep their numbers).
     #[inline]
-    pub fn roulette(&self, depth: u32) -> f32 {
-        self.stream_pair(vertex_dim(depth) + 5).x
+    pub fn roulette(&self, params: &TraceParams, keys: &[u32], depth: u32) -> f32 {
+        if self.apriori == APRIORI_ALL && sampler_kind(params) == SAMPLER_SPATIOTEMPORAL {
+            apriori_pair(params, keys, self.pixel, self.sample, pair_roulette(depth)).x
+        } else {
+            self.stream_pair(vertex_dim(depth) + 5).x
+        }
     }
 }
 

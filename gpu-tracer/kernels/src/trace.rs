@@ -261,7 +261,7 @@ pub(crate) fn trace_sample_with(
 
         if depth >= params.rr_depth {
             let survive = throughput.max_element().min(RR_MAX_SURVIVAL);
-            if numbers.roulette(depth) >= survive {
+            if numbers.roulette(params, keys, depth) >= survive {
                 break;
             }
             throughput /= survive;

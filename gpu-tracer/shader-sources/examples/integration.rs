@@ -54,6 +54,14 @@ const HEIGHT: u32 = 160;
 const FRAMES: u32 = 8;
 
 fn main() {
+    // Headless machines: Mesa's window-system layer prints "error: XDG_RUNTIME_DIR is
+    // invalid" when the variable is missing; a private directory keeps it quiet.
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        let dir = std::env::temp_dir().join("bluenoise-runtime-example");
+        if std::fs::create_dir_all(&dir).is_ok() {
+            std::env::set_var("XDG_RUNTIME_DIR", dir);
+        }
+    }
     let args: Vec<String> = std::env::args().collect();
     let out = match args.iter().position(|a| a == "--out") {
         Some(i) => std::path::PathBuf::from(args.get(i + 1).expect("--out DIR")),
