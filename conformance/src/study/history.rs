@@ -9,7 +9,7 @@
 //! h_0 = luma(frame_0),  h_t = (1 - alpha) h_{t-1} + alpha luma(frame_t),  alpha = EMA_ALPHA
 //! ```
 //!
-//! Per frame, per region ([`Region::ALL`] order), [`HistoryMeter`] records the
+//! Per frame, per region ([`Region::ALL`] order), `HistoryMeter` records the
 //! squared sum of `h_t - luma(reference)` (the EMA alone) and of the same
 //! error after a toroidal Gaussian blur of sigma 1 (EMA then Gaussian: FAST's
 //! rendered metric, the stand-in for a history followed by a denoiser). On

@@ -117,6 +117,26 @@ pub fn sobol_u32(index: u32, dimension: u32) -> u32 {
     result
 }
 
+/// Point `index` of Sobol dimensions 0 and 1 together, in 0.32 fixed point;
+/// identical to `[sobol_u32(index, 0), sobol_u32(index, 1)]`, without the
+/// table: dimension 0 is the bit reversal of `index` (van der Corput), and
+/// dimension 1's columns follow `v_(k+1) = v_k ^ (v_k >> 1)` (its primitive
+/// polynomial is `x + 1`, so its generator matrix is Pascal's triangle mod 2).
+#[inline]
+pub fn sobol_pair_u32(index: u32) -> [u32; 2] {
+    let mut y = 0u32;
+    let mut v = 1u32 << 31;
+    let mut i = index;
+    while i != 0 {
+        if i & 1 != 0 {
+            y ^= v;
+        }
+        i >>= 1;
+        v ^= v >> 1;
+    }
+    [index.reverse_bits(), y]
+}
+
 /// Point `index` of Sobol dimension `dimension`, in `[0, 1)` (24 bits).
 #[inline]
 pub fn sobol(index: u32, dimension: u32) -> f32 {
@@ -125,6 +145,28 @@ pub fn sobol(index: u32, dimension: u32) -> f32 {
 
 #[cfg(test)]
 pub(crate) mod tests {
+    #[test]
+    fn the_pair_equals_the_table_for_dimensions_0_and_1() {
+        let mut state = 7u32;
+        for k in 0..20_000u32 {
+            let index = if k < 4096 {
+                k
+            } else {
+                crate::sequences::seed::hash_u32(state)
+            };
+            state = state.wrapping_add(1);
+            assert_eq!(
+                sobol_pair_u32(index),
+                [sobol_u32(index, 0), sobol_u32(index, 1)],
+                "index {index}"
+            );
+        }
+        assert_eq!(
+            sobol_pair_u32(u32::MAX),
+            [sobol_u32(u32::MAX, 0), sobol_u32(u32::MAX, 1)]
+        );
+    }
+
     use super::*;
 
     /// Whether `points` (0.32 fixed point pairs, `2^m` of them) form a

@@ -46,8 +46,9 @@
 //! All arithmetic is `u32` with `wrapping_*` (0.32 fixed point: `x_q32 / 2^32`);
 //! identical on the CPU and in shaders.
 
-use crate::sequences::owen::{owen_sobol_u32, shuffle_index};
+use crate::sequences::owen::{dimension_seed, owen_scramble, shuffle_index};
 use crate::sequences::seed::hash_u32;
+use crate::sequences::sobol::sobol_pair_u32;
 use crate::sequences::walk::walk_offset;
 use glam::UVec2;
 
@@ -106,10 +107,11 @@ pub fn spatiotemporal_shift_at(
 #[inline]
 pub fn spatiotemporal_point_u32(index: u32, pair: u32, seed: u32) -> [u32; 2] {
     let pair_seed = hash_u32(seed ^ hash_u32(pair ^ 0x2545_F491));
-    let shuffled = shuffle_index(index, pair_seed);
+    let [x, y] = sobol_pair_u32(shuffle_index(index, pair_seed));
+    // As `owen_sobol_u32(shuffled, d, pair_seed)` for d = 0, 1 (tested), without its table.
     [
-        owen_sobol_u32(shuffled, 0, pair_seed),
-        owen_sobol_u32(shuffled, 1, pair_seed),
+        owen_scramble(x, dimension_seed(pair_seed, 0)),
+        owen_scramble(y, dimension_seed(pair_seed, 1)),
     ]
 }
 
@@ -195,6 +197,16 @@ mod tests {
             let pb = spatiotemporal_pair_u32(b, frame, 4, 3, 0);
             assert_eq!(pa[0].wrapping_sub(a[0]), pb[0].wrapping_sub(b[0]));
             assert_eq!(pa[1].wrapping_sub(a[1]), pb[1].wrapping_sub(b[1]));
+        }
+        // The same points as the table-driven Owen-scrambled Sobol.
+        for index in [0u32, 1, 2, 1000, 0xDEAD_BEEF, u32::MAX] {
+            let seed = hash_u32(SPATIOTEMPORAL_SEED ^ hash_u32(3 ^ 0x2545_F491));
+            let shuffled = crate::sequences::owen::shuffle_index(index, seed);
+            let want = [
+                crate::sequences::owen::owen_sobol_u32(shuffled, 0, seed),
+                crate::sequences::owen::owen_sobol_u32(shuffled, 1, seed),
+            ];
+            assert_eq!(spatiotemporal_point_u32(index, 3, SPATIOTEMPORAL_SEED), want);
         }
         // Different pairs are scrambled independently.
         assert_ne!(
