@@ -19,17 +19,21 @@ pub enum MotionMethod {
     FeaturePermuteReproject,
     /// White seeds and screen-space Sobol on every 2D decision.
     ScreenSobol,
+    /// The spatiotemporal sampler on every decision (issue 29): one progressive
+    /// sequence per pixel across frames; a-priori, so nothing to reproject.
+    Spatiotemporal,
 }
 
 impl MotionMethod {
     /// Every row, white first.
-    pub const ALL: [MotionMethod; 6] = [
+    pub const ALL: [MotionMethod; 7] = [
         MotionMethod::White,
         MotionMethod::Permute,
         MotionMethod::PermuteReproject,
         MotionMethod::PermuteJitterReproject,
         MotionMethod::FeaturePermuteReproject,
         MotionMethod::ScreenSobol,
+        MotionMethod::Spatiotemporal,
     ];
 
     /// Name used in tables.
@@ -41,6 +45,7 @@ impl MotionMethod {
             MotionMethod::PermuteJitterReproject => "permute-jitter + reprojection",
             MotionMethod::FeaturePermuteReproject => "feature-aware permute + reprojection",
             MotionMethod::ScreenSobol => "screen-sobol",
+            MotionMethod::Spatiotemporal => "spatiotemporal",
         }
     }
 
@@ -60,6 +65,10 @@ impl MotionMethod {
             }
             MotionMethod::ScreenSobol => {
                 settings.sampler = kernels::abi::SAMPLER_SCREEN_SOBOL;
+                (PermuteMode::White, false)
+            }
+            MotionMethod::Spatiotemporal => {
+                settings.sampler = kernels::abi::SAMPLER_SPATIOTEMPORAL;
                 (PermuteMode::White, false)
             }
         };
