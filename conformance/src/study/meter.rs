@@ -374,7 +374,7 @@ impl<'a> Meter<'a> {
         if let Some((filters, _)) = self.filters.take() {
             self.run.filtered = filters.finish();
         }
-        self.run.history = std::mem::replace(&mut self.history, HistoryMeter::new(1)?).finish();
+        self.run.history = self.history.finish();
         ensure!(
             self.run.rmse.len() == self.study.config.frames as usize,
             "the renderer delivered {} of {} frames",
