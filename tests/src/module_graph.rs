@@ -285,7 +285,6 @@ fn parse_module(path: &[String], file: &Path, source: &str) -> Module {
         }
         i += 1;
     }
-    // Items are also imported names' homes; a `use` name shadows nothing here.
     module
 }
 

@@ -162,6 +162,16 @@ pub fn classify_regions(gbuffer: &[GBufferGpu], width: u32, height: u32) -> Vec<
         .collect()
 }
 
+/// Sum of `value^2` over each region ([`Region::ALL`] order); `values` and
+/// `regions` are per pixel, in the same order.
+pub fn square_sums_by_region(values: &[f32], regions: &[Region]) -> [f64; 3] {
+    let mut sums = [0.0f64; 3];
+    for (v, r) in values.iter().zip(regions) {
+        sums[*r as usize] += (*v as f64) * (*v as f64);
+    }
+    sums
+}
+
 /// The share of the image of each region ([`Region::ALL`] order).
 pub fn region_shares(regions: &[Region]) -> [f64; 3] {
     let n = regions.len().max(1) as f64;

@@ -19,7 +19,7 @@
 //! Figures pool frames [`EMA_FROM`].. so that the start (`h_0` is one frame)
 //! has faded: `0.9^16 = 0.19`.
 
-use crate::metrics::regions::Region;
+use crate::metrics::regions::{square_sums_by_region, Region};
 use crate::{GaussianBlur, Grid};
 use anyhow::Result;
 
@@ -67,26 +67,17 @@ impl HistoryMeter {
             }
         }
         let error: Vec<f32> = self.history.iter().zip(reference).map(|(h, r)| h - r).collect();
-        self.errors.ema.push(region_squares(&error, regions));
+        self.errors.ema.push(square_sums_by_region(&error, regions));
         let grid = Grid::new(self.size, self.size, error).expect("frame size");
         self.errors
             .ema_blur1
-            .push(region_squares(self.blur.apply(&grid).data(), regions));
+            .push(square_sums_by_region(self.blur.apply(&grid).data(), regions));
     }
 
     /// The recorded errors.
     pub(crate) fn finish(self) -> HistoryErrors {
         self.errors
     }
-}
-
-/// Sum of `error^2` over each region ([`Region::ALL`] order).
-fn region_squares(error: &[f32], regions: &[Region]) -> [f64; 3] {
-    let mut sums = [0.0f64; 3];
-    for (e, r) in error.iter().zip(regions) {
-        sums[*r as usize] += (*e as f64) * (*e as f64);
-    }
-    sums
 }
 
 #[cfg(test)]

@@ -10,7 +10,7 @@ use super::method::Method;
 use super::result::{MethodRun, Snapshot, StudyResult};
 use super::setup::Study;
 use super::walks::{render_dither, render_walk, Walk};
-use crate::metrics::regions::region_shares;
+use crate::metrics::regions::{region_shares, square_sums_by_region};
 use crate::{low_frequency_ratio, radial_power, GaussianBlur, Grid, SpectrumAnalyzer};
 use anyhow::{ensure, Result};
 use glam::{Vec2, Vec4};
@@ -264,20 +264,15 @@ impl<'a> Meter<'a> {
     fn frame(&mut self, t: u32, color: &[Vec4]) {
         let size = self.study.config.size as usize;
         let reference = &self.study.reference;
-        let error: Vec<f32> = color
-            .iter()
-            .zip(&reference.luma)
-            .map(|(c, r)| c.intensity() - r)
-            .collect();
+        let luma: Vec<f32> = color.iter().map(|c| c.intensity()).collect();
+        let error: Vec<f32> = luma.iter().zip(&reference.luma).map(|(l, r)| l - r).collect();
         let grid = Grid::new(size, size, error.clone()).expect("frame size");
         self.run.rmse.push(grid.rms());
         let blurred = self.blur1.apply(&grid);
         self.run.blur1.push(blurred.rms());
-        let mut sums = [0.0f64; 3];
-        for (b, r) in blurred.data().iter().zip(&self.study.regions) {
-            sums[*r as usize] += (*b as f64) * (*b as f64);
-        }
-        self.run.blur1_regions.push(sums);
+        self.run
+            .blur1_regions
+            .push(square_sums_by_region(blurred.data(), &self.study.regions));
         self.run.blur2.push(self.blur2.apply(&grid).rms());
         let mut lf = Vec::with_capacity(self.study.insets.len());
         let mut lf_demodulated = 0.0;
@@ -312,14 +307,14 @@ impl<'a> Meter<'a> {
         let n = (t + 1) as f64;
         let mut mse = 0.0;
         let mut acc = [0.0f64; 3];
-        for (((s, c), r), region) in self
+        for (((s, l), r), region) in self
             .sum
             .iter_mut()
-            .zip(color)
+            .zip(&luma)
             .zip(&reference.luma)
             .zip(&self.study.regions)
         {
-            *s += c.intensity() as f64;
+            *s += *l as f64;
             let d = *s / n - *r as f64;
             mse += d * d;
             acc[*region as usize] += d * d;
@@ -338,7 +333,6 @@ impl<'a> Meter<'a> {
             self.run.snapshot.rgb = color.iter().map(|c| c.truncate()).collect();
             self.run.snapshot.error = error;
         }
-        let luma: Vec<f32> = color.iter().map(|c| c.intensity()).collect();
         self.history.frame(&luma, &reference.luma, &self.study.regions);
         if let Some((filters, still)) = self.filters.as_mut() {
             let s = self.study;

@@ -254,11 +254,6 @@ impl StudyResult {
             s += " |\n";
         }
         let last = c.frames as usize;
-        let acc_region = |m: Method, n: usize, k: usize| -> Option<f64> {
-            let get = |r: &MethodRun| r.acc_regions.get(n - 1).map(|v| v[k]);
-            let (a, b) = (get(self.run(m)?)?, get(self.run(Method::White)?)?);
-            (b > 0.0).then(|| (a / b).sqrt())
-        };
         s += &format!(
             "\nAccumulated RMSE per region after {last} frames (raw, reference noise not removed), and the \
              fraction of (pixel, frame) pairs whose seed the pixel already had:\n\n\
@@ -267,8 +262,11 @@ impl StudyResult {
         );
         for r in &self.runs {
             s += &format!("| {}", r.method.name());
-            for k in 0..3 {
-                s += &format!(" | {}", cell(acc_region(r.method, last, k)));
+            for region in Region::ALL {
+                s += &format!(
+                    " | {}",
+                    cell(self.accumulated_region(r.method, last, Some(region)))
+                );
             }
             s += &match r.seed_repeats {
                 Some(v) => format!(

@@ -47,7 +47,7 @@
 //! Shader-callable: `u32` arithmetic with `wrapping_*`, no tables.
 
 use crate::sequences::seed::hash_u32;
-use crate::sequences::sobol::sobol_u32;
+use crate::sequences::sobol::{sobol_pair_u32, sobol_u32};
 
 /// `floor(frac(sqrt(2)) * 2^32)` with bit 0 cleared.
 const K0: u32 = 0x6A09_E666;
@@ -106,6 +106,18 @@ pub fn owen_sobol_u32(index: u32, dimension: u32, seed: u32) -> u32 {
     owen_scramble(sobol_u32(index, dimension), dimension_seed(seed, dimension))
 }
 
+/// Dimensions 0 and 1 of [`owen_sobol_u32`] together (`[owen_sobol_u32(index,
+/// 0, seed), owen_sobol_u32(index, 1, seed)]`, tested), without the direction
+/// table ([`sobol_pair_u32`]): the 2D Owen-scrambled Sobol (0, 2)-sequence.
+#[inline]
+pub fn owen_sobol_pair_u32(index: u32, seed: u32) -> [u32; 2] {
+    let [x, y] = sobol_pair_u32(index);
+    [
+        owen_scramble(x, dimension_seed(seed, 0)),
+        owen_scramble(y, dimension_seed(seed, 1)),
+    ]
+}
+
 /// [`owen_sobol_u32`] in `[0, 1)` (24 bits).
 #[inline]
 pub fn owen_sobol(index: u32, dimension: u32, seed: u32) -> f32 {
@@ -114,6 +126,22 @@ pub fn owen_sobol(index: u32, dimension: u32, seed: u32) -> f32 {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn the_pair_form_equals_two_single_dimensions() {
+        for (index, seed) in [
+            (0u32, 0u32),
+            (1, 7),
+            (1000, 3),
+            (0xDEAD_BEEF, 0x1234_5678),
+            (u32::MAX, 9),
+        ] {
+            assert_eq!(
+                owen_sobol_pair_u32(index, seed),
+                [owen_sobol_u32(index, 0, seed), owen_sobol_u32(index, 1, seed)]
+            );
+        }
+    }
+
     use super::*;
     use crate::sequences::sobol::tests::is_02_net;
 

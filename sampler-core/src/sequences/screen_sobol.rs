@@ -40,7 +40,7 @@
 //! arithmetic only. [`ScreenSobolKeys`] validates the pair on the host.
 
 use crate::error::{Buffer, Error};
-use crate::sequences::owen::{owen_sobol_u32, shuffle_index};
+use crate::sequences::owen::{owen_sobol_pair_u32, shuffle_index};
 use crate::sequences::seed::hash_u32;
 use glam::UVec2;
 
@@ -125,7 +125,7 @@ impl ScreenSobolLayout {
 pub fn key_sample_u32(key: u32, pair: u32, index: u32) -> [u32; 2] {
     let rank = key >> 24;
     let shuffled = shuffle_index(index ^ rank, hash_u32(key ^ hash_u32(pair ^ 0x7F4A_7C15)));
-    [owen_sobol_u32(shuffled, 0, key), owen_sobol_u32(shuffled, 1, key)]
+    owen_sobol_pair_u32(shuffled, key)
 }
 
 /// Pair `pair` (dimensions `2 pair` and `2 pair + 1`) of sample

@@ -46,9 +46,8 @@
 //! All arithmetic is `u32` with `wrapping_*` (0.32 fixed point: `x_q32 / 2^32`);
 //! identical on the CPU and in shaders.
 
-use crate::sequences::owen::{dimension_seed, owen_scramble, shuffle_index};
+use crate::sequences::owen::{owen_sobol_pair_u32, shuffle_index};
 use crate::sequences::seed::hash_u32;
-use crate::sequences::sobol::sobol_pair_u32;
 use crate::sequences::walk::walk_offset;
 use glam::UVec2;
 
@@ -107,12 +106,7 @@ pub fn spatiotemporal_shift_at(
 #[inline]
 pub fn spatiotemporal_point_u32(index: u32, pair: u32, seed: u32) -> [u32; 2] {
     let pair_seed = hash_u32(seed ^ hash_u32(pair ^ 0x2545_F491));
-    let [x, y] = sobol_pair_u32(shuffle_index(index, pair_seed));
-    // As `owen_sobol_u32(shuffled, d, pair_seed)` for d = 0, 1 (tested), without its table.
-    [
-        owen_scramble(x, dimension_seed(pair_seed, 0)),
-        owen_scramble(y, dimension_seed(pair_seed, 1)),
-    ]
+    owen_sobol_pair_u32(shuffle_index(index, pair_seed), pair_seed)
 }
 
 /// Pair `pair` of sample `s` of `frame` (at `spp` samples per pixel) of the
