@@ -18,7 +18,7 @@
 //!    ([`shuffle_index`], maps aligned blocks onto aligned blocks), which
 //!    decorrelates the pairs of one pixel (padding);
 //! 3. **scrambling key**: Sobol dimensions 0 and 1 at that index,
-//!    Owen-scrambled with a seed derived from `k` ([`owen_sobol_u32`]).
+//!    Owen-scrambled with a seed derived from `k` ([`owen_sobol_u32`](crate::sequences::owen::owen_sobol_u32)).
 //!
 //! Each pixel alone therefore gets an Owen-scrambled (0, 2)-sequence: as good
 //! per pixel as random per-pixel scrambling. Which key sits at which pixel is
