@@ -28,6 +28,13 @@ pub enum Buffer {
     Features,
     /// A pass's scratch buffer: `padded_width * padded_height` entries.
     Scratch,
+    /// Weights of a piecewise-constant distribution: `width * height` entries, row-major.
+    Weights,
+    /// A distribution's CDF table: `1 + height + width * height` entries
+    /// ([`Distribution2d::table_len`](crate::distributions::piecewise::Distribution2d::table_len)).
+    DistributionTable,
+    /// An environment map's linear RGB texels: `width * height` entries, row-major.
+    EnvironmentTexels,
 }
 
 impl fmt::Display for Buffer {
@@ -44,6 +51,9 @@ impl fmt::Display for Buffer {
             Buffer::Claims => "reprojection claims buffer",
             Buffer::Features => "surface feature buffer",
             Buffer::Scratch => "scratch seed buffer",
+            Buffer::Weights => "distribution weight buffer",
+            Buffer::DistributionTable => "distribution table",
+            Buffer::EnvironmentTexels => "environment texel buffer",
         })
     }
 }
@@ -126,6 +136,26 @@ pub enum Error {
         /// Block rows of the frame, `ceil(padded_height / block)`.
         blocks: u32,
     },
+    /// A piecewise-constant distribution or environment map has a zero side
+    /// or a side over [`MAX_DISTRIBUTION_SIDE`](crate::limits::MAX_DISTRIBUTION_SIDE)
+    /// (a 1D distribution has `height` 1).
+    DistributionSize {
+        /// Cells per row.
+        width: u32,
+        /// Rows.
+        height: u32,
+    },
+    /// A distribution weight is NaN, infinite or negative (for an environment
+    /// map the weight is luminance times `sin(theta)`). The value is kept as
+    /// its bits (`f32::from_bits`) so the error stays `Eq + Hash`.
+    Weight {
+        /// Column of the texel.
+        x: u32,
+        /// Row of the texel (0 for a 1D distribution).
+        y: u32,
+        /// `f32::to_bits` of the weight found there.
+        bits: u32,
+    },
 }
 
 impl fmt::Display for Error {
@@ -175,6 +205,16 @@ impl fmt::Display for Error {
             Error::BlockRows { start, end, blocks } => {
                 write!(f, "block rows {start}..{end} are not a band of the frame's {blocks} block rows")
             }
+            Error::DistributionSize { width, height } => write!(
+                f,
+                "distribution size {width}x{height} is invalid: each side must be in 1..={}",
+                crate::limits::MAX_DISTRIBUTION_SIDE
+            ),
+            Error::Weight { x, y, bits } => write!(
+                f,
+                "weight {} at texel ({x}, {y}) is invalid: weights must be finite and >= 0",
+                f32::from_bits(bits)
+            ),
         }
     }
 }

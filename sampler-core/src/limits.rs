@@ -22,3 +22,9 @@ pub const MAX_KEY_TILE: u32 = 1024;
 /// Largest number of spp levels of the screen-space Sobol sampler: the
 /// ranking key has 8 bits, so levels `0..=8` (1 to 256 spp).
 pub const MAX_KEY_LEVELS: u32 = 9;
+
+/// Largest side (cells per row or rows) of a piecewise-constant distribution
+/// or environment map: `2^15`, so a table of `1 + height + width * height`
+/// entries is indexed by `u32` and a cell index is exact in `f32`
+/// (`16384 x 8192` is the largest common environment map).
+pub const MAX_DISTRIBUTION_SIDE: u32 = 1 << 15;
