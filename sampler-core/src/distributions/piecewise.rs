@@ -287,7 +287,7 @@ fn normalise_cdf(row: &mut [f32], sum: f64) {
 }
 
 /// Checks a distribution size (each side in `1..=MAX_DISTRIBUTION_SIDE`).
-fn check_size(width: u32, height: u32) -> Result<(), Error> {
+pub(crate) fn check_size(width: u32, height: u32) -> Result<(), Error> {
     if width == 0 || height == 0 || width > MAX_DISTRIBUTION_SIDE || height > MAX_DISTRIBUTION_SIDE {
         return Err(Error::DistributionSize { width, height });
     }
@@ -295,7 +295,7 @@ fn check_size(width: u32, height: u32) -> Result<(), Error> {
 }
 
 /// Checks that `actual` entries are the `expected` of `buffer`.
-fn check_len(buffer: Buffer, expected: usize, actual: usize) -> Result<(), Error> {
+pub(crate) fn check_len(buffer: Buffer, expected: usize, actual: usize) -> Result<(), Error> {
     if actual != expected {
         return Err(Error::BufferSize {
             buffer,
