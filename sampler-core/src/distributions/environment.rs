@@ -40,11 +40,14 @@
 //! follows `L sin(theta_row) / sin(theta)`, nearly proportional to `L`
 //! except in the rows at the poles.
 //!
-//! **Poles:** where `sin(theta) < `[`MIN_SIN_THETA`] (within about 0.2
-//! arcseconds of +Y or -Y, a cap of `3e-12` sr) both [`sample_environment`]
-//! and [`pdf_environment`] give pdf 0, never NaN or infinity; a caller
-//! discards a sample with pdf 0, as pbrt does. Elsewhere the pdf is finite
-//! (at most `width * height / (2 pi^2 MIN_SIN_THETA)`).
+//! **Poles:** where `sin(theta) < `[`MIN_SIN_THETA`] (within `1e-9` rad of
+//! +Y or -Y, a cap of about `3e-18` sr) both [`sample_environment`] and
+//! [`pdf_environment`] give pdf 0, never NaN or infinity; a caller discards
+//! a sample with pdf 0, as pbrt does (that loses the cap's energy and, for a
+//! map bright in its first or last row, about `3e-10 * height` of that
+//! row's samples). Elsewhere the pdf is finite, at most
+//! `width * height / (2 pi^2 MIN_SIN_THETA)` (`5.4e16` for the largest
+//! map), so even its square (power heuristic) is finite in `f32`.
 //!
 //! An all-zero map samples `(u, v)` uniformly (pdf `1 / (2 pi^2 sin(theta))`
 //! per steradian) and has [`EnvironmentMap::luminance_integral`] 0.
@@ -58,11 +61,12 @@ use crate::error::{Buffer, Error};
 use core::f32::consts::{PI, TAU};
 use glam::{UVec2, Vec2, Vec3};
 
-/// Smallest `sin(theta)` with a non-zero pdf: below it (within 1e-6 rad,
-/// about 0.2 arcseconds, of a pole) the pdf per steradian is 0. Chosen so
-/// the pdf stays finite and `sin(theta)` is still exact to `f32` precision
-/// when recomputed from a direction's components.
-pub const MIN_SIN_THETA: f32 = 1e-6;
+/// Smallest `sin(theta)` with a non-zero pdf: within `1e-9` rad of a pole
+/// the pdf per steradian is 0. Chosen so the pdf and its square stay finite
+/// in `f32` for any map (see the [module doc](self)) while `sin(theta)`
+/// recomputed from a direction's components (about `1e-9`, squares `1e-18`)
+/// is still exact to `f32` precision.
+pub const MIN_SIN_THETA: f32 = 1e-9;
 
 /// `2 pi^2`: the Jacobian `d omega / (du dv)` divided by `sin(theta)`.
 const TWO_PI_SQUARED: f32 = 2.0 * PI * PI;
@@ -469,7 +473,7 @@ mod tests {
         ] {
             assert_eq!(map.pdf(dir), 0.0, "{dir}");
         }
-        for sin_theta in [2e-6f32, 1e-4, 0.1] {
+        for sin_theta in [2e-9f32, 1e-6, 1e-4, 0.1] {
             let dir = Vec3::new(sin_theta * 0.6, 1.0, sin_theta * 0.8);
             let pdf = map.pdf(dir);
             assert!(pdf > 0.0 && pdf.is_finite(), "sin {sin_theta}: {pdf}");
