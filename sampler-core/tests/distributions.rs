@@ -1,16 +1,198 @@
-//! Statistical checks of the environment-map sampler
-//! (`sampler_core::distributions::environment`): the pdf it returns is the
-//! pdf of the direction it returns, the texels it draws follow their
-//! weights (chi-square), and importance-sampled integrals agree with uniform
-//! sphere sampling and with the exact texel sums. Random numbers come from
-//! the crate's counter-based hash (`random_f32`), so every run draws the same
-//! samples and the statistical tolerances (5 standard errors, chi-square at
-//! p ~ 1e-6) cannot flake.
+//! Statistical and end-to-end checks of `sampler_core::distributions`,
+//! through the public API.
+//!
+//! Piecewise-constant distributions: the inverse CDF is monotone and
+//! continuous, the pdf is normalised and matches the weights, sampled cells
+//! pass a chi-square test, zero weights fall back to uniform, one non-zero
+//! cell takes every sample.
+//!
+//! Environment maps: the pdf returned is the pdf of the direction returned,
+//! the texels drawn follow their weights (chi-square), and
+//! importance-sampled integrals agree with uniform sphere sampling and with
+//! the exact texel sums.
+//!
+//! Random numbers come from the crate's counter-based hash (`random_f32`),
+//! so every run draws the same samples and the statistical tolerances (5
+//! standard errors, chi-square at p ~ 1e-6) cannot flake.
 
 use glam::{UVec2, Vec2, Vec3};
 use sampler_core::distributions::environment::{direction_to_uv, luminance, texel_weight, MIN_SIN_THETA};
-use sampler_core::{random_f32, EnvironmentMap};
+use sampler_core::{random_f32, Distribution1d, Distribution2d, EnvironmentMap};
 use std::f64::consts::PI;
+
+/// Random weights in `[0, 1)`, about a quarter of them 0.
+fn random_weights(n: u32, seed: u32) -> Vec<f32> {
+    (0..n)
+        .map(|i| {
+            let w = random_f32(seed, 2 * i);
+            if random_f32(seed, 2 * i + 1) < 0.25 {
+                0.0
+            } else {
+                w
+            }
+        })
+        .collect()
+}
+
+fn build_2d(width: u32, height: u32, weights: &[f32]) -> Vec<f32> {
+    let mut table = vec![0.0; Distribution2d::table_len(width, height)];
+    Distribution2d::build(width, height, weights, &mut table).unwrap();
+    table
+}
+
+/// The cell of `[0, 1)` split in `n` that contains `x`.
+fn cell_of(x: f32, n: u32) -> u32 {
+    ((x * n as f32) as u32).min(n - 1)
+}
+
+/// The inverse CDF is non-decreasing, and continuous with slope
+/// `1 / pdf` where every weight is positive.
+#[test]
+fn sampling_is_monotone_and_continuous() {
+    let weights: Vec<f32> = (0..13).map(|i| 0.2 + random_f32(5, i)).collect();
+    let mut table = vec![0.0; 14];
+    let d = Distribution1d::build(&weights, &mut table).unwrap();
+    let min_pdf = (0..13)
+        .map(|i| d.pdf((i as f32 + 0.5) / 13.0))
+        .fold(f32::MAX, f32::min);
+    let steps = 100_000;
+    let mut last = d.sample(0.0).x;
+    for k in 1..steps {
+        let x = d.sample(k as f32 / steps as f32).x;
+        assert!(x >= last, "not monotone at step {k}");
+        assert!(
+            x - last <= 1.01 / (steps as f32 * min_pdf) + 1e-6,
+            "jump at step {k}"
+        );
+        last = x;
+    }
+    // With empty cells it is still monotone; it jumps over them.
+    let mut table = [0.0; 5];
+    let d = Distribution1d::build(&[1.0, 0.0, 0.0, 1.0], &mut table).unwrap();
+    assert_eq!(d.sample(0.499_999_97).index, 0);
+    assert_eq!(d.sample(0.5).x, 0.75);
+}
+
+/// The pdf is normalised, and cell masses are the weights' shares.
+#[test]
+fn pdf_integrates_to_one_and_matches_weights() {
+    let (width, height) = (9, 4);
+    let weights = random_weights(36, 7);
+    let table = build_2d(width, height, &weights);
+    let d = Distribution2d::new(width, height, &table).unwrap();
+    let sum: f64 = weights.iter().map(|&w| w as f64).sum();
+    assert!((d.integral() as f64 - sum / 36.0).abs() < 1e-6);
+    let mut total = 0.0f64;
+    for y in 0..height {
+        for x in 0..width {
+            let p = Vec2::new((x as f32 + 0.5) / width as f32, (y as f32 + 0.5) / height as f32);
+            let mass = d.pdf(p) as f64 / 36.0;
+            let want = weights[(y * width + x) as usize] as f64 / sum;
+            assert!((mass - want).abs() < 1e-6, "cell ({x}, {y}): {mass} vs {want}");
+            total += mass;
+        }
+    }
+    assert!((total - 1.0).abs() < 1e-5);
+}
+
+/// Chi-square upper quantile with `dof` degrees of freedom at z standard
+/// deviations (Wilson-Hilferty).
+fn chi_square_quantile(dof: f64, z: f64) -> f64 {
+    let a = 2.0 / (9.0 * dof);
+    dof * (1.0 - a + z * a.sqrt()).powi(3)
+}
+
+/// Sampled cells follow the weights: chi-square at p ~ 1e-6 on a 7x5 map
+/// with empty cells, which the same counts fail against weights off by
+/// 10% in one cell.
+#[test]
+fn sampled_cells_pass_chi_square() {
+    let (width, height) = (7, 5);
+    let weights = random_weights(35, 11);
+    let table = build_2d(width, height, &weights);
+    let d = Distribution2d::new(width, height, &table).unwrap();
+    let samples = 200_000u32;
+    let mut counts = [0u32; 35];
+    for i in 0..samples {
+        let s = d.sample(Vec2::new(random_f32(12, 2 * i), random_f32(12, 2 * i + 1)));
+        counts[(s.cell.y * width + s.cell.x) as usize] += 1;
+    }
+    let statistic = |weights: &[f32]| {
+        let sum: f64 = weights.iter().map(|&w| w as f64).sum();
+        let mut chi2 = 0.0;
+        for (c, &w) in counts.iter().zip(weights) {
+            if w == 0.0 {
+                assert_eq!(*c, 0);
+                continue;
+            }
+            let e = samples as f64 * w as f64 / sum;
+            chi2 += (*c as f64 - e).powi(2) / e;
+        }
+        chi2
+    };
+    let dof = weights.iter().filter(|&&w| w > 0.0).count() as f64 - 1.0;
+    let limit = chi_square_quantile(dof, 4.75);
+    let chi2 = statistic(&weights);
+    assert!(chi2 < limit, "chi2 {chi2} over {limit} ({dof} dof)");
+    let mut wrong = weights.clone();
+    let i = wrong.iter().position(|&w| w > 0.5).unwrap();
+    wrong[i] *= 1.1;
+    assert!(statistic(&wrong) > limit);
+}
+
+/// All-zero weights sample uniformly with pdf 1 and integral 0; a zero
+/// row in a non-zero map is never sampled.
+#[test]
+fn zero_weights_fall_back_to_uniform() {
+    let table = build_2d(4, 3, &[0.0; 12]);
+    let d = Distribution2d::new(4, 3, &table).unwrap();
+    assert_eq!(d.integral(), 0.0);
+    for i in 0..1000 {
+        let u = Vec2::new(random_f32(9, 2 * i), random_f32(9, 2 * i + 1));
+        let s = d.sample(u);
+        assert!((s.point - u).abs().max_element() < 1e-6, "{u} -> {}", s.point);
+        // 1 up to the rounding of the thirds in the uniform marginal.
+        assert!((s.pdf - 1.0).abs() < 1e-6 && d.pdf(u) == s.pdf, "{}", s.pdf);
+    }
+    let mut t1 = [0.0; 4];
+    let d1 = Distribution1d::build(&[0.0; 3], &mut t1).unwrap();
+    assert_eq!(
+        (d1.sample(0.5).x, d1.sample(0.5).pdf, d1.integral()),
+        (0.5, 1.0, 0.0)
+    );
+
+    let mut weights = [1.0f32; 12];
+    weights[4..8].fill(0.0);
+    let table = build_2d(4, 3, &weights);
+    let d = Distribution2d::new(4, 3, &table).unwrap();
+    for i in 0..1000 {
+        let s = d.sample(Vec2::new(random_f32(10, 2 * i), random_f32(10, 2 * i + 1)));
+        assert_ne!(s.cell.y, 1);
+        assert_eq!(s.pdf, 1.5);
+    }
+    assert_eq!(d.pdf(Vec2::new(0.3, 0.5)), 0.0);
+}
+
+/// One non-zero cell takes every sample, with pdf `width * height`.
+#[test]
+fn one_bright_cell_takes_every_sample() {
+    let (width, height) = (9, 7);
+    let mut weights = vec![0.0f32; 63];
+    weights[(4 * width + 6) as usize] = 3.5;
+    let table = build_2d(width, height, &weights);
+    let d = Distribution2d::new(width, height, &table).unwrap();
+    assert!((d.integral() - 3.5 / 63.0).abs() < 1e-7);
+    for i in 0..5000 {
+        let s = d.sample(Vec2::new(random_f32(13, 2 * i), random_f32(13, 2 * i + 1)));
+        assert_eq!(s.cell, UVec2::new(6, 4));
+        assert_eq!((cell_of(s.point.x, width), cell_of(s.point.y, height)), (6, 4));
+        assert_eq!(s.pdf, 63.0);
+    }
+    // Its corners: u = 0 and u -> 1 land on the cell's edges.
+    assert_eq!(d.sample(Vec2::ZERO).point, Vec2::new(6.0 / 9.0, 4.0 / 7.0));
+    let top = d.sample(Vec2::ONE).point;
+    assert!((top - Vec2::new(7.0 / 9.0, 5.0 / 7.0)).abs().max_element() < 1e-6);
+}
 
 /// A `width x height` map of linear RGB texels with its sampling table.
 struct TestMap {
@@ -151,7 +333,7 @@ fn edge_distance(uv: Vec2, width: u32, height: u32) -> f32 {
 /// on an odd-sized map with black texels; the texel and map coordinates
 /// returned are those of the direction.
 #[test]
-fn sample_and_pdf_agree() {
+fn environment_sample_and_pdf_agree() {
     let (width, height) = (13, 7);
     let test = TestMap::new(width, height, random_rgb(width * height, 1));
     for rotation in [0.0, 0.37, -1.2] {
@@ -180,13 +362,6 @@ fn sample_and_pdf_agree() {
         }
         assert!(moved < 50, "{moved} directions changed texel");
     }
-}
-
-/// Chi-square upper quantile with `dof` degrees of freedom at `z` standard
-/// deviations (Wilson-Hilferty).
-fn chi_square_quantile(dof: f64, z: f64) -> f64 {
-    let a = 2.0 / (9.0 * dof);
-    dof * (1.0 - a + z * a.sqrt()).powi(3)
 }
 
 /// Drawn texels follow luminance x sin(theta) (chi-square, p ~ 1e-6); the

@@ -52,8 +52,10 @@
 //! An all-zero map samples `(u, v)` uniformly (pdf `1 / (2 pi^2 sin(theta))`
 //! per steradian) and has [`EnvironmentMap::luminance_integral`] 0.
 //!
-//! Sampling and pdf are shader-ready (`u32`/`f32`, `libm`, no allocation, no
-//! panics); the builders are host code. Table layout and out-of-range
+//! Sampling and pdf are shader-ready (`u32`/`f32`, `libm` functions that
+//! rust-gpu maps to GLSL.std.450, no allocation, no panics); the builders
+//! are host code. CPU and GPU agree to the precision of the device's
+//! `sin`/`cos`/`atan2`, not bit for bit. Table layout and out-of-range
 //! behaviour as in [`piecewise`](super::piecewise).
 
 use super::piecewise::{check_len, check_size, pdf_2d, sample_2d, Distribution2d};
@@ -167,14 +169,16 @@ pub fn uv_to_direction(uv: Vec2, rotation_turns: f32) -> Vec3 {
 
 /// The map coordinates in `[0, 1) x [0, 1]` of the direction `dir` (any
 /// length) under a rotation of `rotation_turns` about +Y: the inverse of
-/// [`uv_to_direction`]. A direction along +Y or -Y gets `u` of `phi = 0`
-/// (+Z) less the rotation; a zero direction `(u, 0)` likewise.
+/// [`uv_to_direction`]. On the CPU a direction along +Y or -Y gets the `u`
+/// of `phi = 0` (+Z) less the rotation, and a zero direction that `u` and
+/// `v = 0`; in a shader `atan2(0, 0)` is undefined, so `u` is arbitrary
+/// there (`v` is still right for +Y and -Y).
 #[inline]
 pub fn direction_to_uv(dir: Vec3, rotation_turns: f32) -> Vec2 {
     let rho = libm::sqrtf(dir.x * dir.x + dir.z * dir.z);
     let v = libm::atan2f(rho, dir.y) * (1.0 / PI);
     let u = wrap_unit(libm::atan2f(-dir.x, dir.z) * (1.0 / TAU) - rotation_turns);
-    Vec2::new(u, v.clamp(0.0, 1.0))
+    Vec2::new(u, if v >= 0.0 { v.min(1.0) } else { 0.0 })
 }
 
 /// Draws a direction from the environment map whose 2D distribution table

@@ -17,6 +17,22 @@
 //! arithmetic with bounded loops that compiles with rust-gpu and never
 //! panics. Nothing here depends on the other capabilities; `environment`
 //! builds on `piecewise`, never the reverse.
+//!
+//! ```
+//! use glam::Vec2;
+//! use sampler_core::EnvironmentMap;
+//! // A black 4x2 sky with one bright texel, (2, 1): u in [0.5, 0.75), below the horizon...
+//! let mut rgb = [[0.0f32; 3]; 8];
+//! rgb[6] = [10.0, 10.0, 10.0];
+//! let mut table = vec![0.0; EnvironmentMap::table_len(4, 2)];
+//! let map = EnvironmentMap::build(4, 2, &rgb, &mut table)?;
+//! // ...draws every direction there, between -Z (u = 0.5) and +X (u = 0.75),
+//! // with the pdf per steradian that `pdf` gives the direction.
+//! let (dir, pdf) = map.sample_direction(Vec2::new(0.3, 0.7));
+//! assert!(dir.y < 0.0 && dir.x >= 0.0 && dir.z <= 0.0);
+//! assert!((map.pdf(dir) - pdf).abs() <= 1e-5 * pdf);
+//! # Ok::<(), sampler_core::Error>(())
+//! ```
 
 pub mod environment;
 pub mod piecewise;
