@@ -52,9 +52,10 @@
 //! An all-zero map samples `(u, v)` uniformly (pdf `1 / (2 pi^2 sin(theta))`
 //! per steradian) and has [`EnvironmentMap::luminance_integral`] 0.
 //!
-//! Sampling and pdf are shader-ready (`u32`/`f32`, `libm` functions that
-//! rust-gpu maps to GLSL.std.450, no allocation, no panics); the builders
-//! are host code. CPU and GPU agree to the precision of the device's
+//! Sampling and pdf are written for shaders (`u32`/`f32`, only `libm`
+//! functions that rust-gpu maps to GLSL.std.450: `sincosf`, `sinf`,
+//! `atan2f`, `sqrtf`, `floorf`; no allocation, no panics; compiled to
+//! SPIR-V when the tracer integrates them); the builders are host code. CPU and GPU agree to the precision of the device's
 //! `sin`/`cos`/`atan2`, not bit for bit. Table layout and out-of-range
 //! behaviour as in [`piecewise`](super::piecewise).
 
@@ -87,6 +88,8 @@ pub struct EnvironmentParams {
     /// Unused; keeps the struct 16 bytes. Zero.
     pub reserved: u32,
 }
+
+const _: () = assert!(core::mem::size_of::<EnvironmentParams>() == 16);
 
 /// A direction drawn from an environment map.
 #[derive(Clone, Copy, Debug, PartialEq)]

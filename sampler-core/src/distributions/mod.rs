@@ -14,8 +14,9 @@
 //!   [`pdf_environment`](environment::pdf_environment)).
 //!
 //! The builders are host code; sampling and pdf functions are `u32`/`f32`
-//! arithmetic with bounded loops that compiles with rust-gpu and never
-//! panics. Nothing here depends on the other capabilities; `environment`
+//! arithmetic with bounded loops and no allocation, written to rust-gpu's
+//! rules (compiled to SPIR-V when the tracer integrates them), and never
+//! panic. Nothing here depends on the other capabilities; `environment`
 //! builds on `piecewise`, never the reverse.
 //!
 //! ```

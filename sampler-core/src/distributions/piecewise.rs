@@ -20,18 +20,18 @@
 //! | index | entry |
 //! |---|---|
 //! | `0` | the integral over `[0, 1)^2`: `sum(w) / (width * height)` |
-//! | `1 + y` | the **marginal** CDF over rows at the bottom edge of row `y` (row weights: the row sums) |
+//! | `1 + y` | the **marginal** CDF over rows at the bottom edge of row `y` (row weights: the row means, proportional to the row sums) |
 //! | `1 + height + y * width + x` | row `y`'s **conditional** CDF at the right edge of cell `x` |
 //!
-//! The first `1 + height` entries are thus the 1D table of the row sums.
+//! The first `1 + height` entries are thus the 1D table of the row means.
 //! Sums and prefix sums are accumulated in `f64` and rounded once to `f32`.
 //!
 //! # Sampling and pdf
 //!
 //! [`sample_1d`] finds the first cell whose CDF entry exceeds `u` (a binary
 //! search, at most 32 steps) and places the sample linearly inside it, so
-//! the map `u -> x` is continuous and non-decreasing (continuous except
-//! across cells of zero weight, which it skips). [`sample_2d`] picks the row
+//! the map `u -> x` is non-decreasing, and continuous except where it skips
+//! cells of zero weight. [`sample_2d`] picks the row
 //! with `u.y` from the marginal, then the column with `u.x` from that row's
 //! conditional, so the point is monotone in each coordinate of `u`
 //! (stratification of `u` carries over).
@@ -56,8 +56,9 @@
 //! # Shader rules
 //!
 //! [`sample_1d`], [`pdf_1d`], [`sample_2d`] and [`pdf_2d`] use `u32`/`f32`
-//! arithmetic (`wrapping_*` for indices), bounded loops and no allocation,
-//! and compile with rust-gpu. They never panic: `u` is clamped to
+//! arithmetic (`wrapping_*` for indices), bounded loops, no allocation and
+//! no `clamp` or checked arithmetic, following rust-gpu's rules (their
+//! SPIR-V build comes with the tracer's integration). They never panic: `u` is clamped to
 //! `[0, ONE_MINUS_EPSILON]` (NaN reads as 0), points outside `[0, 1]` are
 //! clamped to the edge cells (NaN to cell 0), a size of 0 reads as 1, and a
 //! CDF entry past the end of a too-short table reads as `1.0` (the missing
