@@ -60,7 +60,20 @@ pub fn render_frame(
             }
         }
     }
-    let keys = crate::sampler_data::sampler_buffer();
+    // The spatiotemporal sampler's frame points, computed once for the frame
+    // (the same numbers as without the table).
+    let (params, table) = crate::sampler_data::with_frame_points(params);
+    let params = &params;
+    let with_points;
+    let keys = if table.is_empty() {
+        crate::sampler_data::sampler_buffer()
+    } else {
+        let mut buffer = crate::sampler_data::sampler_buffer().to_vec();
+        let start = crate::sampler_data::point_table_offset();
+        buffer[start..start + table.len()].copy_from_slice(&table);
+        with_points = buffer;
+        &with_points[..]
+    };
     let rays = color
         .par_chunks_mut(width)
         .enumerate()

@@ -3,10 +3,19 @@
 //! keys (`sampler_core::defaults::screen_sobol_keys()`), then the
 //! spatiotemporal sampler's 64x64 shift tile (the ranks of
 //! `sampler_core::defaults::tile_64()`, at index `key_count()` of the keys'
-//! layout).
+//! layout), then room for the spatiotemporal sampler's frame point table
+//! ([`with_frame_points`]: the sequence points every pixel of a frame shares,
+//! computed once per frame instead of once per pixel).
 
-use kernels::abi::SPATIOTEMPORAL_TILE_LOG2;
+use kernels::abi::{TraceParams, MAX_DEPTH_LIMIT, SAMPLER_SPATIOTEMPORAL, SPATIOTEMPORAL_TILE_LOG2};
+use kernels::numbers::{point_slot_pair, point_slots, point_table_start, sampler_kind};
 use std::sync::OnceLock;
+
+/// Words reserved for the frame point table after the shift tile: 64
+/// samples of a path of [`MAX_DEPTH_LIMIT`] vertices (`2 * 64 *
+/// point_slots(MAX_DEPTH_LIMIT)`, 99 KB); shallower paths fit more samples.
+/// Samples past the table are computed by the kernel.
+pub const POINT_TABLE_WORDS: usize = 2 * 64 * (1 + 3 * MAX_DEPTH_LIMIT as usize);
 
 /// The buffer the CPU renderer passes and the GPU binds for every sampler.
 ///
@@ -29,8 +38,49 @@ pub fn sampler_buffer() -> &'static [u32] {
         );
         let mut buffer = keys.keys().to_vec();
         buffer.extend_from_slice(tile.values());
+        buffer.resize(buffer.len() + POINT_TABLE_WORDS, 0);
         buffer
     })
+}
+
+/// Index in [`sampler_buffer`] of the frame point table.
+pub fn point_table_offset() -> usize {
+    point_table_start(sampler_core::defaults::screen_sobol_keys().layout().key_count())
+}
+
+/// `params` with [`TraceParams::point_samples`] set, and the frame point
+/// table to store at [`point_table_offset`] of [`sampler_buffer`] before
+/// tracing with them: with [`SAMPLER_SPATIOTEMPORAL`], the unshifted
+/// sequence points of frame `params.frame` for as many of its samples as
+/// [`POINT_TABLE_WORDS`] holds
+/// (`sampler_core::sequences::spatiotemporal::spatiotemporal_frame_points`,
+/// pairs in `kernels::numbers::point_slot` order); for every other sampler
+/// `params` unchanged (`point_samples = 0`) and an empty table. Tracing with
+/// the returned parameters gives the same numbers as with `point_samples =
+/// 0`, only faster.
+pub fn with_frame_points(params: &TraceParams) -> (TraceParams, Vec<u32>) {
+    let mut out = *params;
+    out.point_samples = 0;
+    if sampler_kind(params) != SAMPLER_SPATIOTEMPORAL {
+        return (out, Vec::new());
+    }
+    let slots = point_slots(params.max_depth);
+    let samples = params
+        .spp
+        .max(1)
+        .min((POINT_TABLE_WORDS / (2 * slots as usize)) as u32);
+    let pairs: Vec<u32> = (0..slots).map(|k| point_slot_pair(k, params.max_depth)).collect();
+    let mut table = vec![0u32; 2 * samples as usize * pairs.len()];
+    sampler_core::sequences::spatiotemporal::spatiotemporal_frame_points(
+        params.frame,
+        params.spp.max(1),
+        samples,
+        &pairs,
+        &mut table,
+    )
+    .expect("the table is sized for its samples and pairs");
+    out.point_samples = samples;
+    (out, table)
 }
 
 #[cfg(test)]
@@ -43,7 +93,77 @@ mod tests {
         let keys = sampler_core::defaults::screen_sobol_keys();
         let n = keys.layout().key_count();
         assert_eq!(&b[..n], keys.keys());
-        assert_eq!(&b[n..], sampler_core::defaults::tile_64().values());
-        assert_eq!(b.len() - n, 1 << (2 * SPATIOTEMPORAL_TILE_LOG2));
+        let tile = 1 << (2 * SPATIOTEMPORAL_TILE_LOG2);
+        assert_eq!(&b[n..n + tile], sampler_core::defaults::tile_64().values());
+        assert_eq!(point_table_offset(), n + tile);
+        assert_eq!(b.len() - point_table_offset(), POINT_TABLE_WORDS);
+    }
+
+    /// Every pair a path draws reads the same numbers from the frame table as
+    /// the kernel computes without it, at several depths and spp, including
+    /// samples past the table.
+    #[test]
+    fn the_frame_table_gives_the_computed_numbers() {
+        use glam::UVec2;
+        use kernels::numbers::{apriori_pair, pair_bsdf, pair_light, pair_roulette, point_slot};
+        let keys = sampler_core::defaults::screen_sobol_keys();
+        let l = keys.layout();
+        for (spp, max_depth, frame) in [(1u32, 8u32, 0u32), (1, 8, 77), (4, 3, 5), (200, 64, 9)] {
+            let params = TraceParams {
+                spp,
+                max_depth,
+                frame,
+                sampler: SAMPLER_SPATIOTEMPORAL,
+                key_side_log2: l.side_log2,
+                key_pairs: l.pairs,
+                key_levels: l.levels,
+                ..Default::default()
+            };
+            let (with, table) = with_frame_points(&params);
+            assert!(with.point_samples >= 1 && with.point_samples <= spp);
+            assert_eq!(
+                with.point_samples == spp,
+                spp < 200,
+                "{spp} spp at depth {max_depth}"
+            );
+            let mut buffer = sampler_buffer().to_vec();
+            buffer[point_table_offset()..point_table_offset() + table.len()].copy_from_slice(&table);
+            let mut pairs = vec![0u32];
+            for d in 0..max_depth {
+                pairs.extend([pair_light(d), pair_bsdf(d), pair_roulette(d)]);
+            }
+            for &pair in &pairs {
+                assert_ne!(point_slot(pair, max_depth), u32::MAX);
+                for s in [0, spp / 2, spp - 1] {
+                    for pixel in [UVec2::new(0, 0), UVec2::new(1279, 3), UVec2::new(65, 700)] {
+                        assert_eq!(
+                            apriori_pair(&with, &buffer, pixel, s, pair),
+                            apriori_pair(&params, sampler_buffer(), pixel, s, pair),
+                            "pair {pair} sample {s} pixel {pixel} ({spp} spp, depth {max_depth})"
+                        );
+                    }
+                }
+            }
+        }
+        // The table is read, not recomputed: a zeroed one changes the numbers.
+        let params = TraceParams {
+            spp: 1,
+            max_depth: 8,
+            frame: 3,
+            sampler: SAMPLER_SPATIOTEMPORAL,
+            key_side_log2: l.side_log2,
+            key_pairs: l.pairs,
+            key_levels: l.levels,
+            ..Default::default()
+        };
+        let (with, _) = with_frame_points(&params);
+        let pixel = UVec2::new(9, 9);
+        assert_ne!(
+            apriori_pair(&with, sampler_buffer(), pixel, 0, pair_bsdf(2)),
+            apriori_pair(&params, sampler_buffer(), pixel, 0, pair_bsdf(2))
+        );
+        // Other samplers: no table.
+        let (p, t) = with_frame_points(&TraceParams::default());
+        assert_eq!((p.point_samples, t.len()), (0, 0));
     }
 }

@@ -35,6 +35,8 @@ pub enum Buffer {
     DistributionTable,
     /// An environment map's linear RGB texels: `width * height` entries, row-major.
     EnvironmentTexels,
+    /// One frame's spatiotemporal sequence points: `2 * samples * pairs` words.
+    SamplePoints,
 }
 
 impl fmt::Display for Buffer {
@@ -54,6 +56,7 @@ impl fmt::Display for Buffer {
             Buffer::Weights => "distribution weight buffer",
             Buffer::DistributionTable => "distribution table",
             Buffer::EnvironmentTexels => "environment texel buffer",
+            Buffer::SamplePoints => "spatiotemporal point table",
         })
     }
 }

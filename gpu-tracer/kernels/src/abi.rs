@@ -22,7 +22,7 @@
 //! | | 4 | storage, read | `[EmitterGpu]` (at least one entry: pad with [`EmitterGpu::NONE`]) |
 //! | | 5 | storage, read | seeds `[u32]`, `padded_width * padded_height` |
 //! | | 6 | storage, write | frame colour `[Vec4]`, `width * height` |
-//! | | 7 | storage, read | screen-space Sobol keys `[u32]` laid out as [`TraceParams::key_side_log2`], [`TraceParams::key_pairs`], [`TraceParams::key_levels`] say (`sampler_core::sequences::screen_sobol`; the host binds `sampler_core::defaults::screen_sobol_keys()`), then the [`SPATIOTEMPORAL_TILE_LOG2`]-sided shift tile of [`SAMPLER_SPATIOTEMPORAL`] (the host appends `sampler_core::defaults::tile_64()`'s ranks); read only with [`SAMPLER_SCREEN_SOBOL`] (with or without [`SAMPLER_JITTER_ONLY`]) and [`SAMPLER_SPATIOTEMPORAL`], at least one element |
+//! | | 7 | storage, read | screen-space Sobol keys `[u32]` laid out as [`TraceParams::key_side_log2`], [`TraceParams::key_pairs`], [`TraceParams::key_levels`] say (`sampler_core::sequences::screen_sobol`; the host binds `sampler_core::defaults::screen_sobol_keys()`), then the [`SPATIOTEMPORAL_TILE_LOG2`]-sided shift tile of [`SAMPLER_SPATIOTEMPORAL`] (the host appends `sampler_core::defaults::tile_64()`'s ranks), then the frame's point table of [`SAMPLER_SPATIOTEMPORAL`] ([`TraceParams::point_samples`]); read only with [`SAMPLER_SCREEN_SOBOL`] (with or without [`SAMPLER_JITTER_ONLY`]) and [`SAMPLER_SPATIOTEMPORAL`], at least one element |
 //! | | 8 | storage, read | `[TriangleAttrGpu]`, parallel to binding 2 |
 //! | | 9 | storage, read | images `[u32]` (layout in [`IMAGE_HEADER_WORDS`]), at least one element |
 //! | [`GBUFFER_ENTRY`] | 0 | uniform | [`TraceParams`] (current and previous camera) |
@@ -254,8 +254,14 @@ pub struct TraceParams {
     pub prev_tan_half_fov_y: f32,
     /// Number of images in the images buffer (headers), `>= 0`.
     pub image_count: u32,
-    /// Padding, 0.
-    pub pad0: u32,
+    /// [`SAMPLER_SPATIOTEMPORAL`]: the number of samples `s` (from 0) whose
+    /// sequence points for [`Self::frame`] the host stored in binding 7 after
+    /// the shift tile (`crate::numbers::point_table_start`, slots as
+    /// `crate::numbers::point_slot` says); the kernel computes the points of
+    /// later samples itself. 0: no table (always correct, slower). A table of
+    /// another frame than [`Self::frame`] gives wrong numbers: the host writes
+    /// both together.
+    pub point_samples: u32,
     /// Padding, 0.
     pub pad1: u32,
 }

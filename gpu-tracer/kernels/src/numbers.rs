@@ -64,7 +64,9 @@ use crate::sampler_entry::{screen_sobol_pair, zsobol_pair};
 use glam::{UVec2, Vec2};
 use sampler_core::sequences::r2::q32_to_f32;
 use sampler_core::sequences::screen_sobol::ScreenSobolLayout;
-use sampler_core::sequences::spatiotemporal::{spatiotemporal_pair_u32, spatiotemporal_shift_at};
+use sampler_core::sequences::spatiotemporal::{
+    spatiotemporal_index, spatiotemporal_point_u32, spatiotemporal_shift_at, SPATIOTEMPORAL_SEED,
+};
 use sampler_core::RandomStream;
 
 /// Stream dimensions used before the first vertex (pixel jitter).
@@ -142,6 +144,72 @@ pub fn pair_roulette(depth: u32) -> u32 {
     1 + 2 * MAX_DEPTH_LIMIT + depth
 }
 
+/// Slots per sample of [`SAMPLER_SPATIOTEMPORAL`]'s frame point table at
+/// `max_depth` (clamped to [`MAX_DEPTH_LIMIT`]): `1 + 3 max_depth`, one per
+/// pair a path of that depth can draw (jitter, light and BSDF per vertex,
+/// Russian roulette per vertex).
+#[inline]
+pub fn point_slots(max_depth: u32) -> u32 {
+    1 + 3 * max_depth.min(MAX_DEPTH_LIMIT)
+}
+
+/// Slot of sampler pair `pair` in the frame point table at `max_depth`
+/// (clamped to [`MAX_DEPTH_LIMIT`]): pairs `0..=2 max_depth` (jitter, then
+/// light and BSDF per vertex) keep their number, the roulette pairs
+/// [`pair_roulette`]`(d)`, `d < max_depth`, follow them at `1 + 2 max_depth +
+/// d`; any other pair has no slot (`u32::MAX`). Inverse of
+/// [`point_slot_pair`].
+#[inline]
+pub fn point_slot(pair: u32, max_depth: u32) -> u32 {
+    let max_depth = max_depth.min(MAX_DEPTH_LIMIT);
+    if pair <= 2 * max_depth {
+        pair
+    } else if pair >= pair_roulette(0) && pair < pair_roulette(max_depth) {
+        1 + 2 * max_depth + (pair - pair_roulette(0))
+    } else {
+        u32::MAX
+    }
+}
+
+/// The sampler pair stored in `slot` of the frame point table at
+/// `max_depth` (`slot < point_slots(max_depth)`): inverse of [`point_slot`].
+#[inline]
+pub fn point_slot_pair(slot: u32, max_depth: u32) -> u32 {
+    let max_depth = max_depth.min(MAX_DEPTH_LIMIT);
+    if slot <= 2 * max_depth {
+        slot
+    } else {
+        pair_roulette(slot - 1 - 2 * max_depth)
+    }
+}
+
+/// Index in binding 7 of the frame point table: after the screen-space
+/// Sobol keys (`key_count` words) and the `2^SPATIOTEMPORAL_TILE_LOG2`-sided
+/// shift tile.
+#[inline]
+pub fn point_table_start(key_count: usize) -> usize {
+    key_count + (1usize << (2 * SPATIOTEMPORAL_TILE_LOG2))
+}
+
+/// [`SAMPLER_SPATIOTEMPORAL`]'s unshifted point of `pair` for sample `s`:
+/// read from the frame point table when `s < params.point_samples` and the
+/// pair has a slot inside `keys`, else computed
+/// (`sampler_core::sequences::spatiotemporal::spatiotemporal_point_u32`;
+/// the table holds the same words).
+#[inline]
+fn spatiotemporal_point(params: &TraceParams, keys: &[u32], key_count: usize, s: u32, pair: u32) -> [u32; 2] {
+    let slot = point_slot(pair, params.max_depth);
+    if s < params.point_samples && slot != u32::MAX {
+        let slots = point_slots(params.max_depth) as usize;
+        let i = point_table_start(key_count) + 2 * (s as usize * slots + slot as usize);
+        if i + 1 < keys.len() {
+            return [keys[i], keys[i + 1]];
+        }
+    }
+    let index = spatiotemporal_index(params.frame, params.spp.max(1), s);
+    spatiotemporal_point_u32(index, pair, SPATIOTEMPORAL_SEED)
+}
+
 /// Pair `pair` (dimensions `2 pair`, `2 pair + 1`) of sample `s` of `pixel`
 /// in frame `params.frame` from the a-priori sampler `params.sampler`
 /// (flags ignored, see [`sampler_kind`]), each
@@ -166,7 +234,9 @@ pub fn pair_roulette(depth: u32) -> u32 {
 ///   estimates.
 /// - [`SAMPLER_SPATIOTEMPORAL`]: index `frame * spp + s` of the shared
 ///   progressive sequence, rotated by the pixel's shift read from the tile
-///   stored after the keys (`sampler_core::sequences::spatiotemporal`): one
+///   stored after the keys (`sampler_core::sequences::spatiotemporal`; the
+///   point from the frame table after the tile when
+///   [`TraceParams::point_samples`] covers `s`, see [`point_slot`]): one
 ///   sequence per pixel across frames, so its mean converges like the
 ///   sequence's and its error is anti-correlated from frame to frame.
 /// - any other value: `Vec2::ZERO` (unused).
@@ -186,8 +256,11 @@ pub fn apriori_pair(params: &TraceParams, keys: &[u32], pixel: UVec2, s: u32, pa
         zsobol_pair(spp, params.frame, pixel, s, pair)
     } else if kind == SAMPLER_SPATIOTEMPORAL {
         let shift = spatiotemporal_shift_at(keys, layout.key_count(), SPATIOTEMPORAL_TILE_LOG2, pixel, pair);
-        let v = spatiotemporal_pair_u32(shift, params.frame, spp, s, pair);
-        Vec2::new(q32_to_f32(v[0]), q32_to_f32(v[1]))
+        let p = spatiotemporal_point(params, keys, layout.key_count(), s, pair);
+        Vec2::new(
+            q32_to_f32(p[0].wrapping_add(shift[0])),
+            q32_to_f32(p[1].wrapping_add(shift[1])),
+        )
     } else {
         Vec2::ZERO
     }

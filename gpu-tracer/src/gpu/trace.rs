@@ -142,11 +142,13 @@ impl Tracer {
         color: wgpu::Buffer,
     ) -> Self {
         let n = (params.width * params.height) as usize;
-        let params_buf = gpu.uniform("trace params", params);
+        let (params, table) = crate::sampler_data::with_frame_points(params);
+        let params_buf = gpu.uniform("trace params", &params);
         let keys = gpu.storage(
-            "a-priori sampler keys and shift tile",
+            "a-priori sampler keys, shift tile and frame points",
             crate::sampler_data::sampler_buffer(),
         );
+        write_frame_points(gpu, &keys, &table);
         let accum = gpu.storage_zeroed::<Vec4>("accumulation", n);
         let gbuffer = gpu.storage_zeroed::<GBufferGpu>("g-buffer", n);
         let scene = SceneBuffers::upload(gpu, scene);
@@ -330,10 +332,15 @@ impl Tracer {
         gpu.storage_zeroed::<Vec4>("frame colour", (width * height) as usize)
     }
 
-    /// Writes the parameters of the next submission (frame index, cameras).
+    /// Writes the parameters of the next submission (frame index, cameras),
+    /// and with the spatiotemporal sampler the frame's point table
+    /// (`crate::sampler_data::with_frame_points`: `point_samples` is set
+    /// here, whatever `params` says).
     pub fn set_params(&self, gpu: &Gpu, params: &TraceParams) {
+        let (params, table) = crate::sampler_data::with_frame_points(params);
+        write_frame_points(gpu, &self.keys, &table);
         gpu.queue
-            .write_buffer(&self.params, 0, bytemuck::bytes_of(params));
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
     }
 
     /// Encodes the trace pass (optionally timed as `timer` span `span`).
@@ -404,5 +411,14 @@ impl Tracer {
     /// [`GpuError::Readback`].
     pub fn read_gbuffer(&self, gpu: &Gpu) -> Result<Vec<GBufferGpu>, GpuError> {
         gpu.read(&self.gbuffer, (self.width * self.height) as usize)
+    }
+}
+
+/// Stores a frame point table (`crate::sampler_data::with_frame_points`) at
+/// its place in the sampler buffer; nothing for an empty table.
+fn write_frame_points(gpu: &Gpu, keys: &wgpu::Buffer, table: &[u32]) {
+    if !table.is_empty() {
+        let offset = (crate::sampler_data::point_table_offset() * 4) as u64;
+        gpu.queue.write_buffer(keys, offset, bytemuck::cast_slice(table));
     }
 }

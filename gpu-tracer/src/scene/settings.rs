@@ -180,7 +180,7 @@ impl SceneGpu {
             prev_camera_up: self.prev_camera.up.extend(0.0),
             prev_tan_half_fov_y: self.prev_camera.tan_half_fov_y,
             image_count: self.image_count,
-            pad0: 0,
+            point_samples: 0,
             pad1: 0,
         })
     }

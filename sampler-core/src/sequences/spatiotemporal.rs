@@ -37,6 +37,10 @@
 //!   integrate the same function their errors are the function of a
 //!   blue-noise shift: blue in space, every frame.
 //!
+//! Because a frame's sequence points are the same for every pixel, a renderer
+//! can compute them once per frame ([`spatiotemporal_frame_points`]) and
+//! leave each pixel only its shift and one add; the tracer does so.
+//!
 //! So the sampler needs no per-frame data and no history, and its sequence
 //! continues for 2^32 samples; nothing here is optimised for a filter yet
 //! (the two coordinates of a shift are two scalar blue-noise reads, not a
@@ -46,6 +50,7 @@
 //! All arithmetic is `u32` with `wrapping_*` (0.32 fixed point: `x_q32 / 2^32`);
 //! identical on the CPU and in shaders.
 
+use crate::error::{Buffer, Error};
 use crate::sequences::owen::{owen_sobol_pair_u32, shuffle_index};
 use crate::sequences::seed::hash_u32;
 use crate::sequences::walk::walk_offset;
@@ -117,6 +122,44 @@ pub fn spatiotemporal_point_u32(index: u32, pair: u32, seed: u32) -> [u32; 2] {
 pub fn spatiotemporal_pair_u32(shift: [u32; 2], frame: u32, spp: u32, s: u32, pair: u32) -> [u32; 2] {
     let p = spatiotemporal_point_u32(spatiotemporal_index(frame, spp, s), pair, SPATIOTEMPORAL_SEED);
     [p[0].wrapping_add(shift[0]), p[1].wrapping_add(shift[1])]
+}
+
+/// One frame's unshifted points, computed once for every pixel (they do not
+/// depend on the pixel): for sample `s < samples` and `k < pairs.len()`,
+/// `out[2 (s * pairs.len() + k) + c]` is coordinate `c` of
+/// [`spatiotemporal_point_u32`]`(`[`spatiotemporal_index`]`(frame, spp, s),
+/// pairs[k], SPATIOTEMPORAL_SEED)`, so a pixel's pair is that entry plus its
+/// shift (wrapping), exactly [`spatiotemporal_pair_u32`].
+///
+/// # Errors
+/// [`Error::BufferSize`] ([`Buffer::SamplePoints`]) unless `out` holds exactly
+/// `2 * samples * pairs.len()` words; nothing is written then.
+pub fn spatiotemporal_frame_points(
+    frame: u32,
+    spp: u32,
+    samples: u32,
+    pairs: &[u32],
+    out: &mut [u32],
+) -> Result<(), Error> {
+    let expected = 2 * samples as usize * pairs.len();
+    if out.len() != expected {
+        return Err(Error::BufferSize {
+            buffer: Buffer::SamplePoints,
+            expected,
+            actual: out.len(),
+        });
+    }
+    let mut i = 0;
+    for s in 0..samples {
+        let index = spatiotemporal_index(frame, spp, s);
+        for &pair in pairs {
+            let p = spatiotemporal_point_u32(index, pair, SPATIOTEMPORAL_SEED);
+            out[i] = p[0];
+            out[i + 1] = p[1];
+            i += 2;
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -212,5 +255,39 @@ mod tests {
         assert!(short
             .iter()
             .all(|&v| v >> (32 - 2 * side_log2) == 0 || v >> (32 - 2 * side_log2) == tile[0]));
+    }
+
+    /// The frame table plus a pixel's shift is the pixel's pair, and a table
+    /// of the wrong size is refused untouched.
+    #[test]
+    fn the_frame_table_plus_the_shift_is_the_pair() {
+        let tile: [u32; 16] = [5, 12, 0, 9, 14, 3, 10, 7, 1, 8, 15, 4, 11, 6, 13, 2];
+        let pairs = [0u32, 1, 2, 7, 129];
+        let (frame, spp, samples) = (37u32, 4u32, 3u32);
+        let mut table = [0u32; 2 * 3 * 5];
+        spatiotemporal_frame_points(frame, spp, samples, &pairs, &mut table).unwrap();
+        for pixel in [UVec2::new(0, 0), UVec2::new(3, 9)] {
+            for s in 0..samples {
+                for (k, &pair) in pairs.iter().enumerate() {
+                    let shift = spatiotemporal_shift_u32(&tile, 2, pixel, pair);
+                    let i = 2 * (s as usize * pairs.len() + k);
+                    let from_table = [
+                        table[i].wrapping_add(shift[0]),
+                        table[i + 1].wrapping_add(shift[1]),
+                    ];
+                    assert_eq!(from_table, spatiotemporal_pair_u32(shift, frame, spp, s, pair));
+                }
+            }
+        }
+        let mut short = [7u32; 29];
+        assert_eq!(
+            spatiotemporal_frame_points(frame, spp, samples, &pairs, &mut short),
+            Err(Error::BufferSize {
+                buffer: Buffer::SamplePoints,
+                expected: 30,
+                actual: 29
+            })
+        );
+        assert!(short.iter().all(|&w| w == 7));
     }
 }

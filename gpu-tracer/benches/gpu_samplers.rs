@@ -1,0 +1,128 @@
+//! What each sampler's numbers cost on the GPU: the 1-spp path-traced frame
+//! (Cornell box, 1280x720, max depth 8) drawn from the seed stream, from
+//! screen-space Sobol, from ZSobol and from the spatiotemporal sampler,
+//! measured on one device in one run, the samplers alternated round by
+//! round so that clock and thermal drift fall on all of them alike.
+//!
+//! ```text
+//! cargo bench -p gpu-tracer --bench gpu_samplers
+//! ```
+//!
+//! Prints each sampler's median trace time and its excess over the seed
+//! stream's, as a share of the seed stream's frame (issue 29's goal for the
+//! spatiotemporal sampler: <= 3%). `ROUNDS=N` sets the number of rounds
+//! (default 9; a lavapipe frame takes seconds); `--test` runs one.
+
+use gpu_tracer::cornell::cornell_box;
+use gpu_tracer::gpu::{Gpu, PassTimer, PermutePipelines, SeedPermuter, TracePipelines, Tracer};
+use gpu_tracer::{SceneGpu, TraceSettings};
+use kernels::abi::{SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS, SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL};
+use sampler_core::FrameLayout;
+use std::time::Instant;
+
+const WIDTH: u32 = 1280;
+const HEIGHT: u32 = 720;
+
+/// The rows: name and `TraceParams::sampler`.
+const SAMPLERS: [(&str, u32); 4] = [
+    ("seed stream", SAMPLER_SEEDS),
+    ("screen-sobol", SAMPLER_SCREEN_SOBOL),
+    ("zsobol", SAMPLER_ZSOBOL),
+    ("spatiotemporal", SAMPLER_SPATIOTEMPORAL),
+];
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+fn main() {
+    let quick = std::env::args().any(|a| a == "--test");
+    let rounds = if quick {
+        1
+    } else {
+        std::env::var("ROUNDS")
+            .ok()
+            .and_then(|r| r.parse().ok())
+            .unwrap_or(9usize)
+            .max(1)
+    };
+    let gpu = match Gpu::new() {
+        Ok(g) => g,
+        Err(e) => {
+            println!("gpu_samplers: SKIPPED, {e}");
+            return;
+        }
+    };
+    let scene = SceneGpu::build(&cornell_box()).expect("scene");
+    let layout = FrameLayout::new(WIDTH, HEIGHT, 4, 64).expect("layout");
+    let mut settings = TraceSettings::new(WIDTH, HEIGHT);
+    settings.padded_width = layout.padded_width();
+    let params = |sampler: u32| {
+        let mut s = settings;
+        s.sampler = sampler;
+        scene.trace_params(&s, 1).expect("params")
+    };
+    let tp = TracePipelines::new(&gpu).expect("trace pipelines");
+    let pp = PermutePipelines::new(&gpu).expect("permute pipelines");
+    let color = Tracer::color_buffer(&gpu, WIDTH, HEIGHT);
+    let (tile, tables) = (
+        sampler_core::defaults::tile_64(),
+        sampler_core::defaults::tables_64(),
+    );
+    let permuter = SeedPermuter::new(&gpu, &pp, layout, &tile, &tables, &color).expect("permuter");
+    let tracer = Tracer::new(&gpu, &tp, &scene, &params(SAMPLER_SEEDS), &permuter.seeds, color);
+    permuter.set_frame(&gpu, 1);
+    let mut e = gpu.device.create_command_encoder(&Default::default());
+    permuter.encode_seed_init(&mut e, &pp);
+    gpu.queue.submit([e.finish()]);
+
+    let timer = PassTimer::new(&gpu, 1);
+    let mut ms = vec![Vec::new(); SAMPLERS.len()];
+    // Round 0 warms every pipeline up and is not counted.
+    for round in 0..=rounds {
+        for (k, &(_, sampler)) in SAMPLERS.iter().enumerate() {
+            tracer.set_params(&gpu, &params(sampler));
+            let mut e = gpu.device.create_command_encoder(&Default::default());
+            tracer.encode_trace(&mut e, &tp, timer.as_ref().map(|t| (t, 0)));
+            if let Some(t) = &timer {
+                t.resolve(&mut e);
+            }
+            let start = Instant::now();
+            gpu.queue.submit([e.finish()]);
+            gpu.wait().expect("wait");
+            let wall = start.elapsed().as_secs_f64() * 1e3;
+            let t = match &timer {
+                Some(t) => t.read_ms(&gpu).expect("timestamps")[0],
+                None => wall,
+            };
+            if round > 0 {
+                ms[k].push(t);
+            }
+        }
+    }
+    println!(
+        "gpu_samplers: {WIDTH}x{HEIGHT}, Cornell box 1 spp, depth 8, {rounds} rounds, on {}",
+        gpu.describe()
+    );
+    println!(
+        "timing: {}",
+        if timer.is_some() {
+            "timestamp queries"
+        } else {
+            "wall clock per submission"
+        }
+    );
+    println!(
+        "{:<16} {:>10} {:>10} {:>10} {:>22}",
+        "sampler", "median ms", "min ms", "max ms", "excess, % of seed frame"
+    );
+    let medians: Vec<f64> = ms.iter_mut().map(|v| median(v)).collect();
+    for ((name, _), (v, m)) in SAMPLERS.iter().zip(ms.iter().zip(&medians)) {
+        let (lo, hi) = (v[0], v[v.len() - 1]);
+        println!(
+            "{name:<16} {m:>10.3} {lo:>10.3} {hi:>10.3} {:>21.2}%",
+            100.0 * (m - medians[0]) / medians[0]
+        );
+    }
+}
