@@ -131,9 +131,12 @@ struct RenderArgs {
     /// Frames to render.
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..))]
     frames: u32,
-    /// How seeds change between frames.
-    #[arg(long, value_enum, default_value_t = ModeArg::Permute)]
-    mode: ModeArg,
+    /// How seeds change between frames: `white`, `sort`, `permute` (default
+    /// with the seed stream and the other samplers) or `hold` (default with
+    /// `--sampler spatiotemporal`, the only sampler it takes: each pixel's
+    /// shift stays with it, and follows the motion with reprojection).
+    #[arg(long, value_enum)]
+    mode: Option<ModeArg>,
     /// Block side of the sorting pass in pixels (2..=8).
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(2..=8))]
     block: u32,
@@ -149,9 +152,12 @@ struct RenderArgs {
     seed_mode: SeedModeArg,
     /// Source of the path's 2D decisions (pixel jitter, light samples, BSDF
     /// directions): `seeds` (the seed stream, permuted per `--mode`),
-    /// `screen-sobol` (screen-space Sobol with optimised keys, up to 16 spp)
-    /// or `zsobol` (Morton-ordered Sobol, up to 256 spp and 4096 pixels a
-    /// side). Russian roulette still reads the seeds.
+    /// `screen-sobol` (screen-space Sobol with optimised keys, up to 16 spp),
+    /// `zsobol` (Morton-ordered Sobol, up to 256 spp and 4096 pixels a
+    /// side) or `spatiotemporal` (each pixel one progressive sequence across
+    /// frames, shifted by blue noise: blue in time; takes every decision,
+    /// Russian roulette included, and `--mode hold`). With the others Russian
+    /// roulette still reads the seeds.
     /// `screen-sobol-jitter` and `zsobol-jitter` take only the position inside
     /// the pixel from that sampler and everything else from the (permuted)
     /// seeds: with `--mode permute`, silhouettes get a stratified jitter too.
@@ -176,6 +182,9 @@ enum ModeArg {
     Sort,
     /// Sorting + retargeting.
     Permute,
+    /// Nothing between frames; the spatiotemporal sampler's homes follow the
+    /// motion with reprojection.
+    Hold,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -311,6 +320,24 @@ fn render(args: RenderArgs) -> Result<()> {
         SamplerArg::ZsobolJitter => SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY,
         SamplerArg::Spatiotemporal => kernels::abi::SAMPLER_SPATIOTEMPORAL,
     };
+    let spatiotemporal = matches!(args.sampler, SamplerArg::Spatiotemporal);
+    let mode =
+        match (args.mode, spatiotemporal) {
+            (None, true) => ModeArg::Hold,
+            (None, false) => ModeArg::Permute,
+            (Some(ModeArg::Hold), false) => bail!(
+            "--mode hold keeps every pixel's numbers from frame to frame: only --sampler spatiotemporal, \
+             which advances its own sequence every frame, can use it"
+        ),
+            (Some(m @ (ModeArg::Sort | ModeArg::Permute)), true) => {
+                bail!(
+            "--mode {} has nothing to permute with --sampler spatiotemporal, which draws every number \
+             itself: use --mode hold (its default) or white",
+            if matches!(m, ModeArg::Sort) { "sort" } else { "permute" }
+        )
+            }
+            (Some(m), _) => m,
+        };
     // Settings the chosen sampler does not support fail here, before any work.
     sequence
         .scene()
@@ -342,10 +369,11 @@ fn render(args: RenderArgs) -> Result<()> {
     let job = RenderJob {
         settings,
         frames: args.frames,
-        mode: match args.mode {
+        mode: match mode {
             ModeArg::White => PermuteMode::White,
             ModeArg::Sort => PermuteMode::Sort,
             ModeArg::Permute => PermuteMode::Permute,
+            ModeArg::Hold => PermuteMode::Hold,
         },
         block: args.block,
         tile,

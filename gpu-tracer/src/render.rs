@@ -12,7 +12,8 @@ use crate::motion::{reprojection_motion, write_visibility};
 use crate::scene::{SceneGpu, TraceSettings};
 use crate::timeline::SceneSequence;
 use glam::{UVec2, Vec4};
-use kernels::abi::GBufferGpu;
+use kernels::abi::{GBufferGpu, SAMPLER_FOLLOW_HOMES, SAMPLER_KIND_MASK, SAMPLER_SPATIOTEMPORAL};
+use sampler_core::sequences::spatiotemporal::write_initial_homes;
 use sampler_core::{DitherTile, FeatureThresholds, FrameLayout, RetargetTables};
 use std::fmt;
 
@@ -140,6 +141,9 @@ pub enum RenderError {
     /// A sequence option the GPU loop does not implement (e.g. a
     /// [`FeatureKey`] other than the demodulated one); names it.
     Unsupported(String),
+    /// Settings that do not go together (e.g. [`PermuteMode::Hold`] with a
+    /// sampler other than the spatiotemporal one); says which and why.
+    Incompatible(String),
 }
 
 impl fmt::Display for RenderError {
@@ -150,6 +154,7 @@ impl fmt::Display for RenderError {
             RenderError::Gpu(e) => write!(f, "{e}"),
             RenderError::NoFrames => write!(f, "the number of frames must be at least 1"),
             RenderError::Unsupported(what) => write!(f, "not supported on the GPU: {what}"),
+            RenderError::Incompatible(what) => write!(f, "incompatible settings: {what}"),
         }
     }
 }
@@ -160,7 +165,7 @@ impl std::error::Error for RenderError {
             RenderError::Layout(e) => Some(e),
             RenderError::Trace(e) => Some(e),
             RenderError::Gpu(e) => Some(e),
-            RenderError::NoFrames | RenderError::Unsupported(_) => None,
+            RenderError::NoFrames | RenderError::Unsupported(_) | RenderError::Incompatible(_) => None,
         }
     }
 }
@@ -212,13 +217,29 @@ impl RenderJob {
             return Err(RenderError::NoFrames);
         }
         let layout = self.layout()?;
+        let spatiotemporal = self.settings.sampler & SAMPLER_KIND_MASK == SAMPLER_SPATIOTEMPORAL;
+        if self.mode == PermuteMode::Hold && !spatiotemporal {
+            return Err(RenderError::Incompatible(
+                "the hold mode keeps every pixel's numbers from frame to frame; only the spatiotemporal \
+                 sampler, which advances its own sequence every frame, can use it"
+                    .into(),
+            ));
+        }
         let (tile, tables) = self.tile.load();
         Ok((layout, self.settings_for(&layout), tile, tables))
     }
 
+    /// The trace settings of this job on `layout`: padded to it, and with
+    /// [`PermuteMode::Hold`] the spatiotemporal sampler told that the seed
+    /// buffer holds homes ([`SAMPLER_FOLLOW_HOMES`]).
     fn settings_for(&self, layout: &FrameLayout) -> TraceSettings {
+        let mut sampler = self.settings.sampler & !SAMPLER_FOLLOW_HOMES;
+        if self.mode == PermuteMode::Hold {
+            sampler |= SAMPLER_FOLLOW_HOMES;
+        }
         TraceSettings {
             padded_width: layout.padded_width(),
+            sampler,
             ..self.settings
         }
     }
@@ -274,7 +295,11 @@ pub fn render_sequence_cpu(
     };
     let mut keys = FeatureKeys::new(options.feature_key, w, h, FeatureThresholds::DEFAULT);
     let mut claims = vec![0u32; if reproject { layout.seed_count() } else { 0 }];
+    let hold = job.mode == PermuteMode::Hold;
     let mut seeds = cpu::white_seeds(layout.padded_width(), layout.padded_height(), job.salt);
+    if hold {
+        write_initial_homes(layout.padded_width(), layout.padded_height(), &mut seeds);
+    }
     let mut next = vec![0u32; seeds.len()];
     let mut color = vec![Vec4::ZERO; n];
     let mut mean = vec![Vec4::ZERO; n];
@@ -290,6 +315,7 @@ pub fn render_sequence_cpu(
         }
         if reproject && t > 0 {
             let motion = reprojection_motion(&gbuf, &previous_vis, layout.width(), layout.height());
+            // Seeds, or with the hold mode the homes: moved alike.
             sampler_core::reproject_frame(&layout, &motion, &seeds, &mut claims, &mut next)?;
             std::mem::swap(&mut seeds, &mut next);
         }
@@ -304,6 +330,7 @@ pub fn render_sequence_cpu(
             gbuffer: options.gbuffer.then_some(&gbuf[..]),
         });
         match job.mode {
+            PermuteMode::Hold => {}
             PermuteMode::White => {
                 seeds = cpu::white_seeds(
                     layout.padded_width(),
@@ -435,6 +462,7 @@ pub fn render_sequence_gpu(
     if let Some(f) = permuter.features() {
         tracer.enable_features(gpu, &trace_pipelines, f, &permuter.intensity);
     }
+    let hold = job.mode == PermuteMode::Hold;
     let reprojection = if reproject {
         let pipelines = ReprojectPipelines::new(gpu)?;
         let reprojector = SeedReprojector::new(gpu, &pipelines, layout, &permuter.seeds)?;
@@ -443,11 +471,18 @@ pub fn render_sequence_gpu(
     } else {
         None
     };
-
-    permuter.set_frame(gpu, job.salt);
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    permuter.encode_seed_init(&mut encoder, &permute_pipelines);
-    gpu.queue.submit([encoder.finish()]);
+    if hold {
+        // The hold mode's homes, written once (moved by the reprojection).
+        let mut homes = vec![0u32; layout.seed_count()];
+        write_initial_homes(layout.padded_width(), layout.padded_height(), &mut homes);
+        gpu.queue
+            .write_buffer(&permuter.seeds, 0, bytemuck::cast_slice(&homes));
+    } else {
+        permuter.set_frame(gpu, job.salt);
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        permuter.encode_seed_init(&mut encoder, &permute_pipelines);
+        gpu.queue.submit([encoder.finish()]);
+    }
 
     for t in 0..job.frames {
         if t > 0 && sequence.advance()? {
@@ -475,7 +510,7 @@ pub fn render_sequence_gpu(
         tracer.encode_accumulate(&mut encoder, &trace_pipelines);
         if features {
             tracer.encode_features(&mut encoder, &trace_pipelines, None);
-        } else if job.mode != PermuteMode::White {
+        } else if job.mode != PermuteMode::White && !hold {
             permuter.encode_intensity(&mut encoder, &permute_pipelines);
         }
         permuter.encode_step(&mut encoder, &permute_pipelines, t, job.mode, None);
@@ -502,4 +537,87 @@ pub fn render_sequence_gpu(
         mean,
         device: gpu.describe(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera_path::{CameraPath, CameraPathKind};
+    use crate::cornell::cornell_box;
+    use crate::timeline::Timeline;
+
+    fn job(sampler: u32, mode: PermuteMode) -> RenderJob {
+        let mut settings = TraceSettings::new(24, 20);
+        settings.sampler = sampler;
+        settings.max_depth = 3;
+        RenderJob {
+            settings,
+            frames: 4,
+            mode,
+            block: 4,
+            tile: TileChoice::Tile64,
+            salt: 0,
+        }
+    }
+
+    /// With nothing moving, the hold mode's homes are the pixels: the same
+    /// image, bit for bit, as the spatiotemporal sampler reading its shifts
+    /// at the pixels (white mode, whose seeds it does not read).
+    #[test]
+    fn a_still_hold_is_the_screen_fixed_sampler() {
+        let scene = SceneGpu::build(&cornell_box()).unwrap();
+        let hold = render_cpu(&scene, &job(SAMPLER_SPATIOTEMPORAL, PermuteMode::Hold), |_, _| {}).unwrap();
+        let white = render_cpu(
+            &scene,
+            &job(SAMPLER_SPATIOTEMPORAL, PermuteMode::White),
+            |_, _| {},
+        )
+        .unwrap();
+        assert_eq!(hold.last, white.last);
+        assert_eq!(hold.mean, white.mean);
+        assert!(hold.mean.iter().any(|c| c.x > 0.0), "the Cornell box renders");
+    }
+
+    /// In motion, reprojection moves the homes: the frames after the first
+    /// differ from those of homes left at their pixels, and the first agrees.
+    #[test]
+    fn reprojection_moves_the_homes_in_motion() {
+        let base = cornell_box();
+        let timeline = Timeline {
+            camera_path: Some(CameraPath {
+                kind: CameraPathKind::Pan,
+                speed: 1.5,
+            }),
+            ..Timeline::still()
+        };
+        let job = job(SAMPLER_SPATIOTEMPORAL, PermuteMode::Hold);
+        let mut frames = [Vec::new(), Vec::new()];
+        for (k, reproject) in [false, true].into_iter().enumerate() {
+            let mut sequence = SceneSequence::new(&base, timeline.clone(), 20).unwrap();
+            let options = SequenceOptions {
+                reproject,
+                ..SequenceOptions::default()
+            };
+            render_sequence_cpu(&mut sequence, &job, options, |f| frames[k].push(f.color.to_vec())).unwrap();
+        }
+        assert_eq!(frames[0][0], frames[1][0]);
+        assert_ne!(frames[0][3], frames[1][3]);
+    }
+
+    /// The hold mode with a sampler that reads the seeds is refused before
+    /// any work.
+    #[test]
+    fn hold_needs_the_spatiotemporal_sampler() {
+        let scene = SceneGpu::build(&cornell_box()).unwrap();
+        let mut frames = 0;
+        let e = render_cpu(
+            &scene,
+            &job(kernels::abi::SAMPLER_SEEDS, PermuteMode::Hold),
+            |_, _| frames += 1,
+        )
+        .unwrap_err();
+        assert!(matches!(e, RenderError::Incompatible(_)), "{e}");
+        assert!(e.to_string().contains("spatiotemporal"), "{e}");
+        assert_eq!(frames, 0);
+    }
 }

@@ -20,13 +20,16 @@ pub enum MotionMethod {
     /// White seeds and screen-space Sobol on every 2D decision.
     ScreenSobol,
     /// The spatiotemporal sampler on every decision (issue 29): one progressive
-    /// sequence per pixel across frames; a-priori, so nothing to reproject.
+    /// sequence per pixel across frames, its shift read at the screen pixel.
     Spatiotemporal,
+    /// The spatiotemporal sampler with its homes moved along the motion
+    /// (hold mode with reprojection): each surface point keeps its shift.
+    SpatiotemporalFollow,
 }
 
 impl MotionMethod {
     /// Every row, white first.
-    pub const ALL: [MotionMethod; 7] = [
+    pub const ALL: [MotionMethod; 8] = [
         MotionMethod::White,
         MotionMethod::Permute,
         MotionMethod::PermuteReproject,
@@ -34,6 +37,7 @@ impl MotionMethod {
         MotionMethod::FeaturePermuteReproject,
         MotionMethod::ScreenSobol,
         MotionMethod::Spatiotemporal,
+        MotionMethod::SpatiotemporalFollow,
     ];
 
     /// Name used in tables.
@@ -45,7 +49,8 @@ impl MotionMethod {
             MotionMethod::PermuteJitterReproject => "permute-jitter + reprojection",
             MotionMethod::FeaturePermuteReproject => "feature-aware permute + reprojection",
             MotionMethod::ScreenSobol => "screen-sobol",
-            MotionMethod::Spatiotemporal => "spatiotemporal",
+            MotionMethod::Spatiotemporal => "spatiotemporal, shifts at the pixels",
+            MotionMethod::SpatiotemporalFollow => "spatiotemporal, shifts follow (hold + reprojection)",
         }
     }
 
@@ -70,6 +75,10 @@ impl MotionMethod {
             MotionMethod::Spatiotemporal => {
                 settings.sampler = kernels::abi::SAMPLER_SPATIOTEMPORAL;
                 (PermuteMode::White, false)
+            }
+            MotionMethod::SpatiotemporalFollow => {
+                settings.sampler = kernels::abi::SAMPLER_SPATIOTEMPORAL;
+                (PermuteMode::Hold, true)
             }
         };
         let job = RenderJob {

@@ -55,8 +55,9 @@ pub struct MotionRun {
     /// region (`[whole, emitter, edges, interior]`).
     pub blur: Vec<[f64; 4]>,
     /// Per frame: sum of squared history error minus the reference's noise variance,
-    /// whole image and interior.
-    pub ema: Vec<[f64; 2]>,
+    /// whole image and interior; then the same for the history of the per-frame
+    /// error (the noise part: [`Figure::EmaNoise`]), whole image and interior.
+    pub ema: Vec<[f64; 4]>,
     /// Per frame: sum of squared error after the real-time filter
     /// (`taa+atrous` of `gpu_tracer::filter`, reprojected by the motion vectors,
     /// reset at disocclusions), whole image and interior.
@@ -72,6 +73,16 @@ pub enum Figure {
     Blur(Option<Region>),
     /// History RMSE (reference noise removed), whole image or interior.
     Ema {
+        /// Interior only.
+        interior: bool,
+    },
+    /// History RMSE of the per-frame error (each frame minus its own pose's
+    /// reference, blended by the same reprojected history), whole image or
+    /// interior: the history's error without its resampling lag (nearest-pixel
+    /// fetches drift up to half a pixel off the surface, the same for every
+    /// method). What a sampler can change; equal to [`Figure::Ema`] with a still
+    /// camera.
+    EmaNoise {
         /// Interior only.
         interior: bool,
     },
@@ -137,9 +148,14 @@ impl CaseResult {
                 let sum = |r: &MotionRun| (from..frames).map(|t| r.blur[t][k]).sum::<f64>();
                 ratio(sum(m), sum(w))
             }
-            Figure::Ema { interior } => {
+            Figure::Ema { interior } | Figure::EmaNoise { interior } => {
                 let from = (EMA_FROM as usize).min(frames.saturating_sub(1));
-                let k = usize::from(interior);
+                let k = usize::from(interior)
+                    + if matches!(figure, Figure::EmaNoise { .. }) {
+                        2
+                    } else {
+                        0
+                    };
                 let sum = |r: &MotionRun| (from..frames).map(|t| r.ema[t][k]).sum::<f64>();
                 ratio(sum(m).max(0.0), sum(w))
             }
@@ -193,7 +209,7 @@ mod tests {
             method,
             lf: vec![vec![lf]; 20],
             blur: vec![[blur, blur, 0.0, 0.0]; 20],
-            ema: vec![[blur, 0.0]; 20],
+            ema: vec![[blur, 0.0, blur, 0.0]; 20],
             filtered: vec![[blur, blur]; 20],
         };
         let r = CaseResult {

@@ -244,6 +244,10 @@ impl MotionSequence {
         let blur = GaussianBlur::new(1.0)?;
         let mut analyzer = SpectrumAnalyzer::new();
         let mut history = ReprojectedHistory::new(size, size, HISTORY_ALPHA);
+        // The same history of the per-frame error (frame minus its pose's
+        // reference): the history's error without its resampling lag.
+        let mut error_history = ReprojectedHistory::new(size, size, HISTORY_ALPHA);
+        let still = self.case == MotionCase::Still;
         let mut run = MotionRun {
             method,
             lf: Vec::new(),
@@ -277,13 +281,25 @@ impl MotionSequence {
                 .collect();
             run.lf.push(lf);
             let (h, _) = history.update(&luma, &pose.motion);
-            let mut ema = [0.0f64; 2];
+            let mut ema = [0.0f64; 4];
             for (((v, r), noise), region) in h.iter().zip(reference).zip(noise).zip(&pose.regions) {
                 let d = (*v - *r) as f64;
                 let e = d * d - *noise as f64;
                 ema[0] += e;
                 if *region == Region::Interior {
                     ema[1] += e;
+                }
+            }
+            let (he, _) = error_history.update(&error, &pose.motion);
+            for ((v, noise), region) in he.iter().zip(noise).zip(&pose.regions) {
+                // Still: one reference, its noise in every frame's error as
+                // in the EMA above. Moving: a reference per pose, whose
+                // independent noises the history averages down to
+                // alpha / (2 - alpha) of one, left in (< 2% of white's).
+                let e = (*v as f64) * (*v as f64) - if still { *noise as f64 } else { 0.0 };
+                ema[2] += e;
+                if *region == Region::Interior {
+                    ema[3] += e;
                 }
             }
             run.ema.push(ema);

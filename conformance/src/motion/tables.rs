@@ -10,7 +10,7 @@ use crate::study::GOAL_FRAME;
 
 impl Figure {
     /// The columns of the tables, in order.
-    pub const COLUMNS: [Figure; 9] = [
+    pub const COLUMNS: [Figure; 11] = [
         Figure::LowFrequency,
         Figure::Blur(None),
         Figure::Blur(Some(Region::Emitter)),
@@ -18,6 +18,8 @@ impl Figure {
         Figure::Blur(Some(Region::Interior)),
         Figure::Ema { interior: false },
         Figure::Ema { interior: true },
+        Figure::EmaNoise { interior: false },
+        Figure::EmaNoise { interior: true },
         Figure::Filtered { interior: false },
         Figure::Filtered { interior: true },
     ];
@@ -32,6 +34,8 @@ impl Figure {
             Figure::Blur(Some(Region::Interior)) => "blur interior",
             Figure::Ema { interior: false } => "EMA",
             Figure::Ema { interior: true } => "EMA interior",
+            Figure::EmaNoise { interior: false } => "EMA noise part",
+            Figure::EmaNoise { interior: true } => "EMA noise part interior",
             Figure::Filtered { interior: false } => "taa+atrous",
             Figure::Filtered { interior: true } => "taa+atrous interior",
         }

@@ -68,6 +68,8 @@ fn apriori_samplers_agree_with_the_cpu_renderer() {
         (SAMPLER_SCREEN_SOBOL, "screen-sobol", PermuteMode::White),
         (SAMPLER_ZSOBOL, "zsobol", PermuteMode::White),
         (SAMPLER_SPATIOTEMPORAL, "spatiotemporal", PermuteMode::White),
+        // Homes in the seed buffer (written by the host, read through the flag).
+        (SAMPLER_SPATIOTEMPORAL, "spatiotemporal-hold", PermuteMode::Hold),
         // Jitter only: the seeds drive the rest, so permute them as the GPU would.
         (
             SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY,

@@ -173,10 +173,18 @@ pub const SPATIOTEMPORAL_TILE_LOG2: u32 = 6;
 /// jitter along rows and columns (QUALITY.md, "Permutation with a-priori
 /// jitter").
 pub const SAMPLER_JITTER_ONLY: u32 = 1 << 8;
+/// Flag of [`TraceParams::sampler`], ORed with [`SAMPLER_SPATIOTEMPORAL`]:
+/// the seed buffer (binding 4) holds each pixel's **home**
+/// (`sampler_core::sequences::spatiotemporal::home_of_pixel`), not a seed,
+/// and the pixel reads its shift where the home says instead of at its own
+/// position. The host starts the homes at the pixels and, when things move,
+/// moves them like seeds with the seed reprojection, so the pixels that
+/// follow a surface keep its shift. Ignored with the other samplers.
+pub const SAMPLER_FOLLOW_HOMES: u32 = 1 << 9;
 /// The bits of [`TraceParams::sampler`] that name the sampler
 /// ([`SAMPLER_SEEDS`], [`SAMPLER_SCREEN_SOBOL`], [`SAMPLER_ZSOBOL`] or
 /// [`SAMPLER_SPATIOTEMPORAL`]); the
-/// rest are flags ([`SAMPLER_JITTER_ONLY`]).
+/// rest are flags ([`SAMPLER_JITTER_ONLY`], [`SAMPLER_FOLLOW_HOMES`]).
 pub const SAMPLER_KIND_MASK: u32 = 0xFF;
 
 /// Per-frame parameters of the trace, G-buffer and accumulate passes
@@ -227,10 +235,13 @@ pub struct TraceParams {
     /// Unit vector to the top of the image, orthogonal to both; `w` = 0.
     pub camera_up: Vec4,
     /// Source of the path's 2D decisions: [`SAMPLER_SEEDS`],
-    /// [`SAMPLER_SCREEN_SOBOL`] or [`SAMPLER_ZSOBOL`], the last two
-    /// optionally ORed with [`SAMPLER_JITTER_ONLY`]; any other value
-    /// behaves like [`SAMPLER_SEEDS`]. [`Self::seed_mode`] still drives the
-    /// seed stream (Russian roulette, and everything the sampler does not).
+    /// [`SAMPLER_SCREEN_SOBOL`], [`SAMPLER_ZSOBOL`] or
+    /// [`SAMPLER_SPATIOTEMPORAL`], the last three optionally ORed with
+    /// [`SAMPLER_JITTER_ONLY`], the spatiotemporal one also with
+    /// [`SAMPLER_FOLLOW_HOMES`]; any other value behaves like
+    /// [`SAMPLER_SEEDS`]. [`Self::seed_mode`] still drives the seed stream
+    /// (Russian roulette except with the spatiotemporal sampler, and
+    /// everything the sampler does not).
     pub sampler: u32,
     /// `sampler_core::ScreenSobolLayout::side_log2` of the key buffer
     /// (binding 7): `log2` of the key tile side. Read only with

@@ -57,15 +57,16 @@
 //! the seed permutation with a stratified jitter.
 
 use crate::abi::{
-    TraceParams, MAX_DEPTH_LIMIT, SAMPLER_JITTER_ONLY, SAMPLER_KIND_MASK, SAMPLER_SCREEN_SOBOL,
-    SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL, SEED_MODE_ADVANCE, SPATIOTEMPORAL_TILE_LOG2,
+    TraceParams, MAX_DEPTH_LIMIT, SAMPLER_FOLLOW_HOMES, SAMPLER_JITTER_ONLY, SAMPLER_KIND_MASK,
+    SAMPLER_SCREEN_SOBOL, SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL, SEED_MODE_ADVANCE,
+    SPATIOTEMPORAL_TILE_LOG2,
 };
 use crate::sampler_entry::{screen_sobol_pair, zsobol_pair};
 use glam::{UVec2, Vec2};
 use sampler_core::sequences::r2::q32_to_f32;
 use sampler_core::sequences::screen_sobol::ScreenSobolLayout;
 use sampler_core::sequences::spatiotemporal::{
-    spatiotemporal_index, spatiotemporal_point_u32, spatiotemporal_shift_at, SPATIOTEMPORAL_SEED,
+    home_texel, spatiotemporal_index, spatiotemporal_point_u32, spatiotemporal_shift_at, SPATIOTEMPORAL_SEED,
 };
 use sampler_core::RandomStream;
 
@@ -276,6 +277,10 @@ pub struct PathNumbers {
     stream: RandomStream,
     /// The pixel being rendered.
     pub(crate) pixel: UVec2,
+    /// Where the a-priori sampler reads its per-pixel data: [`Self::pixel`],
+    /// or the home the seed holds with [`SAMPLER_FOLLOW_HOMES`]
+    /// ([`SAMPLER_SPATIOTEMPORAL`] only; see [`sampler_position`]).
+    sampler_pixel: UVec2,
     /// Sample index `s` within the frame.
     sample: u32,
     /// Which 2D decisions come from [`apriori_pair`]: [`APRIORI_NONE`],
@@ -296,6 +301,7 @@ impl PathNumbers {
         PathNumbers {
             sample: s,
             apriori: apriori_scope(params),
+            sampler_pixel: sampler_position(params, pixel, seed),
             ..Self::from_stream(stream, pixel)
         }
     }
@@ -307,6 +313,7 @@ impl PathNumbers {
         PathNumbers {
             stream,
             pixel,
+            sampler_pixel: pixel,
             sample: 0,
             apriori: APRIORI_NONE,
             first_bsdf: Vec2::ZERO,
@@ -340,7 +347,7 @@ impl PathNumbers {
     #[inline]
     fn pair(&self, params: &TraceParams, keys: &[u32], pair: u32, dim: u32) -> Vec2 {
         if self.apriori == APRIORI_ALL || (self.apriori == APRIORI_JITTER && pair == PAIR_JITTER) {
-            apriori_pair(params, keys, self.pixel, self.sample, pair)
+            apriori_pair(params, keys, self.sampler_pixel, self.sample, pair)
         } else {
             self.stream_pair(dim)
         }
@@ -375,10 +382,31 @@ impl PathNumbers {
     #[inline]
     pub fn roulette(&self, params: &TraceParams, keys: &[u32], depth: u32) -> f32 {
         if self.apriori == APRIORI_ALL && sampler_kind(params) == SAMPLER_SPATIOTEMPORAL {
-            apriori_pair(params, keys, self.pixel, self.sample, pair_roulette(depth)).x
+            apriori_pair(
+                params,
+                keys,
+                self.sampler_pixel,
+                self.sample,
+                pair_roulette(depth),
+            )
+            .x
         } else {
             self.stream_pair(vertex_dim(depth) + 5).x
         }
+    }
+}
+
+/// The position the a-priori sampler reads its per-pixel data at for
+/// `pixel` whose seed-buffer entry is `seed`: with [`SAMPLER_SPATIOTEMPORAL`]
+/// and [`SAMPLER_FOLLOW_HOMES`], the position the home `seed` holds names
+/// (`sampler_core::sequences::spatiotemporal::home_texel`); otherwise
+/// `pixel`.
+#[inline]
+pub fn sampler_position(params: &TraceParams, pixel: UVec2, seed: u32) -> UVec2 {
+    if sampler_kind(params) == SAMPLER_SPATIOTEMPORAL && params.sampler & SAMPLER_FOLLOW_HOMES != 0 {
+        home_texel(seed)
+    } else {
+        pixel
     }
 }
 

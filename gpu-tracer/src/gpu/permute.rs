@@ -23,6 +23,12 @@ pub enum PermuteMode {
     Sort,
     /// Sorting then retargeting (Heitz & Belcour 2019).
     Permute,
+    /// Nothing between frames: the buffer is written once and kept (moved
+    /// along the motion with reprojection). Only for the spatiotemporal
+    /// sampler, whose buffer then holds the pixels' homes
+    /// (`kernels::abi::SAMPLER_FOLLOW_HOMES`), not seeds: it draws every
+    /// number itself and advances its own sequence every frame.
+    Hold,
 }
 
 /// The four compute pipelines of the permutation, created once per device.
@@ -281,6 +287,7 @@ impl SeedPermuter {
         let params: FrameParams = self.layout.params(frame);
         match mode {
             PermuteMode::White => self.encode_seed_init(encoder, pipelines),
+            PermuteMode::Hold => {}
             PermuteMode::Permute if self.features.is_some() => {
                 let f = self.features.as_ref().expect("checked");
                 let blocks = params.blocks_x() * params.blocks_y();

@@ -119,9 +119,12 @@ impl SceneGpu {
                 "sampler",
                 s.sampler,
                 kind <= kernels::abi::SAMPLER_SPATIOTEMPORAL
-                    && (flags == 0 || (flags == SAMPLER_JITTER_ONLY && kind != kernels::abi::SAMPLER_SEEDS)),
+                    && (flags == 0
+                        || (flags == SAMPLER_JITTER_ONLY && kind != kernels::abi::SAMPLER_SEEDS)
+                        || (flags == kernels::abi::SAMPLER_FOLLOW_HOMES
+                            && kind == kernels::abi::SAMPLER_SPATIOTEMPORAL)),
                 "0 (seeds), 1 (screen-sobol), 2 (zsobol) or 3 (spatiotemporal), the last three optionally ORed \
-                 with 256 (jitter only)",
+                 with 256 (jitter only), spatiotemporal also with 512 (homes)",
             ),
             (
                 "spp",

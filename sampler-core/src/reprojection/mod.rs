@@ -62,6 +62,9 @@
 //! pixels side by side (`batch.rs`), with AVX2 where the CPU has
 //! it. `tests.rs` checks every path against the first version.
 //! The figures are in `BENCHMARKS.md`.
+//!
+//! The seeds moved need not be seeds: the spatiotemporal sampler's homes
+//! (`crate::sequences::spatiotemporal::home_of_pixel`) travel the same way.
 
 mod batch;
 mod claims;

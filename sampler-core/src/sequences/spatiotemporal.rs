@@ -41,6 +41,19 @@
 //! can compute them once per frame ([`spatiotemporal_frame_points`]) and
 //! leave each pixel only its shift and one add; the tracer does so.
 //!
+//! # Homes: shifts that follow the picture
+//!
+//! A pixel's **home** is where it reads its shift: by default its own
+//! position. When the camera or objects move, a renderer can store each
+//! pixel's home ([`home_of_pixel`]) in its seed buffer and move the homes
+//! with the seed reprojection (`crate::reprojection`, a permutation, so the
+//! field of shifts stays a rearrangement of the tile's: no shift duplicated),
+//! so that the pixels that follow a surface keep its shift and its sequence;
+//! the pixel then reads its shift at [`home_texel`]. Measured (`QUALITY.md`,
+//! "Blue in time"): it keeps part of the interiors' gain at 2 px/frame, and
+//! none of the whole image's, whose gain with a still camera is at the
+//! light's silhouette, where the pixel footprint itself slides over the edge.
+//!
 //! So the sampler needs no per-frame data and no history, and its sequence
 //! continues for 2^32 samples; nothing here is optimised for a filter yet
 //! (the two coordinates of a shift are two scalar blue-noise reads, not a
@@ -122,6 +135,34 @@ pub fn spatiotemporal_point_u32(index: u32, pair: u32, seed: u32) -> [u32; 2] {
 pub fn spatiotemporal_pair_u32(shift: [u32; 2], frame: u32, spp: u32, s: u32, pair: u32) -> [u32; 2] {
     let p = spatiotemporal_point_u32(spatiotemporal_index(frame, spp, s), pair, SPATIOTEMPORAL_SEED);
     [p[0].wrapping_add(shift[0]), p[1].wrapping_add(shift[1])]
+}
+
+/// The home of pixel `(x, y)` before anything moved: the pixel itself, `x` in
+/// the low 16 bits and `y` in the high 16 bits (each taken modulo `2^16`; the
+/// shift tile's period divides it).
+#[inline]
+pub fn home_of_pixel(x: u32, y: u32) -> u32 {
+    (x & 0xFFFF) | (y << 16)
+}
+
+/// The position a home names ([`home_of_pixel`]'s inverse modulo `2^16`):
+/// read the pixel's shift there ([`spatiotemporal_shift_u32`]).
+#[inline]
+pub fn home_texel(home: u32) -> UVec2 {
+    UVec2::new(home & 0xFFFF, home >> 16)
+}
+
+/// [`home_of_pixel`] of every entry of a `padded_width x padded_height` seed
+/// buffer (row-major): the homes of frame 0.
+///
+/// # Panics
+/// If `out` is shorter than `padded_width * padded_height`.
+pub fn write_initial_homes(padded_width: u32, padded_height: u32, out: &mut [u32]) {
+    for y in 0..padded_height {
+        for x in 0..padded_width {
+            out[(y * padded_width + x) as usize] = home_of_pixel(x, y);
+        }
+    }
 }
 
 /// One frame's unshifted points, computed once for every pixel (they do not
@@ -255,6 +296,27 @@ mod tests {
         assert!(short
             .iter()
             .all(|&v| v >> (32 - 2 * side_log2) == 0 || v >> (32 - 2 * side_log2) == tile[0]));
+    }
+
+    /// A pixel's first home reads the shift at the pixel (modulo the tile).
+    #[test]
+    fn a_first_home_is_the_pixel() {
+        let mut homes = [0u32; 6 * 5];
+        write_initial_homes(6, 5, &mut homes);
+        for (i, &h) in homes.iter().enumerate() {
+            assert_eq!(home_texel(h), UVec2::new(i as u32 % 6, i as u32 / 6));
+        }
+        assert_eq!(
+            home_texel(home_of_pixel(70_000, 3)),
+            UVec2::new(70_000 % 65_536, 3)
+        );
+        let tile: [u32; 16] = core::array::from_fn(|i| i as u32);
+        for p in [UVec2::new(1, 2), UVec2::new(13, 7)] {
+            assert_eq!(
+                spatiotemporal_shift_u32(&tile, 2, home_texel(home_of_pixel(p.x, p.y)), 3),
+                spatiotemporal_shift_u32(&tile, 2, p, 3)
+            );
+        }
     }
 
     /// The frame table plus a pixel's shift is the pixel's pair, and a table

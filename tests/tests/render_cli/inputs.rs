@@ -86,6 +86,11 @@ fn bad_input_fails_with_a_clear_message_and_writes_nothing() {
             vec!["--sampler", "zsobol", "--spp", "512"],
             "at most 256 with the zsobol sampler",
         ),
+        (vec!["--mode", "hold"], "only --sampler spatiotemporal"),
+        (
+            vec!["--sampler", "spatiotemporal", "--mode", "permute"],
+            "nothing to permute with --sampler spatiotemporal",
+        ),
         (vec!["--out", file.to_str().unwrap()], "not a directory"),
         (
             vec!["--out", under_file.to_str().unwrap()],

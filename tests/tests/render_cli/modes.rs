@@ -59,6 +59,7 @@ fn cpu_render_with_each_apriori_sampler() {
         ("screen-sobol-jitter", "permute"),
         ("zsobol-jitter", "permute"),
         ("spatiotemporal", "white"),
+        ("spatiotemporal", "hold"),
     ] {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("out");
@@ -310,4 +311,41 @@ fn filters_write_filtered_frames_beside_raw_ones() {
         );
         assert!(!out.exists(), "{bad:?} created the output directory");
     }
+}
+
+/// `--sampler spatiotemporal` defaults to the hold mode, and with a moving
+/// camera its homes follow the picture (reprojection on by default).
+#[test]
+fn spatiotemporal_defaults_to_hold_and_follows_a_pan() {
+    let exe = tracer();
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = run(
+        &exe,
+        &[
+            "render",
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "--frames",
+            "4",
+            "--sampler",
+            "spatiotemporal",
+            "--camera-path",
+            "pan",
+            "--camera-speed",
+            "1.5",
+            "--device",
+            "cpu",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    let t = text(&o);
+    assert!(o.status.success(), "{t}");
+    assert!(t.contains("Hold mode") && t.contains("reprojection on"), "{t}");
+    let img = image::open(out.join("mean.exr")).unwrap().into_rgb32f();
+    let mean: f32 = img.pixels().map(|p| p[0] + p[1] + p[2]).sum::<f32>() / (32.0 * 24.0);
+    assert!(mean.is_finite() && mean > 0.01, "mean radiance {mean}");
 }
