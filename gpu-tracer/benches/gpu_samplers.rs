@@ -11,7 +11,9 @@
 //! Prints each sampler's median trace time and its excess over the seed
 //! stream's, as a share of the seed stream's frame (issue 29's goal for the
 //! spatiotemporal sampler: <= 3%). `ROUNDS=N` sets the number of rounds
-//! (default 9; a lavapipe frame takes seconds); `--test` runs one.
+//! (default 9; a lavapipe frame takes seconds); `--test` runs one;
+//! `SAMPLERS=seed stream,spatiotemporal` keeps only the named rows (the seed
+//! stream always runs: it is the baseline).
 
 use gpu_tracer::cornell::cornell_box;
 use gpu_tracer::gpu::{Gpu, PassTimer, PermutePipelines, SeedPermuter, TracePipelines, Tracer};
@@ -77,11 +79,19 @@ fn main() {
     permuter.encode_seed_init(&mut e, &pp);
     gpu.queue.submit([e.finish()]);
 
+    let wanted = std::env::var("SAMPLERS").ok();
+    let samplers: Vec<(&str, u32)> = SAMPLERS
+        .iter()
+        .copied()
+        .filter(|&(name, s)| {
+            s == SAMPLER_SEEDS || wanted.as_deref().is_none_or(|w| w.split(',').any(|x| x == name))
+        })
+        .collect();
     let timer = PassTimer::new(&gpu, 1);
-    let mut ms = vec![Vec::new(); SAMPLERS.len()];
+    let mut ms = vec![Vec::new(); samplers.len()];
     // Round 0 warms every pipeline up and is not counted.
     for round in 0..=rounds {
-        for (k, &(_, sampler)) in SAMPLERS.iter().enumerate() {
+        for (k, &(_, sampler)) in samplers.iter().enumerate() {
             tracer.set_params(&gpu, &params(sampler));
             let mut e = gpu.device.create_command_encoder(&Default::default());
             tracer.encode_trace(&mut e, &tp, timer.as_ref().map(|t| (t, 0)));
@@ -118,7 +128,7 @@ fn main() {
         "sampler", "median ms", "min ms", "max ms", "excess, % of seed frame"
     );
     let medians: Vec<f64> = ms.iter_mut().map(|v| median(v)).collect();
-    for ((name, _), (v, m)) in SAMPLERS.iter().zip(ms.iter().zip(&medians)) {
+    for ((name, _), (v, m)) in samplers.iter().zip(ms.iter().zip(&medians)) {
         let (lo, hi) = (v[0], v[v.len() - 1]);
         println!(
             "{name:<16} {m:>10.3} {lo:>10.3} {hi:>10.3} {:>21.2}%",
