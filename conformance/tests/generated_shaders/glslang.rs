@@ -39,7 +39,10 @@ pub(super) enum Front {
 
 /// glslang's HLSL front end rejects the zero-cast of an array that naga
 /// writes and DXC accepts (`uint local[4][32] = (uint[4][32])0;`): spell it
-/// as a (nested) initialiser list of zeros. Nothing else is touched.
+/// as a (nested) initialiser list of zeros in a declaration, and as a loop
+/// of zero stores in an assignment (naga's zeroing of workgroup memory,
+/// `global_2 = (uint[64])0;`, where an initialiser list is not allowed).
+/// Nothing else is touched.
 fn hlsl_for_glslang(text: &str) -> String {
     /// `{0, ...}` for dimensions `dims` (outermost first).
     fn zeros(dims: &[usize]) -> String {
@@ -57,9 +60,26 @@ fn hlsl_for_glslang(text: &str) -> String {
             .skip(1)
             .map(|d| d.trim_end_matches(']').parse().expect("array length"))
             .collect();
-        out.push_str(&rest[..open]);
-        out.push_str(&zeros(&dims));
-        out.push(';');
+        let line = rest[..open].rfind('\n').map_or(0, |i| i + 1);
+        let target = rest[line..open].trim().trim_end_matches('=').trim();
+        let assignment = !target.is_empty() && target.chars().all(|c| c.is_alphanumeric() || c == '_');
+        if assignment {
+            // `target = (T[a][b])0;` -> nested loops storing 0 to each element.
+            out.push_str(&rest[..line]);
+            let mut index = String::new();
+            for (k, n) in dims.iter().enumerate() {
+                out.push_str(&format!(
+                    "for (uint zero_{k} = 0u; zero_{k} < {n}u; ++zero_{k}) {{ "
+                ));
+                index.push_str(&format!("[zero_{k}]"));
+            }
+            out.push_str(&format!("{target}{index} = 0;"));
+            out.push_str(&" }".repeat(dims.len()));
+        } else {
+            out.push_str(&rest[..open]);
+            out.push_str(&zeros(&dims));
+            out.push(';');
+        }
         rest = &rest[at + 4..];
     }
     out.push_str(rest);
@@ -128,5 +148,10 @@ fn the_hlsl_shim_only_rewrites_array_zero_casts() {
     assert_eq!(
         hlsl_for_glslang(text),
         "uint a[3] = {0, 0, 0};\nS s = (S)0;\nfloat b[2][1] = {{0}, {0}};"
+    );
+    let assign = "    if (i == 0) {\n        g = (uint[2])0;\n    }";
+    assert_eq!(
+        hlsl_for_glslang(assign),
+        "    if (i == 0) {\nfor (uint zero_0 = 0u; zero_0 < 2u; ++zero_0) { g[zero_0] = 0; }\n    }"
     );
 }

@@ -52,7 +52,7 @@ fn pipeline(gpu: &Gpu, module: &wgpu::ShaderModule, label: &str, entry_point: &s
 }
 
 impl Passes {
-    /// All fifteen pipelines from the one WGSL module, created from source.
+    /// All sixteen pipelines from the one WGSL module, created from source.
     fn from_wgsl(gpu: &Gpu) -> Self {
         let text = read_generated(WGSL_FILE);
         let module = module(gpu, WGSL_FILE, wgpu::ShaderSource::Wgsl(text.into()));
@@ -173,7 +173,8 @@ struct FeatureBuffers {
     features: wgpu::Buffer,
     thresholds: wgpu::Buffer,
     sorted: wgpu::Buffer,
-    sources: wgpu::Buffer,
+    links: wgpu::Buffer,
+    links_b: wgpu::Buffer,
     out: wgpu::Buffer,
 }
 
@@ -220,7 +221,8 @@ fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
             features: gpu.storage("features", &features),
             thresholds: gpu.storage("thresholds", &[FeatureThresholds::DEFAULT]),
             sorted: gpu.storage_zeroed::<u32>("feature-sorted seeds", n_seeds),
-            sources: gpu.storage_zeroed::<u32>("sources", n_seeds),
+            links: gpu.storage_zeroed::<u32>("links", n_seeds),
+            links_b: gpu.storage_zeroed::<u32>("links (jump)", n_seeds),
             out: gpu.storage_zeroed::<u32>("feature-permuted seeds", n_seeds),
         };
 
@@ -302,7 +304,7 @@ fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
             // First the feature-aware passes from the same seeds, into their own buffers.
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             let fb = &feature_bufs;
-            let steps: [(&str, &[&wgpu::Buffer], u32); 3] = [
+            let steps: [(&str, &[&wgpu::Buffer], u32); 2] = [
                 (
                     "sort_features",
                     &[
@@ -317,20 +319,13 @@ fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
                     p.blocks_x() * p.blocks_y(),
                 ),
                 (
-                    "record_source",
-                    &[&params, &table_bufs[step], &fb.sources],
-                    p.seed_count(),
-                ),
-                (
-                    "retarget_features",
+                    "record_link",
                     &[
                         &params,
                         &table_bufs[step],
-                        &fb.sources,
                         &fb.features,
                         &fb.thresholds,
-                        &fb.sorted,
-                        &fb.out,
+                        &fb.links,
                     ],
                     p.seed_count(),
                 ),
@@ -338,6 +333,39 @@ fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
             for (pass, buffers, n) in steps {
                 passes.encode(gpu, &mut encoder, pass, buffers, n);
             }
+            gpu.queue.submit([encoder.finish()]);
+            // The links as recorded (read before the jump rounds rewrite them).
+            let gpu_links = gpu.read::<u32>(&fb.links, n_seeds).unwrap();
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            for round in 0..features::permute::JUMP_ROUNDS {
+                let (from, to) = if round % 2 == 0 {
+                    (&fb.links, &fb.links_b)
+                } else {
+                    (&fb.links_b, &fb.links)
+                };
+                passes.encode(
+                    gpu,
+                    &mut encoder,
+                    "jump_link",
+                    &[&params, from, to],
+                    p.seed_count(),
+                );
+            }
+            passes.encode(
+                gpu,
+                &mut encoder,
+                "retarget_features",
+                &[
+                    &params,
+                    &table_bufs[step],
+                    &fb.links,
+                    &fb.features,
+                    &fb.thresholds,
+                    &fb.sorted,
+                    &fb.out,
+                ],
+                p.seed_count(),
+            );
             gpu.queue.submit([encoder.finish()]);
             // The per-pass intermediates are the reference form's: the fast
             // path behind `permute_frame_features` leaves its scratch buffers
@@ -363,11 +391,7 @@ fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
                 f_sorted,
                 "sort_features, {what}"
             );
-            assert_eq!(
-                gpu.read::<u32>(&fb.sources, n_seeds).unwrap(),
-                f_sources,
-                "record_source, {what}"
-            );
+            assert_eq!(gpu_links, f_sources, "record_link, {what}");
             assert_eq!(
                 gpu.read::<u32>(&fb.out, n_seeds).unwrap(),
                 f_next,

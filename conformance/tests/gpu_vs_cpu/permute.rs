@@ -194,7 +194,7 @@ fn mismatched_sizes_are_errors() {
 }
 
 /// The feature-aware permutation on the GPU (`sort_features_cs`,
-/// `record_source_cs`, `retarget_features_cs`) against
+/// `record_link_cs`, `jump_link_cs`, `retarget_features_cs`) against
 /// `sampler_core::permute_frame_features`: identical seeds, on frames with
 /// several surfaces, creases, background and padding.
 #[test]

@@ -12,20 +12,24 @@
 //! | [`SEED_INIT_ENTRY`] | `FrameParams` (uniform; `frame` = salt) | seeds out `[u32]` | | | |
 //!
 //! The feature-aware permutation (`sampler_core::features::permute`) replaces
-//! the sort and retarget passes with three (storage buffers after the
+//! the sort and retarget passes with these (storage buffers after the
 //! uniform `FrameParams` at binding 0; `thresholds` is one
 //! `FeatureThresholds`, `features` `width * height` `SurfaceFeature`,
-//! `sources` `seed_count` `u32` scratch):
+//! `links` and `links_b` `seed_count` `u32` scratch):
 //!
 //! | entry | 1 | 2 | 3 | 4 | 5 | 6 |
 //! |---|---|---|---|---|---|---|
 //! | [`SORT_FEATURES_ENTRY`] (per block) | intensity `[f32]` | features | thresholds | tile `[u32]` | seeds in | seeds out (sorted) |
-//! | [`RECORD_SOURCE_ENTRY`] (per seed) | table `[u32]` | sources (out) | | | | |
-//! | [`RETARGET_FEATURES_ENTRY`] (per seed) | table | sources | features | thresholds | seeds in (sorted) | seeds out |
+//! | [`RECORD_LINK_ENTRY`] (per seed) | table `[u32]` | features | thresholds | links (out) | | |
+//! | [`JUMP_LINK_ENTRY`] (per seed, `JUMP_ROUNDS` times, `links` and `links_b` in turn) | links in | links out | | | | |
+//! | [`RETARGET_FEATURES_ENTRY`] (per seed) | table | links | features | thresholds | seeds in (sorted) | seeds out |
+//!
+//! (`JUMP_ROUNDS` is `sampler_core::features::permute::JUMP_ROUNDS`, even,
+//! so the last round writes `links` again.)
 
 use glam::{UVec3, Vec4};
 use sampler_core::features::permute::{
-    record_source, retarget_features_pixel, sort_block_features_at_offset,
+    jump_link, record_link, retarget_features_linked, sort_block_features_at_offset,
 };
 use sampler_core::{
     initial_seed, luma, retarget_pixel, sort_block_in_frame, walk_offset, FeatureThresholds, FrameParams,
@@ -43,8 +47,10 @@ pub const RETARGET_ENTRY: &str = "permute_entry::retarget_cs";
 pub const SEED_INIT_ENTRY: &str = "permute_entry::seed_init_cs";
 /// Entry point name of [`sort_features_cs`].
 pub const SORT_FEATURES_ENTRY: &str = "permute_entry::sort_features_cs";
-/// Entry point name of [`record_source_cs`].
-pub const RECORD_SOURCE_ENTRY: &str = "permute_entry::record_source_cs";
+/// Entry point name of [`record_link_cs`].
+pub const RECORD_LINK_ENTRY: &str = "permute_entry::record_link_cs";
+/// Entry point name of [`jump_link_cs`].
+pub const JUMP_LINK_ENTRY: &str = "permute_entry::jump_link_cs";
 /// Entry point name of [`retarget_features_cs`].
 pub const RETARGET_FEATURES_ENTRY: &str = "permute_entry::retarget_features_cs";
 /// Invocations per workgroup of every permutation entry point.
@@ -173,31 +179,49 @@ pub fn sort_features_cs(
     }
 }
 
-/// One invocation per seed: the inverse of the frame's retarget
-/// permutation, `sampler_core::features::permute::record_source`.
+/// One invocation per seed: the links of the frame's retarget permutation
+/// cut at edges, `sampler_core::features::permute::record_link`.
 #[spirv(compute(threads(64)))]
-pub fn record_source_cs(
+pub fn record_link_cs(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] table: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] sources: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] features: &[SurfaceFeature],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] thresholds: &[FeatureThresholds],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] links: &mut [u32],
 ) {
     let i = linear_id(id);
     if i < params.seed_count() {
         let offset = walk_offset(params.frame, params.tile_log2);
-        record_source(params, offset, table, i, sources);
+        record_link(params, offset, table, features, &thresholds[0], i, links);
     }
 }
 
-/// One invocation per seed: the retarget cut at edges,
-/// `sampler_core::features::permute::retarget_features_pixel`.
+/// One invocation per seed: one pointer-jumping round over the links,
+/// `sampler_core::features::permute::jump_link`.
+#[spirv(compute(threads(64)))]
+pub fn jump_link_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] links_in: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] links_out: &mut [u32],
+) {
+    let i = linear_id(id);
+    if i < params.seed_count() {
+        jump_link(i, links_in, links_out);
+    }
+}
+
+/// One invocation per seed: the retarget cut at edges, following the
+/// links to each chain's start,
+/// `sampler_core::features::permute::retarget_features_linked`.
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(64)))]
 pub fn retarget_features_cs(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] table: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] sources: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] links: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] features: &[SurfaceFeature],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] thresholds: &[FeatureThresholds],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] seeds_in: &[u32],
@@ -206,11 +230,11 @@ pub fn retarget_features_cs(
     let i = linear_id(id);
     if i < params.seed_count() {
         let offset = walk_offset(params.frame, params.tile_log2);
-        retarget_features_pixel(
+        retarget_features_linked(
             params,
             offset,
             table,
-            sources,
+            links,
             features,
             &thresholds[0],
             i,

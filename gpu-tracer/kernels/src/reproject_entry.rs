@@ -17,16 +17,17 @@
 //!
 //! Dispatch, in this order, each with `permute_entry::linear_dispatch(n)`:
 //! clear `n = seed_count`, claim `n = width * height`, take `n = chunks`,
-//! scan `n = 1`, list `n = chunks`, recycle `n = chunks`, where `chunks =
-//! sampler_core::reprojection::passes::chunk_count(params)`.
+//! scan `n = 1` (one workgroup), list `n = chunks`, recycle `n = chunks`,
+//! where `chunks = sampler_core::reprojection::passes::chunk_count(params)`.
 
 use crate::permute_entry::linear_id;
 use glam::{UVec3, Vec2};
 use sampler_core::reprojection::passes::{
-    chunk_count, claim_pixel, clear_claim, list_free_chunk, recycle_chunk, scan_chunk_counts, take_chunk,
+    chunk_count, claim_pixel, clear_claim, list_free_chunk, offset_chunk_counts, recycle_chunk, scan_segment,
+    sum_chunk_counts, take_chunk, SCAN_LANES,
 };
 use sampler_core::{FrameParams, CLAIM_NONE};
-use spirv_std::arch::atomic_u_min;
+use spirv_std::arch::{atomic_u_min, workgroup_memory_barrier_with_group_sync};
 use spirv_std::memory::{Scope, Semantics};
 use spirv_std::spirv;
 
@@ -102,16 +103,52 @@ pub fn take_cs(
     }
 }
 
-/// Pass 4, one invocation: `scan_chunk_counts`.
+const _: () = assert!(
+    SCAN_LANES == crate::permute_entry::PERMUTE_WORKGROUP,
+    "scan_cs is one 64-wide workgroup"
+);
+
+/// Pass 4, one workgroup of `SCAN_LANES` (= 64) invocations:
+/// `scan_chunk_counts` in segments. Each lane sums its segment of chunks
+/// (`scan_segment`, `sum_chunk_counts`), lane 0 turns the 64 sums into
+/// exclusive offsets in workgroup memory, and each lane writes its
+/// segment's offsets (`offset_chunk_counts`): the same integers as the
+/// one-thread scan, in `2 * ceil(chunks / 64) + 64` serial steps instead
+/// of `chunks`.
 #[spirv(compute(threads(64)))]
 pub fn scan_cs(
     #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(local_invocation_index)] lane: u32,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] counts: &mut [u32],
+    #[spirv(workgroup)] need: &mut [u32; SCAN_LANES as usize],
+    #[spirv(workgroup)] free: &mut [u32; SCAN_LANES as usize],
 ) {
-    if linear_id(id) == 0 {
-        scan_chunk_counts(chunk_count(params), counts);
+    // Only the first workgroup scans (uniform within each workgroup, so
+    // the barriers below are reached by all of its invocations or none).
+    if linear_id(id) >= SCAN_LANES {
+        return;
     }
+    let chunks = chunk_count(params);
+    let (first, end) = scan_segment(chunks, lane);
+    let (n, f) = sum_chunk_counts(counts, first, end);
+    need[lane as usize] = n;
+    free[lane as usize] = f;
+    workgroup_memory_barrier_with_group_sync();
+    if lane == 0 {
+        let (mut n_sum, mut f_sum) = (0u32, 0u32);
+        let mut l = 0usize;
+        while l < SCAN_LANES as usize {
+            let (n, f) = (need[l], free[l]);
+            need[l] = n_sum;
+            free[l] = f_sum;
+            n_sum = n_sum.wrapping_add(n);
+            f_sum = f_sum.wrapping_add(f);
+            l += 1;
+        }
+    }
+    workgroup_memory_barrier_with_group_sync();
+    offset_chunk_counts(counts, first, end, need[lane as usize], free[lane as usize]);
 }
 
 /// Pass 5, one invocation per chunk: `list_free_chunk`.

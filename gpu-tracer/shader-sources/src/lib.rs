@@ -8,13 +8,13 @@
 //! cargo run -p shader-sources -- --check  # exit 1 when a committed file is stale
 //! ```
 //!
-//! Only the fifteen entry points of [`ENTRIES`] are kept (the permutation,
+//! Only the sixteen entry points of [`ENTRIES`] are kept (the permutation,
 //! its feature-aware form, the reprojection passes and the a-priori samplers);
 //! the path tracer's entry points are removed from the
 //! naga module and everything only they used is compacted away, so a renderer
 //! that includes a generated file does not carry the tracer.
 //!
-//! WGSL gets one module with all fifteen entry points; GLSL, HLSL and MSL one
+//! WGSL gets one module with all sixteen entry points; GLSL, HLSL and MSL one
 //! file per entry point, each compacted to what that pass uses (GLSL needs
 //! one `main` per shader; in HLSL and MSL this keeps registers and the MSL
 //! buffer-size struct specific to one pass). rust-gpu's SPIR-V carries no

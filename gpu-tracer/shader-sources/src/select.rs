@@ -29,7 +29,7 @@ fn retain_entries(module: &mut Module, keep: &[&str]) {
     naga::compact::compact(module, naga::compact::KeepUnused::No);
 }
 
-/// The naga module of the fifteen [`ENTRIES`], renamed, compacted and
+/// The naga module of the sixteen [`ENTRIES`], renamed, compacted and
 /// validated: everything the generated files are written from.
 ///
 /// # Errors

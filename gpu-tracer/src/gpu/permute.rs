@@ -6,9 +6,10 @@ use super::context::Gpu;
 use super::timer::PassTimer;
 use super::GpuError;
 use kernels::permute_entry::{
-    linear_dispatch, INTENSITY_ENTRY, RECORD_SOURCE_ENTRY, RETARGET_ENTRY, RETARGET_FEATURES_ENTRY,
-    SEED_INIT_ENTRY, SORT_ENTRY, SORT_FEATURES_ENTRY,
+    linear_dispatch, INTENSITY_ENTRY, JUMP_LINK_ENTRY, RECORD_LINK_ENTRY, RETARGET_ENTRY,
+    RETARGET_FEATURES_ENTRY, SEED_INIT_ENTRY, SORT_ENTRY, SORT_FEATURES_ENTRY,
 };
+use sampler_core::features::permute::JUMP_ROUNDS;
 use sampler_core::{
     step_index, DitherTile, FeatureThresholds, FrameLayout, FrameParams, RetargetTables, SurfaceFeature,
     STEP_COUNT,
@@ -31,7 +32,7 @@ pub enum PermuteMode {
     Hold,
 }
 
-/// The four compute pipelines of the permutation, created once per device.
+/// The compute pipelines of the permutation (plain and feature-aware), created once per device.
 #[derive(Debug)]
 pub struct PermutePipelines {
     intensity: wgpu::ComputePipeline,
@@ -39,7 +40,8 @@ pub struct PermutePipelines {
     retarget: wgpu::ComputePipeline,
     seed_init: wgpu::ComputePipeline,
     sort_features: wgpu::ComputePipeline,
-    record_source: wgpu::ComputePipeline,
+    record_link: wgpu::ComputePipeline,
+    jump_link: wgpu::ComputePipeline,
     retarget_features: wgpu::ComputePipeline,
 }
 
@@ -55,7 +57,8 @@ impl PermutePipelines {
             retarget: gpu.pipeline(RETARGET_ENTRY)?,
             seed_init: gpu.pipeline(SEED_INIT_ENTRY)?,
             sort_features: gpu.pipeline(SORT_FEATURES_ENTRY)?,
-            record_source: gpu.pipeline(RECORD_SOURCE_ENTRY)?,
+            record_link: gpu.pipeline(RECORD_LINK_ENTRY)?,
+            jump_link: gpu.pipeline(JUMP_LINK_ENTRY)?,
             retarget_features: gpu.pipeline(RETARGET_FEATURES_ENTRY)?,
         })
     }
@@ -90,8 +93,10 @@ pub struct SeedPermuter {
 struct FeaturePasses {
     features: wgpu::Buffer,
     sort_bg: wgpu::BindGroup,
-    /// Per retarget table: the inverse pass and the cut retarget.
+    /// Per retarget table: the links pass and the cut retarget.
     record_bg: Vec<wgpu::BindGroup>,
+    /// The jump rounds: `links -> links_b`, then `links_b -> links`.
+    jump_bg: [wgpu::BindGroup; 2],
     retarget_bg: Vec<wgpu::BindGroup>,
 }
 
@@ -162,7 +167,8 @@ impl SeedPermuter {
     ) {
         let features = gpu.storage_zeroed::<SurfaceFeature>("surface features", self.layout.pixel_count());
         let thresholds = gpu.storage("feature thresholds", std::slice::from_ref(thresholds));
-        let sources = gpu.storage_zeroed::<u32>("retarget sources", self.layout.seed_count());
+        let links = gpu.storage_zeroed::<u32>("retarget links", self.layout.seed_count());
+        let links_b = gpu.storage_zeroed::<u32>("retarget links (jump)", self.layout.seed_count());
         let sort_bg = gpu.bind(
             &pipelines.sort_features,
             &[
@@ -178,8 +184,17 @@ impl SeedPermuter {
         let record_bg = self
             .tables
             .iter()
-            .map(|t| gpu.bind(&pipelines.record_source, &[&self.params, t, &sources]))
+            .map(|t| {
+                gpu.bind(
+                    &pipelines.record_link,
+                    &[&self.params, t, &features, &thresholds, &links],
+                )
+            })
             .collect();
+        let jump_bg = [
+            gpu.bind(&pipelines.jump_link, &[&self.params, &links, &links_b]),
+            gpu.bind(&pipelines.jump_link, &[&self.params, &links_b, &links]),
+        ];
         let retarget_bg = self
             .tables
             .iter()
@@ -189,7 +204,7 @@ impl SeedPermuter {
                     &[
                         &self.params,
                         t,
-                        &sources,
+                        &links,
                         &features,
                         &thresholds,
                         &self.scratch,
@@ -198,11 +213,12 @@ impl SeedPermuter {
                 )
             })
             .collect();
-        // The bind groups keep `thresholds` and `sources` alive.
+        // The bind groups keep `thresholds` and the links alive.
         self.features = Some(FeaturePasses {
             features,
             sort_bg,
             record_bg,
+            jump_bg,
             retarget_bg,
         });
     }
@@ -293,16 +309,22 @@ impl SeedPermuter {
                 let blocks = params.blocks_x() * params.blocks_y();
                 let step = step_index(frame, params.tile_log2) as usize;
                 dispatch(encoder, &pipelines.sort_features, &f.sort_bg, blocks, timer);
-                // The inverse and the cut retarget in one compute pass (wgpu
-                // orders the dispatches), timed as one span.
+                // The links, the jump rounds and the cut retarget in one
+                // compute pass (wgpu orders the dispatches and puts barriers
+                // between them), timed as one span.
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("feature-aware retarget"),
                     timestamp_writes: timer.map(|(t, span)| t.writes(span + 1)),
                 });
                 let (x, y) = linear_dispatch(params.seed_count());
-                pass.set_pipeline(&pipelines.record_source);
+                pass.set_pipeline(&pipelines.record_link);
                 pass.set_bind_group(0, &f.record_bg[step], &[]);
                 pass.dispatch_workgroups(x, y, 1);
+                pass.set_pipeline(&pipelines.jump_link);
+                for round in 0..JUMP_ROUNDS {
+                    pass.set_bind_group(0, &f.jump_bg[(round % 2) as usize], &[]);
+                    pass.dispatch_workgroups(x, y, 1);
+                }
                 pass.set_pipeline(&pipelines.retarget_features);
                 pass.set_bind_group(0, &f.retarget_bg[step], &[]);
                 pass.dispatch_workgroups(x, y, 1);

@@ -280,6 +280,100 @@ pub fn retarget_features_pixel(
     seeds_out[q as usize] = seeds_in[p as usize];
 }
 
+/// Flag bit of a link ([`record_link`]): set when the link's index is the
+/// start of the chain (the seed index itself is in bits 0..31; a padded
+/// seed buffer holds fewer than 2^31 seeds).
+pub const LINK_START: u32 = 1 << 31;
+
+/// Jump rounds ([`jump_link`]) the GPU runs between [`record_link`] and
+/// [`retarget_features_linked`]. Any number gives the same output (the last
+/// walk finishes what the rounds leave); each round halves the longest
+/// walk and costs one pass over the links (4 bytes read in order, 4
+/// gathered and 4 written per seed). The table's cycles wrap around the
+/// padded frame: at 1280x720 with the default 64x64 tables the longest
+/// cycle of a frame holds 68,820 to 120,780 seeds (frames 0 to 15), so a
+/// chain on one large surface can be tens of thousands of seeds long (the
+/// serial walk took 4.0 ms on an H100). Twelve rounds leave at most
+/// `ceil(L / 4096)` steps for a chain of `L` seeds (30 for the longest
+/// cycle), about where one more round costs as much as the steps it saves.
+/// Even, so the links end in the buffer [`record_link`] wrote.
+pub const JUMP_ROUNDS: u32 = 12;
+const _: () = assert!(
+    JUMP_ROUNDS.is_multiple_of(2),
+    "the links must end where record_link wrote them"
+);
+
+/// First step of the linked feature-aware retarget, one per seed `p` (a
+/// scatter into `links`, `seed_count`): the link of `d = π(p)`, which is
+/// `d | LINK_START` if the edge `p -> d` is cut (`d` starts its chain),
+/// else `p` (one step back along the chain). Identical to what
+/// [`record_source`] and the walk of [`retarget_features_pixel`] read, in
+/// one word.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn record_link(
+    params: &FrameParams,
+    offset: UVec2,
+    table: &[u32],
+    features: &[SurfaceFeature],
+    thresholds: &FeatureThresholds,
+    p: u32,
+    links: &mut [u32],
+) {
+    let d = retarget_index(params, offset, table, p);
+    links[d as usize] = if edge_is_cut(params, features, thresholds, p, d) {
+        d | LINK_START
+    } else {
+        p
+    };
+}
+
+/// One pointer-jumping round, one per seed `q`: a link that reaches its
+/// chain's start stays; otherwise it becomes the link of the seed it points
+/// to, so it points twice as far back (or to the start). Reads `links_in`,
+/// writes `links_out[q]` (two buffers: every invocation reads the round's
+/// input).
+#[inline]
+pub fn jump_link(q: u32, links_in: &[u32], links_out: &mut [u32]) {
+    let v = links_in[q as usize];
+    links_out[q as usize] = if v & LINK_START != 0 {
+        v
+    } else {
+        links_in[v as usize]
+    };
+}
+
+/// Last step, one per seed `p`: [`retarget_features_pixel`] with the walk
+/// along `links` (after [`record_link`] and any number of [`jump_link`]
+/// rounds): the same destination, in as many steps as the rounds left.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn retarget_features_linked(
+    params: &FrameParams,
+    offset: UVec2,
+    table: &[u32],
+    links: &[u32],
+    features: &[SurfaceFeature],
+    thresholds: &FeatureThresholds,
+    p: u32,
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+) {
+    let d = retarget_index(params, offset, table, p);
+    if !edge_is_cut(params, features, thresholds, p, d) {
+        seeds_out[d as usize] = seeds_in[p as usize];
+        return;
+    }
+    // Follow links to the chain's start; terminates as the walk of
+    // `retarget_features_pixel` does (every link points back along the
+    // chain, or is flagged at its start).
+    let mut v = links[p as usize];
+    while v & LINK_START == 0 {
+        v = links[v as usize];
+    }
+    seeds_out[(v & !LINK_START) as usize] = seeds_in[p as usize];
+}
+
 /// The feature-aware permutation of a frame: grouped sort of `intensities`
 /// (`width * height`, e.g. [`crate::features::surface::demodulated_luma`] values)
 /// against `D_frame`, then the retarget of step `frame -> frame + 1` cut at
@@ -387,12 +481,14 @@ pub fn permute_frame_features<T: Intensity>(
 }
 
 /// The reference form of [`permute_frame_features`]: [`sort_block_features_at_offset`]
-/// for every block into `sorted`, [`record_source`] for every seed into
-/// `sources` (the table's inverse), then [`retarget_features_pixel`] for every
-/// seed, as the GPU kernels run them. Identical output to
-/// [`permute_frame_features`], which takes a faster path on the CPU where
-/// it can; afterwards `sorted` holds the sorted seeds and `sources` the
-/// inverse.
+/// for every block into `sorted`, [`record_link`] for every seed into
+/// `sources` (the table's inverse and the cut bits, as links), then
+/// [`retarget_features_linked`] for every seed, as the GPU kernels run them
+/// (less the [`jump_link`] rounds, which do not change the output).
+/// Identical output to [`permute_frame_features`], which takes a faster
+/// path on the CPU where it can, and to the serial walk of
+/// [`retarget_features_pixel`] after [`record_source`]; afterwards `sorted`
+/// holds the sorted seeds and `sources` the links of [`record_link`].
 ///
 /// # Errors
 /// As [`permute_frame_features`].
@@ -441,10 +537,11 @@ pub fn permute_frame_features_reference<T: Intensity>(
     }
     let table = tables.table(step_index(frame, params.tile_log2)).packed();
     for p in 0..params.seed_count() {
-        record_source(&params, offset, table, p, sources);
+        record_link(&params, offset, table, features, thresholds, p, sources);
     }
+    // No jump rounds: they change how far each link points, not the output.
     for p in 0..params.seed_count() {
-        retarget_features_pixel(
+        retarget_features_linked(
             &params, offset, table, sources, features, thresholds, p, sorted, seeds_out,
         );
     }
@@ -480,4 +577,104 @@ fn check_feature_buffers<T>(
     layout.check_seed_buffer(Buffer::Scratch, sorted.len())?;
     layout.check_seed_buffer(Buffer::Scratch, sources.len())?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use crate::defaults;
+    use glam::Vec3;
+    use std::vec;
+    use std::vec::Vec;
+
+    /// The linked walk after 0 to 6 jump rounds (two buffers, as the GPU
+    /// runs them) equals the serial walk of `retarget_features_pixel`, seed
+    /// for seed, on frames with padding, many surfaces and long chains.
+    #[test]
+    fn linked_walk_equals_the_serial_walk_after_any_rounds() {
+        let layout = FrameLayout::new(150, 70, 4, 64).unwrap();
+        let tables = defaults::tables_64();
+        let n = layout.seed_count();
+        let features: Vec<SurfaceFeature> = (0..150u32 * 70)
+            .map(|i| {
+                let (x, y) = (i % 150, i / 150);
+                let id = if (x / 37 + y / 23) % 3 == 0 || (x * 7 + y * 13) % 97 == 0 {
+                    1
+                } else {
+                    0
+                };
+                SurfaceFeature::new(id, 5.0, Vec3::Z)
+            })
+            .collect();
+        let thresholds = FeatureThresholds::DEFAULT;
+        let seeds: Vec<u32> = (0..n as u32).map(|i| i.wrapping_mul(0x9e37_79b9)).collect();
+        let mut longest = 0u32;
+        for frame in [0u32, 1, 7, 30] {
+            let params = layout.params(frame);
+            let offset = walk_offset(frame, params.tile_log2);
+            let table = tables.table(step_index(frame, params.tile_log2)).packed();
+            let (mut sources, mut serial) = (vec![0u32; n], vec![0u32; n]);
+            for p in 0..n as u32 {
+                record_source(&params, offset, table, p, &mut sources);
+            }
+            for p in 0..n as u32 {
+                retarget_features_pixel(
+                    &params,
+                    offset,
+                    table,
+                    &sources,
+                    &features,
+                    &thresholds,
+                    p,
+                    &seeds,
+                    &mut serial,
+                );
+            }
+            let mut links = vec![0u32; n];
+            for p in 0..n as u32 {
+                record_link(&params, offset, table, &features, &thresholds, p, &mut links);
+            }
+            for q in 0..n as u32 {
+                // The chain length behind q, for the assertion below.
+                let (mut v, mut steps) = (links[q as usize], 0u32);
+                while v & LINK_START == 0 && steps <= n as u32 {
+                    v = links[v as usize];
+                    steps += 1;
+                }
+                if steps <= n as u32 {
+                    longest = longest.max(steps);
+                }
+            }
+            for rounds in 0..=6 {
+                let mut next = vec![0u32; n];
+                let mut other = vec![0u32; n];
+                let mut cur = links.clone();
+                for _ in 0..rounds {
+                    for q in 0..n as u32 {
+                        jump_link(q, &cur, &mut other);
+                    }
+                    core::mem::swap(&mut cur, &mut other);
+                }
+                for p in 0..n as u32 {
+                    retarget_features_linked(
+                        &params,
+                        offset,
+                        table,
+                        &cur,
+                        &features,
+                        &thresholds,
+                        p,
+                        &seeds,
+                        &mut next,
+                    );
+                }
+                assert_eq!(next, serial, "frame {frame}, {rounds} rounds");
+            }
+        }
+        assert!(
+            longest > 64,
+            "chains of {longest} seeds: too short to test the jumps"
+        );
+    }
 }

@@ -9,7 +9,7 @@
 //! | 1. clear | one per seed | | `claims[i] = CLAIM_NONE` ([`clear_claim`]) |
 //! | 2. claim | one per visible pixel | motion | `atomicMin(claims[source], key)` ([`claim_at`]) |
 //! | 3. take | one per chunk | motion, claims, seeds in | winners' and padding seeds out; chunk counts ([`take_chunk`]) |
-//! | 4. scan | one | chunk counts | exclusive offsets, in place ([`scan_chunk_counts`]) |
+//! | 4. scan | one workgroup of [`SCAN_LANES`] | chunk counts | exclusive offsets, in place ([`scan_chunk_counts`], in segments) |
 //! | 5. list | one per chunk | claims, offsets | the unclaimed sources, in buffer order ([`list_free_chunk`]) |
 //! | 6. recycle | one per chunk | motion, claims, offsets, free list, seeds in | the seeds of pixels without one ([`recycle_chunk`]) |
 //!
@@ -126,14 +126,46 @@ pub fn take_chunk(
     counts[(chunk * 2 + 1) as usize] = free;
 }
 
-/// Pass 4 (one invocation): turns the `chunks` pairs of counts into
-/// exclusive prefix sums, each of the two sequences on its own.
+/// Invocations of pass 4 (one workgroup; `kernels::reproject_entry::scan_cs`):
+/// each sums a segment of [`scan_segment`] chunks, the workgroup scans the
+/// `SCAN_LANES` sums, and each writes its segment's offsets.
+pub const SCAN_LANES: u32 = 64;
+
+/// The chunks `[first, end)` that lane `lane` (of [`SCAN_LANES`]) of pass 4
+/// scans: consecutive segments of `ceil(chunks / SCAN_LANES)` chunks, in
+/// lane order, the last ones short or empty. Together they cover
+/// `0..chunks` once.
 #[inline]
-pub fn scan_chunk_counts(chunks: u32, counts: &mut [u32]) {
+pub fn scan_segment(chunks: u32, lane: u32) -> (u32, u32) {
+    let per = chunks.div_ceil(SCAN_LANES);
+    let first = lane.wrapping_mul(per).min(chunks);
+    (first, first.wrapping_add(per).min(chunks))
+}
+
+/// The sums `(need, free)` of the counts of chunks `[first, end)` (before
+/// the scan): pass 4's first step, per lane.
+#[inline]
+pub fn sum_chunk_counts(counts: &[u32], first: u32, end: u32) -> (u32, u32) {
     let mut need = 0u32;
     let mut free = 0u32;
-    let mut c = 0u32;
-    while c < chunks {
+    let mut c = first;
+    while c < end {
+        need = need.wrapping_add(counts[(c * 2) as usize]);
+        free = free.wrapping_add(counts[(c * 2 + 1) as usize]);
+        c = c.wrapping_add(1);
+    }
+    (need, free)
+}
+
+/// Turns the counts of chunks `[first, end)` into exclusive prefix sums
+/// that start at `(need, free)` (the totals of every chunk before `first`),
+/// each of the two sequences on its own: pass 4's last step, per lane.
+#[inline]
+pub fn offset_chunk_counts(counts: &mut [u32], first: u32, end: u32, need: u32, free: u32) {
+    let mut need = need;
+    let mut free = free;
+    let mut c = first;
+    while c < end {
         let n = counts[(c * 2) as usize];
         let f = counts[(c * 2 + 1) as usize];
         counts[(c * 2) as usize] = need;
@@ -142,6 +174,15 @@ pub fn scan_chunk_counts(chunks: u32, counts: &mut [u32]) {
         free = free.wrapping_add(f);
         c = c.wrapping_add(1);
     }
+}
+
+/// Pass 4 on one thread: turns the `chunks` pairs of counts into
+/// exclusive prefix sums, each of the two sequences on its own. The GPU
+/// computes the same sums in [`SCAN_LANES`] segments ([`scan_segment`],
+/// [`sum_chunk_counts`], [`offset_chunk_counts`]).
+#[inline]
+pub fn scan_chunk_counts(chunks: u32, counts: &mut [u32]) {
+    offset_chunk_counts(counts, 0, chunks, 0, 0);
 }
 
 /// Pass 5 for chunk `chunk`: writes the chunk's unclaimed visible sources,
@@ -227,6 +268,43 @@ mod tests {
         }
         for c in 0..chunks {
             recycle_chunk(&p, c, motion, &claims[..n], &counts, &free, seeds_in, out);
+        }
+    }
+
+    /// Pass 4 as the GPU runs it (segment sums, a scan of the lanes' sums,
+    /// segment offsets) equals the one-thread scan, for chunk counts around
+    /// multiples of the lanes.
+    #[test]
+    fn the_segmented_scan_equals_the_serial_scan() {
+        for chunks in [0u32, 1, 2, 63, 64, 65, 127, 130, 3840, 4001] {
+            let mut serial = [0u32; 2 * 4001];
+            let n = 2 * chunks as usize;
+            for (i, c) in serial[..n].iter_mut().enumerate() {
+                *c = (i as u32).wrapping_mul(0x9e37_79b9) >> 24;
+            }
+            let mut lanes = serial;
+            scan_chunk_counts(chunks, &mut serial);
+            let mut sums = [(0u32, 0u32); SCAN_LANES as usize];
+            let mut covered = 0;
+            for lane in 0..SCAN_LANES {
+                let (first, end) = scan_segment(chunks, lane);
+                assert!(
+                    first == covered.min(chunks) && first <= end,
+                    "{chunks}: lane {lane}"
+                );
+                covered = end;
+                sums[lane as usize] = sum_chunk_counts(&lanes, first, end);
+            }
+            assert_eq!(covered, chunks);
+            let (mut need, mut free) = (0u32, 0u32);
+            for lane in 0..SCAN_LANES {
+                let (first, end) = scan_segment(chunks, lane);
+                let (n, f) = sums[lane as usize];
+                offset_chunk_counts(&mut lanes, first, end, need, free);
+                need = need.wrapping_add(n);
+                free = free.wrapping_add(f);
+            }
+            assert_eq!(lanes[..n], serial[..n], "{chunks} chunks");
         }
     }
 
