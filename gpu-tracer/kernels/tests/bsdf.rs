@@ -313,7 +313,9 @@ fn metal_white_furnace_equals_the_ggx_albedo() {
 /// Base colour 1, metallic 0. The specification's Fresnel mix weights the
 /// diffuse lobe by `1 - F(|wo . h|)`, about 0.96 for most `wi`, while the
 /// specular lobe reflects up to `F(wo.z)`: the sum exceeds 1 at grazing `wo`
-/// and low roughness (1.30 at roughness 0.1, `cos_o` 0.2). The test pins what
+/// and low roughness (1.30 at roughness 0.1, `cos_o` 0.2), as the
+/// specification warns (appendix B, "Coupling Diffuse and Specular
+/// Reflection": `fresnel_mix` "breaks ... energy conservation"). The test pins what
 /// the model does: the sampler's mean weight equals the quadrature; no gain
 /// near the normal (`cos_o = 0.9`) or at roughness 1; and everywhere at most
 /// `0.96 + E_ggx(wo)`, the bound the model's two terms obey.

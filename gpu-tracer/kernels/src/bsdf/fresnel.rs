@@ -1,6 +1,6 @@
 //! Schlick's approximation of the Fresnel reflectance (Schlick 1994, "An
 //! Inexpensive BRDF Model for Physically-based Rendering", eq. 15), in the
-//! form the glTF 2.0 specification (appendix B.3.5) uses:
+//! form the glTF 2.0 specification (appendix B, "Fresnel") uses:
 //! `F = F0 + (1 - F0) (1 - |cos|)^5`.
 //!
 //! `cos` is the cosine between the direction and the microfacet normal (the
@@ -9,8 +9,9 @@
 use glam::Vec3;
 
 /// Normal-incidence reflectance of the glTF dielectric, `((ior - 1) / (ior +
-/// 1))^2` with `ior = 1.5` (glTF 2.0 specification, appendix B.3.5: "the
-/// dielectric BRDF ... ior = 1.5"; `KHR_materials_ior`'s default).
+/// 1))^2` with `ior = 1.5` (glTF 2.0 specification, appendix B, "Metal BRDF
+/// and Dielectric BRDF": "the dielectric index of refraction `ior = 1.5` is
+/// now `f0 = 0.04`"; also `KHR_materials_ior`'s default).
 pub const DIELECTRIC_F0: f32 = 0.04;
 
 /// Schlick's weight `(1 - |cos|)^5`, in `[0, 1]`: 0 at normal incidence

@@ -31,7 +31,8 @@ use glam::{Vec2, Vec3};
 pub const ALPHA_MIN: f32 = 1e-3;
 
 /// GGX `alpha` of glTF's perceptual `roughness`: `roughness^2` (glTF 2.0,
-/// appendix B.3.2: `alpha = roughness^2`), `roughness` clamped to `[0, 1]`
+/// appendix B, "Metal BRDF and Dielectric BRDF": `specular_brdf(roughness^2)`),
+/// `roughness` clamped to `[0, 1]`
 /// first and the result to at least [`ALPHA_MIN`]. Result in
 /// `[ALPHA_MIN, 1]`; a NaN roughness gives `ALPHA_MIN`.
 #[inline]
@@ -111,12 +112,13 @@ pub fn masking_shadowing(wo: Vec3, wi: Vec3, alpha: f32) -> f32 {
     2.0 * co * ci / denom
 }
 
-/// The visibility term `V = G2(wo, wi) / (4 |wo.z| |wi.z|)` of the glTF
-/// specification (appendix B.3.2, "V_GGX"), so that the specular BRDF is
-/// `F D V`: `0.5 / (|co| r_i + |ci| r_o)` with `r = sqrt(c^2 + alpha^2 s^2)`
-/// (the specification's `sqrt(c^2 (1 - alpha^2) + alpha^2)` for unit
-/// vectors). `>= 0`; finite when one direction is at the horizon (`1 / (2
-/// alpha)` at most there), 0 when both are.
+/// The visibility function `V = G2(wo, wi) / (4 |wo.z| |wi.z|)` of the glTF
+/// specification (appendix B, "Specular BRDF", which uses this
+/// height-correlated `G2`), so that the specular BRDF is `F D V`:
+/// `0.5 / (|co| r_i + |ci| r_o)` with `r = sqrt(c^2 + alpha^2 s^2)` (the
+/// specification's `sqrt(alpha^2 + (1 - alpha^2) c^2)` for unit vectors).
+/// `>= 0`; finite when one direction is at the horizon (`0.5 / (alpha |ci|)`
+/// when `wo` is), 0 when both are.
 #[inline]
 pub fn visibility(wo: Vec3, wi: Vec3, alpha: f32) -> f32 {
     let (co, ci) = (libm::fabsf(wo.z), libm::fabsf(wi.z));
