@@ -69,6 +69,7 @@ pub mod permute_entry;
 pub mod reproject_entry;
 pub mod sampler_entry;
 pub mod sampling;
+pub mod shading;
 pub mod surface;
 pub mod surface_features;
 pub mod texture;
