@@ -3,7 +3,10 @@
 //! Polygons are triangulated; points and lines are ignored. From each MTL
 //! material the diffuse colour `Kd` becomes the albedo (default 0.8 grey
 //! when absent) and the emissive colour `Ke` the emitted radiance (default
-//! 0). Faces without a material get a 0.8 grey diffuse default.
+//! 0). Faces without a material get a 0.8 grey diffuse default. Emission
+//! leaves the front side: counter-clockwise vertex order, the OBJ
+//! convention. OBJ files carry no camera: [`Camera::framing`] frames the
+//! model from `+z`.
 //!
 //! # Specular materials
 //!
@@ -20,10 +23,7 @@
 //!   example, `solveMetallic`): a grey `Ks` at or below 0.04 with any `Kd`
 //!   is a dielectric with base colour about `Kd`, a bright coloured `Ks`
 //!   with a black `Kd` a metal with base colour `Ks`, and mixtures fall
-//!   between. Emission
-//! leaves the front side: counter-clockwise vertex order, the OBJ
-//! convention. OBJ files carry no camera: [`Camera::framing`] frames the
-//! model from `+z`.
+//!   between.
 
 use crate::error::{Error, Result};
 use crate::scene::{Bsdf, Camera, Material, Scene, Triangle};
