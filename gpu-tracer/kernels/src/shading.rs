@@ -4,7 +4,7 @@
 //! for the continuation.
 //!
 //! Two models ([`crate::abi::MaterialGpu::model`]):
-//! - [`MODEL_LAMBERT`]: BRDF `albedo / pi`, cosine-weighted sampling. Every
+//! - [`MODEL_LAMBERT`](crate::abi::MODEL_LAMBERT): BRDF `albedo / pi`, cosine-weighted sampling. Every
 //!   operation is the one the integrator performed before the
 //!   metallic-roughness model existed, in the same order, so Lambertian
 //!   scenes render bit for bit as they did.
