@@ -73,8 +73,9 @@ enum Command {
         #[arg(long, default_value_t = 1)]
         salt: u32,
         /// Scene: cornell, cornell-textured (the checker-textured glTF of the
-        /// demodulation study) or cornell-untextured (the same with each texture
-        /// replaced by its mean colour).
+        /// demodulation study), cornell-untextured (the same with each texture
+        /// replaced by its mean colour) or cornell-glossy (three GGX spheres,
+        /// roughness 0.1, 0.3, 0.6).
         #[arg(long, default_value = "cornell")]
         scene: String,
         /// Also write the tables to this file.

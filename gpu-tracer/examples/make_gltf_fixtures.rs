@@ -19,7 +19,19 @@
 //!   material order and camera) with the checker on every surface but the
 //!   light: planar texture coordinates, one checker texel per
 //!   [`CORNELL_TEXEL`] world units (about 5 px at 256x256). The textured
-//!   scene of issue 14's demodulation study.
+//!   scene of issue 14's demodulation study;
+//! - `metal_rough.png`: a 2x2 metallic-roughness texture (linear data: green
+//!   roughness, blue metallic; [`METAL_ROUGH_TEXELS`]);
+//! - `metallic_quad.gltf` + `.bin`: two quads and a light: `brushed`
+//!   (metallic 0.8, roughness 0.5, the metallic-roughness texture, NEAREST)
+//!   and `plain` (no factors: glTF's defaults, metallic 1 and roughness 1).
+//!
+//! The diffuse materials of every other fixture are written as exactly
+//! Lambertian glTF: `metallicFactor` 0, an explicit `roughnessFactor` 1 and
+//! `KHR_materials_specular` with `specularFactor` 0 (no specular lobe), so
+//! that they render as the Lambertian scenes they stand for (the loader
+//! follows the specification: without the extension a dielectric has a 4%
+//! specular layer).
 //!
 //! Run with `cargo run -p gpu-tracer --example make_gltf_fixtures`.
 
@@ -43,6 +55,13 @@ const CORNELL_TEXEL: f32 = 16.0;
 /// Light and dark texels of the checker (sRGB).
 const LIGHT: [u8; 3] = [230, 220, 200];
 const DARK: [u8; 3] = [40, 60, 90];
+
+/// Texels of `metal_rough.png`, row-major from the top left, RGB (linear
+/// data: red unused, green roughness, blue metallic).
+const METAL_ROUGH_TEXELS: [[u8; 3]; 4] = [[0, 255, 255], [0, 128, 64], [0, 0, 255], [0, 255, 0]];
+
+/// The extensions every fixture with Lambertian materials uses.
+const EXTENSIONS: [&str; 2] = ["KHR_materials_emissive_strength", "KHR_materials_specular"];
 
 /// A binary buffer with its buffer views and accessors.
 #[derive(Default)]
@@ -169,24 +188,49 @@ fn checker_png() -> Vec<u8> {
     out.into_inner()
 }
 
+fn metal_rough_png() -> Vec<u8> {
+    let img = image::RgbImage::from_fn(2, 2, |x, y| image::Rgb(METAL_ROUGH_TEXELS[(y * 2 + x) as usize]));
+    let mut out = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut out, image::ImageFormat::Png)
+        .expect("PNG encoding");
+    out.into_inner()
+}
+
 fn asset() -> Value {
     json!({"version": "2.0", "generator": GENERATOR})
 }
 
+/// A Lambertian material (see the module docs).
 fn material(name: &str, base: [f32; 3], texture: Option<usize>) -> Value {
-    let mut pbr = json!({"baseColorFactor": [base[0], base[1], base[2], 1.0], "metallicFactor": 0.0});
+    let mut pbr = json!({
+        "baseColorFactor": [base[0], base[1], base[2], 1.0],
+        "metallicFactor": 0.0,
+        "roughnessFactor": 1.0
+    });
     if let Some(t) = texture {
         pbr["baseColorTexture"] = json!({"index": t});
     }
-    json!({"name": name, "pbrMetallicRoughness": pbr})
+    json!({
+        "name": name,
+        "pbrMetallicRoughness": pbr,
+        "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}
+    })
 }
 
+/// A black Lambertian emitter.
 fn emissive(name: &str, factor: [f32; 3], strength: f32) -> Value {
     json!({
         "name": name,
-        "pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0},
+        "pbrMetallicRoughness": {
+            "baseColorFactor": [0.0, 0.0, 0.0, 1.0],
+            "metallicFactor": 0.0,
+            "roughnessFactor": 1.0
+        },
         "emissiveFactor": factor,
-        "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": strength}}
+        "extensions": {
+            "KHR_materials_emissive_strength": {"emissiveStrength": strength},
+            "KHR_materials_specular": {"specularFactor": 0.0}
+        }
     })
 }
 
@@ -265,7 +309,7 @@ fn textured_quad(dir: &Path) {
     let light_prim = bin.primitive(&light, Some(1), false);
     let mut doc = checker_texture_parts();
     doc["asset"] = asset();
-    doc["extensionsUsed"] = json!(["KHR_materials_emissive_strength"]);
+    doc["extensionsUsed"] = json!(EXTENSIONS);
     doc["materials"] = json!([
         material("checker", [1.0, 1.0, 1.0], Some(0)),
         emissive("light", [1.0, 0.9, 0.8], 30.0)
@@ -296,7 +340,7 @@ fn emissive_quad(dir: &Path) {
     let lamp_prim = bin.primitive(&lamp, Some(1), false);
     let doc = json!({
         "asset": asset(),
-        "extensionsUsed": ["KHR_materials_emissive_strength"],
+        "extensionsUsed": EXTENSIONS,
         "materials": [material("grey", [0.5, 0.5, 0.5], None), emissive("lamp", [1.0, 0.8, 0.6], 4.0)],
         "meshes": [
             {"name": "floor", "primitives": [floor_prim]},
@@ -404,7 +448,7 @@ fn animated_room(dir: &Path) {
 
     let mut doc = checker_texture_parts();
     doc["asset"] = asset();
-    doc["extensionsUsed"] = json!(["KHR_materials_emissive_strength"]);
+    doc["extensionsUsed"] = json!(EXTENSIONS);
     doc["materials"] = json!([
         material("checker_wall", [0.9, 0.9, 0.9], Some(0)),
         emissive("ceiling_light", [1.0, 0.9, 0.75], 20.0),
@@ -594,7 +638,7 @@ fn cornell_textured(dir: &Path) {
     }));
     let mut doc = checker_texture_parts();
     doc["asset"] = asset();
-    doc["extensionsUsed"] = json!(["KHR_materials_emissive_strength"]);
+    doc["extensionsUsed"] = json!(EXTENSIONS);
     doc["materials"] = json!(materials);
     doc["meshes"] = json!(meshes);
     doc["cameras"] = json!([{
@@ -605,6 +649,55 @@ fn cornell_textured(dir: &Path) {
     doc["scenes"] = json!([{"name": "cornell_textured", "nodes": (0..=objects).collect::<Vec<_>>()}]);
     doc["scene"] = json!(0);
     write_gltf(dir, "cornell_textured", doc, bin);
+}
+
+fn metallic_quad(dir: &Path) {
+    let mut bin = Bin::default();
+    let brushed = MeshData::default().quad(Vec3::new(-1.1, 0.0, 0.0), Vec3::Z, Vec3::X, 1.0, 1.0, Vec2::ONE);
+    let plain = MeshData::default().quad(Vec3::new(1.1, 0.0, 0.0), Vec3::Z, Vec3::X, 1.0, 1.0, Vec2::ONE);
+    let light = MeshData::default().quad(
+        Vec3::new(0.0, 0.0, 2.0),
+        Vec3::NEG_Z,
+        Vec3::X,
+        0.5,
+        0.5,
+        Vec2::ONE,
+    );
+    let prims = [
+        bin.primitive(&brushed, Some(0), true),
+        bin.primitive(&plain, Some(1), false),
+        bin.primitive(&light, Some(2), false),
+    ];
+    let mut doc = json!({
+        "images": [{"uri": "metal_rough.png", "name": "metal_rough"}],
+        "samplers": [{"magFilter": NEAREST, "minFilter": NEAREST, "wrapS": REPEAT, "wrapT": REPEAT}],
+        "textures": [{"sampler": 0, "source": 0}],
+    });
+    doc["asset"] = asset();
+    doc["extensionsUsed"] = json!(EXTENSIONS);
+    doc["materials"] = json!([
+        {
+            "name": "brushed",
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [0.9, 0.6, 0.3, 1.0],
+                "metallicFactor": 0.8,
+                "roughnessFactor": 0.5,
+                "metallicRoughnessTexture": {"index": 0}
+            }
+        },
+        {"name": "plain"},
+        emissive("light", [1.0, 1.0, 1.0], 5.0)
+    ]);
+    doc["meshes"] = json!([
+        {"name": "brushed", "primitives": [prims[0]]},
+        {"name": "plain", "primitives": [prims[1]]},
+        {"name": "light", "primitives": [prims[2]]}
+    ]);
+    doc["nodes"] =
+        json!([{"name": "brushed", "mesh": 0}, {"name": "plain", "mesh": 1}, {"name": "light", "mesh": 2}]);
+    doc["scenes"] = json!([{"name": "metallic_quad", "nodes": [0, 1, 2]}]);
+    doc["scene"] = json!(0);
+    write_gltf(dir, "metallic_quad", doc, bin);
 }
 
 fn main() {
@@ -619,4 +712,6 @@ fn main() {
     animated_room(&dir);
     hierarchy(&dir);
     cornell_textured(&dir);
+    write(&dir, "metal_rough.png", &metal_rough_png());
+    metallic_quad(&dir);
 }

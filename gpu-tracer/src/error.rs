@@ -73,6 +73,21 @@ pub enum Error {
         /// Name of the material.
         name: String,
     },
+    /// A material parameter is out of its range: metallic or roughness NaN
+    /// or outside `[0, 1]` (glTF's schema bounds both factors to `[0, 1]`;
+    /// such values are refused, not clamped, so a broken file or scene is
+    /// reported rather than silently rendered as something else), or an MTL
+    /// `Ns` NaN or infinite.
+    InvalidMaterialParameter {
+        /// Name of the material.
+        name: String,
+        /// `"metallic"`, `"roughness"` or `"shininess (Ns)"`.
+        parameter: &'static str,
+        /// The value.
+        value: f32,
+        /// What it must be, for the message.
+        expected: &'static str,
+    },
     /// A material names a texture image that does not exist.
     InvalidTexture {
         /// Name of the material.
@@ -220,6 +235,12 @@ impl fmt::Display for Error {
                 f,
                 "material '{name}' has a NaN, infinite or negative colour"
             ),
+            Error::InvalidMaterialParameter {
+                name,
+                parameter,
+                value,
+                expected,
+            } => write!(f, "material '{name}' has {parameter} {value}: it must be {expected}"),
             Error::InvalidTexture { material, reason } => {
                 write!(f, "material '{material}' has an invalid texture: {reason}")
             }

@@ -48,9 +48,11 @@ enum Command {
 
 #[derive(clap::Args, Debug)]
 struct RenderArgs {
-    /// `cornell` for the built-in Cornell box, the path of a glTF 2.0 file
-    /// (`.gltf` or `.glb`: meshes, textures, cameras, node animation), or
-    /// of an OBJ file (materials from its MTL: Kd diffuse, Ke emission).
+    /// `cornell` for the built-in Cornell box, `cornell-glossy` for the same
+    /// room with three GGX spheres (roughness 0.1, 0.3, 0.6), the path of a
+    /// glTF 2.0 file (`.gltf` or `.glb`: meshes, metallic-roughness
+    /// materials, textures, cameras, node animation), or of an OBJ file
+    /// (materials from its MTL: Kd diffuse, Ke emission, Ks/Ns specular).
     #[arg(long, default_value = "cornell")]
     scene: String,
     /// glTF: which camera (0-based, in scene order); default the first.
@@ -536,7 +538,7 @@ fn render(args: RenderArgs) -> Result<()> {
     Ok(())
 }
 
-/// Loads `--scene`: the built-in Cornell box, a glTF file (with its rig) or
+/// Loads `--scene`: a built-in Cornell box, a glTF file (with its rig) or
 /// an OBJ file. glTF notices (approximated features) go to stderr.
 fn load_scene(args: &RenderArgs) -> Result<(Scene, Option<Rig>)> {
     let path = Path::new(&args.scene);
@@ -549,6 +551,9 @@ fn load_scene(args: &RenderArgs) -> Result<(Scene, Option<Rig>)> {
     }
     if args.scene == "cornell" {
         return Ok((cornell::cornell_box(), None));
+    }
+    if args.scene == "cornell-glossy" {
+        return Ok((cornell::cornell_glossy(), None));
     }
     match ext.as_deref() {
         Some("gltf" | "glb") => {

@@ -7,9 +7,26 @@
 //! leaves the front side: counter-clockwise vertex order, the OBJ
 //! convention. OBJ files carry no camera: [`Camera::framing`] frames the
 //! model from `+z`.
+//!
+//! # Specular materials
+//!
+//! A material without `Ks`, or with `Ks 0 0 0`, is Lambertian (exactly as
+//! before specular support). A non-zero `Ks` makes it a glTF
+//! metallic-roughness material ([`mtl_bsdf`]):
+//! - roughness from the Phong exponent `Ns` (0 when absent, negative values
+//!   as 0) by the Blinn-Phong-to-Beckmann relation, used for GGX:
+//!   `alpha = sqrt(2 / (Ns + 2))`, `roughness = sqrt(alpha)` (glTF's
+//!   `alpha = roughness^2`); `Ns` 0 gives roughness 1, 1000 about 0.21;
+//! - metallic and base colour from `Kd` and `Ks` read as a
+//!   specular-glossiness pair, by Khronos' conversion to metallic-roughness
+//!   (`KHR_materials_pbrSpecularGlossiness`, "convert-between-workflows"
+//!   example, `solveMetallic`): a grey `Ks` at or below 0.04 with any `Kd`
+//!   is a dielectric with base colour about `Kd`, a bright coloured `Ks`
+//!   with a black `Kd` a metal with base colour `Ks`, and mixtures fall
+//!   between.
 
 use crate::error::{Error, Result};
-use crate::scene::{Camera, Material, Scene, Triangle};
+use crate::scene::{Bsdf, Camera, Material, Scene, Triangle};
 use glam::Vec3;
 use std::path::Path;
 
@@ -24,7 +41,9 @@ pub const DEFAULT_ALBEDO: Vec3 = Vec3::splat(0.8);
 /// - [`Error::MtlLoad`]: a named material library is missing or malformed;
 /// - [`Error::NoTriangles`]: no face with at least three vertices;
 /// - [`Error::NonFiniteVertex`]: a vertex coordinate is NaN or infinite;
-/// - [`Error::InvalidMaterial`]: a colour is NaN, infinite or negative.
+/// - [`Error::InvalidMaterial`]: a colour (`Kd`, `Ke`, `Ks`) is NaN,
+///   infinite or negative;
+/// - [`Error::InvalidMaterialParameter`]: `Ns` is NaN or infinite.
 pub fn load_obj(path: impl AsRef<Path>) -> Result<Scene> {
     let path = path.as_ref();
     let options = tobj::LoadOptions {
@@ -42,24 +61,31 @@ pub fn load_obj(path: impl AsRef<Path>) -> Result<Scene> {
         source,
     })?;
 
-    let mut materials: Vec<Material> = mtl
-        .iter()
-        .map(|m| {
-            Material::new(
-                m.name.clone(),
-                m.diffuse.map_or(DEFAULT_ALBEDO, Vec3::from_array),
-                m.emissive.map_or(Vec3::ZERO, Vec3::from_array),
-            )
-        })
-        .collect();
-    for m in &materials {
-        let ok = m.albedo.is_finite()
-            && m.emission.is_finite()
-            && m.albedo.min_element() >= 0.0
-            && m.emission.min_element() >= 0.0;
+    let mut materials = Vec::with_capacity(mtl.len());
+    for m in &mtl {
+        let mut material = Material::new(
+            m.name.clone(),
+            m.diffuse.map_or(DEFAULT_ALBEDO, Vec3::from_array),
+            m.emissive.map_or(Vec3::ZERO, Vec3::from_array),
+        );
+        let specular = m.specular.map_or(Vec3::ZERO, Vec3::from_array);
+        let ok = [material.albedo, material.emission, specular]
+            .iter()
+            .all(|c| c.is_finite() && c.min_element() >= 0.0);
         if !ok {
             return Err(Error::InvalidMaterial { name: m.name.clone() });
         }
+        let shininess = m.shininess.unwrap_or(0.0);
+        if !shininess.is_finite() {
+            return Err(Error::InvalidMaterialParameter {
+                name: m.name.clone(),
+                parameter: "shininess (Ns)",
+                value: shininess,
+                expected: "a finite number",
+            });
+        }
+        (material.albedo, material.bsdf) = mtl_bsdf(material.albedo, specular, shininess);
+        materials.push(material);
     }
     let default_material = materials.len() as u32;
     let mut uses_default = false;
@@ -113,6 +139,46 @@ pub fn load_obj(path: impl AsRef<Path>) -> Result<Scene> {
     let (lo, hi) = scene.bounds();
     scene.camera = Camera::framing(lo, hi);
     Ok(scene)
+}
+
+/// glTF's dielectric normal-incidence reflectance (`kernels::bsdf::fresnel::DIELECTRIC_F0`).
+const DIELECTRIC_F0: f32 = kernels::bsdf::fresnel::DIELECTRIC_F0;
+
+/// The base colour and reflectance model of an MTL material with diffuse
+/// colour `kd`, specular colour `ks` and Phong exponent `ns` (module docs):
+/// `(kd, Lambert)` when `ks` is zero, else a metallic-roughness material.
+/// Inputs finite, colours `>= 0`; the outputs are in `[0, 1]`.
+pub fn mtl_bsdf(kd: Vec3, ks: Vec3, ns: f32) -> (Vec3, Bsdf) {
+    if ks.max_element() <= 0.0 {
+        return (kd, Bsdf::Lambert);
+    }
+    let alpha = (2.0 / (ns.max(0.0) + 2.0)).sqrt();
+    let roughness = alpha.sqrt().clamp(0.0, 1.0);
+    // Khronos' specular-glossiness to metallic-roughness conversion.
+    let brightness = |c: Vec3| (0.299 * c.x * c.x + 0.587 * c.y * c.y + 0.114 * c.z * c.z).sqrt();
+    let one_minus_specular = 1.0 - ks.max_element().min(1.0);
+    let (diffuse, specular) = (brightness(kd), brightness(ks));
+    let metallic = if specular < DIELECTRIC_F0 {
+        0.0
+    } else {
+        let a = DIELECTRIC_F0;
+        let b = diffuse * one_minus_specular / (1.0 - a) + specular - 2.0 * a;
+        let c = a - specular;
+        let d = (b * b - 4.0 * a * c).max(0.0);
+        ((-b + d.sqrt()) / (2.0 * a)).clamp(0.0, 1.0)
+    };
+    let eps = 1e-6;
+    let from_diffuse = kd * (one_minus_specular / (1.0 - DIELECTRIC_F0) / (1.0 - metallic).max(eps));
+    let from_specular = (ks - Vec3::splat(DIELECTRIC_F0 * (1.0 - metallic))) / metallic.max(eps);
+    let base = from_diffuse
+        .lerp(from_specular, metallic * metallic)
+        .clamp(Vec3::ZERO, Vec3::ONE);
+    let bsdf = Bsdf::MetallicRoughness {
+        metallic,
+        roughness,
+        texture: None,
+    };
+    (base, bsdf)
 }
 
 #[cfg(test)]
@@ -227,6 +293,82 @@ mod tests {
                 other => panic!("{name}: {other:?}"),
             }
         }
+    }
+
+    /// `Ks` absent or zero keeps the material Lambertian and its `Kd`
+    /// exactly; a small grey `Ks` is a dielectric, a bright one with black
+    /// `Kd` a metal of base colour `Ks`; `Ns` maps to roughness by
+    /// `sqrt(sqrt(2 / (Ns + 2)))`.
+    #[test]
+    fn mtl_specular_maps_to_metallic_roughness() {
+        let kd = Vec3::new(0.5, 0.25, 0.125);
+        assert_eq!(mtl_bsdf(kd, Vec3::ZERO, 500.0), (kd, Bsdf::Lambert));
+        let parts = |(base, bsdf): (Vec3, Bsdf)| match bsdf {
+            Bsdf::MetallicRoughness {
+                metallic,
+                roughness,
+                texture: None,
+            } => (base, metallic, roughness),
+            other => panic!("{other:?}"),
+        };
+        let (base, metallic, roughness) = parts(mtl_bsdf(kd, Vec3::splat(0.04), 0.0));
+        assert_eq!((metallic, roughness), (0.0, 1.0));
+        assert!((base - kd).abs().max_element() < 1e-6, "{base}");
+        let gold = Vec3::new(1.0, 0.78, 0.34);
+        let (base, metallic, roughness) = parts(mtl_bsdf(Vec3::ZERO, gold, 1000.0));
+        assert!(metallic > 0.99, "{metallic}");
+        assert!((base - gold).abs().max_element() < 0.01, "{base}");
+        assert!(
+            (roughness - (2.0f32 / 1002.0).sqrt().sqrt()).abs() < 1e-6 && (roughness - 0.2114).abs() < 1e-3
+        );
+        // A typical exporter default (Kd 0.8, Ks 0.5, Ns 96) lands between.
+        let (base, metallic, roughness) = parts(mtl_bsdf(Vec3::splat(0.8), Vec3::splat(0.5), 96.0));
+        assert!(metallic > 0.0 && metallic < 1.0, "{metallic}");
+        assert!(base.min_element() >= 0.0 && base.max_element() <= 1.0, "{base}");
+        assert!((roughness - (2.0f32 / 98.0).sqrt().sqrt()).abs() < 1e-6);
+        // Negative Ns reads as 0.
+        assert_eq!(parts(mtl_bsdf(kd, Vec3::splat(0.04), -5.0)).2, 1.0);
+    }
+
+    /// The loader reads `Ks`/`Ns` into [`mtl_bsdf`], keeps `Kd`-only
+    /// materials Lambertian, and refuses NaN `Ns` and negative `Ks`.
+    #[test]
+    fn loads_specular_materials() {
+        let dir = TempDir::new("specular");
+        dir.write(
+            "s.mtl",
+            "newmtl matte\nKd 0.5 0.5 0.5\nKs 0 0 0\nNs 50\nnewmtl shiny\nKd 0 0 0\nKs 0.9 0.9 0.9\nNs 200\n",
+        );
+        let obj = "mtllib s.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl matte\nf 1 2 3\nusemtl shiny\nf 1 3 2\n";
+        let scene = load_obj(dir.write("s.obj", obj)).expect("loads");
+        assert_eq!(scene.materials[0].bsdf, Bsdf::Lambert);
+        assert_eq!(scene.materials[0].albedo, Vec3::splat(0.5));
+        let want = mtl_bsdf(Vec3::ZERO, Vec3::splat(0.9), 200.0);
+        assert_eq!((scene.materials[1].albedo, scene.materials[1].bsdf), want);
+        SceneGpu::build(&scene).expect("builds");
+        dir.write("bad.mtl", "newmtl bad\nKd 0.5 0.5 0.5\nKs 0.5 0.5 0.5\nNs NaN\n");
+        let bad = "mtllib bad.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl bad\nf 1 2 3\n";
+        let err = load_obj(dir.write("bad.obj", bad)).expect_err("NaN Ns");
+        assert!(
+            matches!(
+                err,
+                Error::InvalidMaterialParameter {
+                    parameter: "shininess (Ns)",
+                    ..
+                }
+            ),
+            "{err}"
+        );
+        assert!(
+            err.to_string().contains("NaN") && err.to_string().contains("finite"),
+            "{err}"
+        );
+        dir.write("neg.mtl", "newmtl neg\nKd 0.5 0.5 0.5\nKs 0.5 -1 0.5\n");
+        let neg = "mtllib neg.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl neg\nf 1 2 3\n";
+        assert!(matches!(
+            load_obj(dir.write("neg.obj", neg)),
+            Err(Error::InvalidMaterial { .. })
+        ));
     }
 
     #[test]

@@ -10,12 +10,15 @@
 //! (about 5 px at 256x256, so most 4x4 sorting blocks straddle a texel edge).
 //! `cornell-untextured` is that file with every texture replaced by its mean
 //! linear colour: the same room, reflecting the same light on average, with
-//! nothing for a sort key to mistake for noise. The insets, regions and
-//! camera of the study are the Cornell box's for all three.
+//! nothing for a sort key to mistake for noise. `cornell-glossy` is
+//! `gpu_tracer::cornell::cornell_glossy`: the room with three GGX spheres
+//! (roughness 0.1, 0.3, 0.6) in place of the blocks, for the samplers on
+//! glossy reflections. The insets, regions and camera of the study are the
+//! Cornell box's for all four.
 
 use anyhow::{Context, Result};
 use glam::Vec3;
-use gpu_tracer::cornell::cornell_box;
+use gpu_tracer::cornell::{cornell_box, cornell_glossy};
 use gpu_tracer::gltf::load_gltf;
 use gpu_tracer::scene::{Image, Scene};
 use std::path::PathBuf;
@@ -31,14 +34,18 @@ pub enum StudyScene {
     /// [`StudyScene::CornellTextured`] with each texture replaced by its mean
     /// linear colour (multiplied into the material's albedo).
     CornellUntextured,
+    /// `gpu_tracer::cornell::cornell_glossy`: three metallic-roughness
+    /// spheres in the room.
+    CornellGlossy,
 }
 
 impl StudyScene {
     /// Every scene.
-    pub const ALL: [StudyScene; 3] = [
+    pub const ALL: [StudyScene; 4] = [
         StudyScene::Cornell,
         StudyScene::CornellTextured,
         StudyScene::CornellUntextured,
+        StudyScene::CornellGlossy,
     ];
 
     /// Name on the command line and in cache file names.
@@ -47,6 +54,7 @@ impl StudyScene {
             StudyScene::Cornell => "cornell",
             StudyScene::CornellTextured => "cornell-textured",
             StudyScene::CornellUntextured => "cornell-untextured",
+            StudyScene::CornellGlossy => "cornell-glossy",
         }
     }
 
@@ -67,6 +75,9 @@ impl StudyScene {
     pub fn load(self) -> Result<Scene> {
         if self == StudyScene::Cornell {
             return Ok(cornell_box());
+        }
+        if self == StudyScene::CornellGlossy {
+            return Ok(cornell_glossy());
         }
         let path = StudyScene::gltf_path();
         let mut scene = load_gltf(&path, None)
@@ -101,6 +112,18 @@ pub fn mean_linear_colour(image: &Image) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_scene_is_found_by_its_name() {
+        for s in StudyScene::ALL {
+            assert_eq!(StudyScene::from_name(s.name()), Some(s));
+        }
+        let glossy = StudyScene::from_name("cornell-glossy")
+            .expect("listed")
+            .load()
+            .expect("built-in");
+        assert_eq!(glossy, cornell_glossy());
+    }
 
     #[test]
     fn textured_scene_is_the_cornell_box_with_textures() {

@@ -46,7 +46,29 @@ fn path_traced_frames_agree_statistically_with_the_cpu_renderer() {
     let Some(gpu) = Gpu::for_test("path_traced_frames_agree_statistically_with_the_cpu_renderer") else {
         return;
     };
-    compare_trace_statistics(&gpu, kernels::abi::SAMPLER_SEEDS, "seeds");
+    let scene = gpu_tracer::SceneGpu::build(&gpu_tracer::cornell::cornell_box()).unwrap();
+    compare_trace_statistics(&gpu, &scene, kernels::abi::SAMPLER_SEEDS, "seeds");
+}
+
+/// The glossy Cornell box (metallic-roughness spheres: GGX sampling, the
+/// reused lobe number, MIS with `eval` and `pdf`): per-pixel means agree
+/// statistically with the CPU renderer, and with the same seeds the frames
+/// agree pixel for pixel up to float rounding, so the GPU runs the same
+/// BSDF code on the same numbers.
+#[test]
+fn glossy_frames_agree_with_the_cpu_renderer() {
+    let Some(gpu) = Gpu::for_test("glossy_frames_agree_with_the_cpu_renderer") else {
+        return;
+    };
+    let scene = gpu_tracer::SceneGpu::build(&gpu_tracer::cornell::cornell_glossy()).unwrap();
+    compare_trace_statistics(&gpu, &scene, kernels::abi::SAMPLER_SEEDS, "glossy seeds");
+    compare_same_seeds(
+        &gpu,
+        &scene,
+        kernels::abi::SAMPLER_SEEDS,
+        PermuteMode::White,
+        "glossy seeds",
+    );
 }
 
 /// `--sampler screen-sobol` and `--sampler zsobol` on the GPU against the
@@ -56,9 +78,7 @@ fn path_traced_frames_agree_statistically_with_the_cpu_renderer() {
 /// binding 7, key layout and sample indices) as the CPU.
 #[test]
 fn apriori_samplers_agree_with_the_cpu_renderer() {
-    use gpu_tracer::{
-        cornell::cornell_box, render_cpu, render_gpu, RenderJob, SceneGpu, TileChoice, TraceSettings,
-    };
+    use gpu_tracer::{cornell::cornell_box, SceneGpu};
     let Some(gpu) = Gpu::for_test("apriori_samplers_agree_with_the_cpu_renderer") else {
         return;
     };
@@ -82,8 +102,16 @@ fn apriori_samplers_agree_with_the_cpu_renderer() {
             PermuteMode::Permute,
         ),
     ] {
-        compare_trace_statistics(&gpu, sampler, name);
-        // Same seeds on both sides: only float rounding differs.
+        compare_trace_statistics(&gpu, &scene, sampler, name);
+        compare_same_seeds(&gpu, &scene, sampler, mode, name);
+    }
+}
+
+/// Same seeds (and `sampler`) on both sides: only float rounding differs,
+/// so at least 95% of pixel-frames agree within 1e-3 (relative).
+fn compare_same_seeds(gpu: &Gpu, scene: &gpu_tracer::SceneGpu, sampler: u32, mode: PermuteMode, name: &str) {
+    use gpu_tracer::{render_cpu, render_gpu, RenderJob, TileChoice, TraceSettings};
+    {
         let (w, h, frames) = (24u32, 20u32, 8u32);
         let mut settings = TraceSettings::new(w, h);
         settings.spp = 4;
@@ -97,10 +125,10 @@ fn apriori_samplers_agree_with_the_cpu_renderer() {
             salt: 5,
         };
         let mut cpu_frames = Vec::new();
-        render_cpu(&scene, &job, |_, c| cpu_frames.push(c.to_vec())).unwrap();
+        render_cpu(scene, &job, |_, c| cpu_frames.push(c.to_vec())).unwrap();
         let mut gpu_frames = Vec::new();
         let mut collect = |_t: u32, c: &[Vec4]| gpu_frames.push(c.to_vec());
-        render_gpu(&gpu, &scene, &job, |_| {}, Some(&mut collect)).unwrap();
+        render_gpu(gpu, scene, &job, |_| {}, Some(&mut collect)).unwrap();
         let (mut close, mut total) = (0usize, 0usize);
         for (a, b) in cpu_frames.iter().zip(&gpu_frames) {
             for (p, q) in a.iter().zip(b) {
@@ -130,11 +158,8 @@ fn apriori_samplers_agree_with_the_cpu_renderer() {
 /// a-priori sampler both sides share those numbers (they depend only on
 /// pixel and frame), which correlates the estimates and makes the test
 /// conservative, never stricter.
-fn compare_trace_statistics(gpu: &Gpu, sampler: u32, name: &str) {
-    use gpu_tracer::{
-        cornell::cornell_box, render_cpu, render_gpu, RenderJob, SceneGpu, TileChoice, TraceSettings,
-    };
-    let scene = SceneGpu::build(&cornell_box()).unwrap();
+fn compare_trace_statistics(gpu: &Gpu, scene: &gpu_tracer::SceneGpu, sampler: u32, name: &str) {
+    use gpu_tracer::{render_cpu, render_gpu, RenderJob, TileChoice, TraceSettings};
     let (w, h, frames) = (24u32, 20u32, 64u32);
     let mut settings = TraceSettings::new(w, h);
     settings.spp = 2;
@@ -151,10 +176,10 @@ fn compare_trace_statistics(gpu: &Gpu, sampler: u32, name: &str) {
     };
     let n = (w * h) as usize;
     let mut cpu = PixelStats::new(n);
-    render_cpu(&scene, &job(1), |_, c| cpu.add(c)).unwrap();
+    render_cpu(scene, &job(1), |_, c| cpu.add(c)).unwrap();
     let mut gpu_stats = PixelStats::new(n);
     let mut collect = |_t: u32, c: &[Vec4]| gpu_stats.add(c);
-    let out = render_gpu(gpu, &scene, &job(1_000_003), |_| {}, Some(&mut collect)).unwrap();
+    let out = render_gpu(gpu, scene, &job(1_000_003), |_| {}, Some(&mut collect)).unwrap();
     assert_eq!(out.last.len(), n);
     // z-score of the difference of means per pixel; pixels with no variance
     // on either side (background, light) must agree to float precision.

@@ -313,12 +313,29 @@ pub struct TriangleGpu {
     pub v2: Vec4,
 }
 
-/// A diffuse, possibly emissive, possibly textured material, 48 bytes.
+/// [`MaterialGpu::model`]`.x`: a Lambertian material (albedo `a`, BRDF
+/// `a / pi`, two-sided). [`MaterialGpu::pbr`] and the metallic-roughness
+/// texture are not read. The zero value, so a zeroed material is Lambertian.
+pub const MODEL_LAMBERT: u32 = 0;
+/// [`MaterialGpu::model`]`.x`: the glTF 2.0 metallic-roughness BRDF
+/// (`crate::bsdf::MetallicRoughness`) with base colour = the albedo after
+/// the base colour texture, metallic and roughness from [`MaterialGpu::pbr`]
+/// times the metallic-roughness texture; two-sided like the Lambertian
+/// model (the shading normal faces the outgoing direction).
+pub const MODEL_METALLIC_ROUGHNESS: u32 = 1;
+/// Flag of a texture's sampler flags (bit 5): the texels hold linear data,
+/// not sRGB-encoded colour (glTF's metallic-roughness texture); each 8-bit
+/// channel `c` reads as `c / 255`.
+pub const TEXEL_LINEAR: u32 = 1 << 5;
+
+/// A possibly emissive, possibly textured material, 80 bytes: Lambertian
+/// or glTF metallic-roughness ([`Self::model`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct MaterialGpu {
-    /// Lambertian albedo in linear RGB, each channel in `[0, 1]`; `w` = 0.
-    /// Multiplied by the base colour texture when there is one.
+    /// Lambertian albedo, or the metallic-roughness model's base colour, in
+    /// linear RGB, each channel in `[0, 1]`; `w` = 0. Multiplied by the base
+    /// colour texture when there is one.
     pub albedo: Vec4,
     /// Emitted radiance in linear RGB (arbitrary radiometric units,
     /// `>= 0`), from the front side; `w` = 0. Multiplied by the emission
@@ -328,15 +345,42 @@ pub struct MaterialGpu {
     /// `y`: its sampler flags ([`WRAP_REPEAT`] ...); `z`, `w`: the same for
     /// the emission texture.
     pub textures: UVec4,
+    /// Metallic-roughness factors, read only with
+    /// [`MODEL_METALLIC_ROUGHNESS`]: `x` = glTF `metallicFactor`, `y` =
+    /// `roughnessFactor` (perceptual; GGX `alpha = roughness^2`), both in
+    /// `[0, 1]` (the host refuses anything else); `z`, `w` = 0.
+    pub pbr: Vec4,
+    /// `x`: [`MODEL_LAMBERT`] or [`MODEL_METALLIC_ROUGHNESS`] (any other
+    /// value shades as Lambertian); `y`: image index of the
+    /// metallic-roughness texture or [`TEXTURE_NONE`] (glTF
+    /// `metallicRoughnessTexture`: blue = metallic, green = roughness, each
+    /// multiplying its factor); `z`: its sampler flags (with
+    /// [`TEXEL_LINEAR`]); `w` = 0.
+    pub model: UVec4,
 }
 
 impl MaterialGpu {
-    /// An untextured material.
+    /// An untextured Lambertian material.
     pub const fn untextured(albedo: Vec4, emission: Vec4) -> Self {
         MaterialGpu {
             albedo,
             emission,
             textures: UVec4::new(TEXTURE_NONE, 0, TEXTURE_NONE, 0),
+            pbr: Vec4::ZERO,
+            model: UVec4::new(MODEL_LAMBERT, TEXTURE_NONE, 0, 0),
+        }
+    }
+
+    /// An untextured metallic-roughness material: base colour `albedo`
+    /// (linear RGB in `[0, 1]`, `w` = 0), `metallic` and `roughness` in
+    /// `[0, 1]`, no emission.
+    pub const fn metallic_roughness(albedo: Vec4, metallic: f32, roughness: f32) -> Self {
+        MaterialGpu {
+            albedo,
+            emission: Vec4::ZERO,
+            textures: UVec4::new(TEXTURE_NONE, 0, TEXTURE_NONE, 0),
+            pbr: Vec4::new(metallic, roughness, 0.0, 0.0),
+            model: UVec4::new(MODEL_METALLIC_ROUGHNESS, TEXTURE_NONE, 0, 0),
         }
     }
 }
@@ -420,5 +464,5 @@ const _: () = assert!(core::mem::size_of::<TriangleAttrGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<GBufferGpu>() == 64);
 const _: () = assert!(core::mem::size_of::<BvhNodeGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<TriangleGpu>() == 48);
-const _: () = assert!(core::mem::size_of::<MaterialGpu>() == 48);
+const _: () = assert!(core::mem::size_of::<MaterialGpu>() == 80);
 const _: () = assert!(core::mem::size_of::<EmitterGpu>() == 16);

@@ -101,7 +101,7 @@ pub fn gbuffer_pixel(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::abi::{MaterialGpu, TEXTURE_NONE};
+    use crate::abi::MaterialGpu;
     use glam::Vec3;
 
     /// A fronto-parallel plane `z = -depth` (two triangles, object 3,
@@ -136,11 +136,10 @@ mod tests {
                 info: UVec4::new(2, 0, 0, 0),
             }],
             triangles: [t0, t1],
-            materials: [MaterialGpu {
-                albedo: Vec4::new(0.25, 0.5, 0.75, 0.0),
-                emission: Vec4::ZERO,
-                textures: UVec4::new(TEXTURE_NONE, 0, TEXTURE_NONE, 0),
-            }],
+            materials: [MaterialGpu::untextured(
+                Vec4::new(0.25, 0.5, 0.75, 0.0),
+                Vec4::ZERO,
+            )],
             attrs: [attr(0), attr(1)],
         }
     }

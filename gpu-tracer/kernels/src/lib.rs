@@ -11,7 +11,9 @@
 //!   from (seed stream or a-priori sampler), [`trace`] the path tracer
 //!   ([`trace_pixel`] is what the trace entry point runs per pixel),
 //!   [`accumulate`] the running mean, [`texture`] image lookup and
-//!   [`surface`] textured albedo and emission, [`gbuffer`] the G-buffer and
+//!   [`surface`] textured albedo and emission, [`bsdf`] the reflectance
+//!   models (GGX microfacets and the glTF metallic-roughness BRDF, not yet
+//!   used by [`trace`]), [`gbuffer`] the G-buffer and
 //!   motion vectors ([`gbuffer::gbuffer_pixel`]), [`motion`] the motion vectors
 //!   the seed reprojection takes (disocclusion marked), [`surface_features`]
 //!   the feature-aware permutation's per-pixel features and sort keys,
@@ -52,6 +54,7 @@
 
 pub mod abi;
 pub mod accumulate;
+pub mod bsdf;
 pub mod bvh;
 pub mod camera;
 pub mod dither;
@@ -66,6 +69,7 @@ pub mod permute_entry;
 pub mod reproject_entry;
 pub mod sampler_entry;
 pub mod sampling;
+pub mod shading;
 pub mod surface;
 pub mod surface_features;
 pub mod texture;

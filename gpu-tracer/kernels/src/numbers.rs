@@ -14,7 +14,7 @@
 //! | 0, 1 | position inside the pixel |
 //! | `2 + 6 d + 0` | vertex `d`: reserved (unused) |
 //! | `2 + 6 d + 1, 2` | vertex `d`: which emitter and the point on it |
-//! | `2 + 6 d + 3, 4` | vertex `d`: BSDF direction |
+//! | `2 + 6 d + 3, 4` | vertex `d`: BSDF lobe (first number, reused) and direction |
 //! | `2 + 6 d + 5` | vertex `d`: Russian roulette |
 //!
 //! Every vertex draws its six numbers whether or not it uses them, so a
@@ -23,7 +23,10 @@
 //! with its first number and reuses that number, rescaled to `[0, 1)` within
 //! the emitter's probability interval, for the point
 //! ([`crate::trace::select_emitter_reusing`]): one 2D pair covers all the emitters, so a
-//! stratified or blue-noise pair stays so over the whole light. The stream
+//! stratified or blue-noise pair stays so over the whole light. The BSDF
+//! pair does the same for a metallic-roughness material's lobe choice
+//! ([`crate::shading::reuse_lobe_number`]); a Lambertian vertex reads it as
+//! the direction only. The stream
 //! sample `s` is the sample index within the frame in
 //! [`SEED_MODE_FIXED`](crate::abi::SEED_MODE_FIXED) and `frame * spp + s` in
 //! [`SEED_MODE_ADVANCE`] (see [`stream_sample`]).

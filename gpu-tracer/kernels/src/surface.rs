@@ -1,7 +1,8 @@
 //! What a path sees at a hit point: texture coordinates, albedo and
-//! emission after the material's textures.
+//! emission after the material's textures, and the metallic-roughness
+//! parameters after theirs.
 
-use crate::abi::{MaterialGpu, TriangleAttrGpu, TEXTURE_NONE};
+use crate::abi::{MaterialGpu, TriangleAttrGpu, TEXEL_LINEAR, TEXTURE_NONE};
 use crate::texture::sample_image;
 use glam::{Vec2, Vec3};
 
@@ -31,6 +32,28 @@ pub fn surface_albedo(material: &MaterialGpu, images: &[u32], image_count: u32, 
 pub fn surface_emission(material: &MaterialGpu, images: &[u32], image_count: u32, uv: Vec2) -> Vec3 {
     let t = material.textures;
     textured(material.emission.truncate(), images, image_count, t.z, t.w, uv)
+}
+
+/// `(metallic, roughness)` of `material` at `uv`: [`MaterialGpu::pbr`]'s
+/// factors times the metallic-roughness texture's blue (metallic) and green
+/// (roughness) channels, always read as linear data ([`TEXEL_LINEAR`] is
+/// implied), or the factors alone (bit for
+/// bit) without a texture. Each in `[0, 1]` for valid factors.
+#[inline]
+pub fn surface_metallic_roughness(
+    material: &MaterialGpu,
+    images: &[u32],
+    image_count: u32,
+    uv: Vec2,
+) -> Vec2 {
+    let factors = Vec2::new(material.pbr.x, material.pbr.y);
+    let m = material.model;
+    if m.y == TEXTURE_NONE {
+        factors
+    } else {
+        let t = sample_image(images, image_count, m.y, m.z | TEXEL_LINEAR, uv);
+        factors * Vec2::new(t.z, t.y)
+    }
 }
 
 /// `factor` times image `image` sampled with `flags` at `uv`, or `factor`

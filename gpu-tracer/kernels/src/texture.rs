@@ -1,6 +1,9 @@
-//! Texture lookup: sRGB RGBA8 images in one `u32` buffer, sampled with a
+//! Texture lookup: RGBA8 images in one `u32` buffer, sampled with a
 //! wrap mode per axis and nearest or bilinear filtering (glTF samplers
-//! without mipmaps).
+//! without mipmaps). Texels are sRGB-encoded colour, decoded per texel
+//! before filtering, unless the sampler flags carry
+//! [`crate::abi::TEXEL_LINEAR`] (data textures such as glTF's
+//! metallic-roughness texture: channel `c` reads as `c / 255`).
 //!
 //! Texture space: `uv = (0, 0)` is the top-left corner of the image's first
 //! texel, `(1, 1)` the bottom-right corner of its last (glTF's convention);
@@ -9,7 +12,7 @@
 //! and of the sampler flags: [`crate::abi::IMAGE_HEADER_WORDS`],
 //! [`crate::abi::WRAP_REPEAT`].
 
-use crate::abi::{FILTER_BILINEAR, IMAGE_HEADER_WORDS, WRAP_CLAMP, WRAP_MIRROR};
+use crate::abi::{FILTER_BILINEAR, IMAGE_HEADER_WORDS, TEXEL_LINEAR, WRAP_CLAMP, WRAP_MIRROR};
 use glam::{Vec2, Vec3};
 
 /// sRGB decoding (IEC 61966-2-1) of an 8-bit channel: linear value in `[0, 1]`.
@@ -31,6 +34,17 @@ pub fn decode_texel(texel: u32) -> Vec3 {
         srgb_to_linear((texel >> 8) & 0xFF),
         srgb_to_linear((texel >> 16) & 0xFF),
     )
+}
+
+/// RGB of a packed texel `r | g << 8 | b << 16 | a << 24` holding linear
+/// data: each channel `c` as `c / 255`, in `[0, 1]`.
+#[inline]
+pub fn decode_texel_linear(texel: u32) -> Vec3 {
+    Vec3::new(
+        (texel & 0xFF) as f32,
+        ((texel >> 8) & 0xFF) as f32,
+        ((texel >> 16) & 0xFF) as f32,
+    ) * (1.0 / 255.0)
 }
 
 /// `uv` coordinate reduced to the range the wrap mode needs before scaling
@@ -73,7 +87,7 @@ fn wrap_index(i: i32, size: i32, wrap: u32) -> i32 {
 }
 
 /// Linear RGB of image `image` of `images` at `uv`, sampled with `flags`
-/// (wrap modes and filter). An image index at or beyond `image_count`
+/// (wrap modes, filter, and [`TEXEL_LINEAR`] for data textures). An image index at or beyond `image_count`
 /// returns white (1, 1, 1), so a bad index never reads outside the buffer
 /// (the host validates indices; this keeps the kernel safe regardless).
 #[inline]
@@ -94,6 +108,7 @@ pub fn sample_image(images: &[u32], image_count: u32, image: u32, flags: u32, uv
         height,
         wrap_u,
         wrap_v,
+        linear: flags & TEXEL_LINEAR != 0,
     };
     if flags & FILTER_BILINEAR == 0 {
         image.fetch(images, libm::floorf(x) as i32, libm::floorf(y) as i32)
@@ -116,16 +131,23 @@ struct ImageRef {
     height: i32,
     wrap_u: u32,
     wrap_v: u32,
+    /// [`TEXEL_LINEAR`]: texels are data, not sRGB.
+    linear: bool,
 }
 
 impl ImageRef {
-    /// Linear RGB of texel `(i, j)` after wrapping.
+    /// Linear RGB (or data) of texel `(i, j)` after wrapping.
     #[inline]
     fn fetch(&self, images: &[u32], i: i32, j: i32) -> Vec3 {
         let i = wrap_index(i, self.width, self.wrap_u);
         let j = wrap_index(j, self.height, self.wrap_v);
         let k = self.offset.wrapping_add((j * self.width + i) as u32);
-        decode_texel(images[k as usize])
+        let texel = images[k as usize];
+        if self.linear {
+            decode_texel_linear(texel)
+        } else {
+            decode_texel(texel)
+        }
     }
 }
 
@@ -146,6 +168,22 @@ mod tests {
         // 0.5 encoded is 0.214 linear; byte 10 is in the linear segment.
         assert!((srgb_to_linear(128) - 0.2158605).abs() < 1e-5);
         assert!((srgb_to_linear(10) - 10.0 / 255.0 / 12.92).abs() < 1e-7);
+    }
+
+    /// [`TEXEL_LINEAR`] reads the bytes as data (`c / 255`), nearest and
+    /// bilinear, and leaves sRGB decoding alone without the flag.
+    #[test]
+    fn linear_texels_read_as_data() {
+        let img = images();
+        let at = Vec2::new(0.75, 0.75);
+        let data = sample_image(&img, 1, 0, WRAP_REPEAT | TEXEL_LINEAR, at);
+        assert_eq!(data, Vec3::new(64.0, 128.0, 255.0) / 255.0);
+        assert_eq!(
+            sample_image(&img, 1, 0, WRAP_REPEAT, at),
+            decode_texel(0xFFFF_8040)
+        );
+        let mid = sample_image(&img, 1, 0, FILTER_BILINEAR | TEXEL_LINEAR, Vec2::new(0.5, 0.25));
+        assert!((mid - Vec3::splat(0.5)).abs().max_element() < 1e-6, "{mid}");
     }
 
     #[test]

@@ -3,14 +3,19 @@
 //!
 //! # Light transport
 //!
-//! Materials are Lambertian (albedo `a`, BRDF `a / pi`, two-sided) plus
-//! emission from the front side of a triangle (see [`TriangleGpu`]). There is
-//! no environment: rays leaving the scene carry nothing. At every path vertex
-//! the estimator combines
+//! Materials are Lambertian (albedo `a`, BRDF `a / pi`, two-sided) or the
+//! glTF metallic-roughness BRDF (two-sided too: the shading normal is the
+//! geometric normal flipped towards the outgoing direction), plus emission
+//! from the front side of a triangle (see [`TriangleGpu`]); [`crate::shading`]
+//! evaluates and samples them. There is no environment: rays leaving the
+//! scene carry nothing. At every path vertex the estimator combines
 //! - **next-event estimation**: an emitter picked with probability
-//!   proportional to its power, a uniform point on it, and a shadow ray;
-//! - **BSDF sampling**: a cosine-weighted direction; when it hits an emitter
-//!   the emission is counted too.
+//!   proportional to its power, a uniform point on it, and a shadow ray,
+//!   weighted by `f cos` ([`Shading::eval_cos`]);
+//! - **BSDF sampling**: a cosine-weighted direction (Lambertian) or the
+//!   metallic-roughness sampler's (GGX visible normals or cosine, the lobe
+//!   chosen by reusing the BSDF pair's first number); when it hits an
+//!   emitter the emission is counted too.
 //!
 //! Both strategies are weighted by the power heuristic (Veach 1997, MIS with
 //! beta = 2), so each path is counted once in expectation, never twice.
@@ -39,9 +44,9 @@ use crate::abi::{
 use crate::bvh::{any_hit, closest_hit};
 use crate::camera::primary_ray;
 use crate::intersect::Ray;
-use crate::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_triangle_barycentrics, Frame};
-use crate::surface::{surface_albedo, surface_emission, triangle_uv};
-use core::f32::consts::FRAC_1_PI;
+use crate::sampling::sample_triangle_barycentrics;
+use crate::shading::Shading;
+use crate::surface::{surface_emission, triangle_uv};
 use glam::{UVec2, Vec2, Vec3, Vec4};
 use sampler_core::RandomStream;
 
@@ -202,14 +207,14 @@ pub(crate) fn trace_sample_with(
             radiance += throughput * emission * weight;
         }
 
-        // Shading frame faces the incoming ray (two-sided diffuse).
+        // Shading frame faces the incoming ray (two-sided materials).
         let normal = if cos_out > 0.0 { geo_normal } else { -geo_normal };
-        let albedo = surface_albedo(&material, images, params.image_count, uv);
+        let shading = Shading::at(&material, images, params.image_count, uv, normal, -ray.dir);
         let u_light = numbers.light(params, keys, depth);
         let origin = offset_point(point, normal);
 
         // Next-event estimation.
-        if params.emitter_count > 0 && depth + 2 <= max_depth && albedo.max_element() > 0.0 {
+        if params.emitter_count > 0 && depth + 2 <= max_depth && shading.reflects() {
             let (index, u_point) = select_emitter_reusing(emitters, params.emitter_count, u_light);
             let e = emitters[index as usize];
             let lt = triangles[e.triangle as usize];
@@ -226,7 +231,8 @@ pub(crate) fn trace_sample_with(
                 let cos_surface = wi.dot(normal);
                 if cos_light > 0.0 && cos_surface > 0.0 && e.pdf > 0.0 {
                     let light_pdf = e.pdf * dist2 / (light_area * cos_light);
-                    let weight = power_heuristic(light_pdf, cosine_hemisphere_pdf(cos_surface));
+                    let (brdf_cos, brdf_pdf) = shading.eval_cos(wi, cos_surface);
+                    let weight = power_heuristic(light_pdf, brdf_pdf);
                     let t_max = dist - 2.0 * surface_offset(q);
                     if t_max > 0.0 && {
                         *rays += 1;
@@ -239,7 +245,6 @@ pub(crate) fn trace_sample_with(
                             params.image_count,
                             light_uv,
                         );
-                        let brdf_cos = albedo * (FRAC_1_PI * cos_surface);
                         radiance += throughput * brdf_cos * light_emission * (weight / light_pdf);
                     }
                 }
@@ -250,14 +255,15 @@ pub(crate) fn trace_sample_with(
             break;
         }
 
-        // BSDF sampling: f cos / pdf = albedo for a cosine-weighted direction.
-        let local = sample_cosine_hemisphere(numbers.bsdf(params, keys, depth));
-        if local.z <= 0.0 {
+        // BSDF sampling: throughput times f cos / pdf (the albedo for a
+        // cosine-weighted Lambertian direction).
+        let sample = shading.sample(numbers.bsdf(params, keys, depth));
+        if sample.pdf <= 0.0 {
             break;
         }
-        let wi = Frame::from_normal(normal).to_world(local).normalize();
-        throughput *= albedo;
-        bsdf_pdf = cosine_hemisphere_pdf(local.z);
+        let wi = sample.wi;
+        throughput *= sample.weight;
+        bsdf_pdf = sample.pdf;
 
         if depth >= params.rr_depth {
             let survive = throughput.max_element().min(RR_MAX_SURVIVAL);

@@ -1,14 +1,29 @@
-//! Materials and textures: glTF materials as diffuse [`Material`]s, their
-//! textures as [`TextureRef`]s with the sampler's settings, and the images
-//! they use decoded and converted to 8-bit sRGB RGBA.
+//! Materials and textures: glTF materials as metallic-roughness
+//! [`Material`]s, their textures as [`TextureRef`]s with the sampler's
+//! settings, and the images they use decoded and converted to 8-bit RGBA
+//! (sRGB for colour textures, linear data for the metallic-roughness
+//! texture: the bytes are the file's either way).
+//!
+//! # Reflectance
+//!
+//! Every material is the specification's metallic-roughness BRDF
+//! ([`Bsdf::MetallicRoughness`]) with its factors and texture, defaults
+//! included (metallic 1, roughness 1 when the file omits them), except one
+//! case: `metallicFactor` 0 with the `KHR_materials_specular` extension's
+//! `specularFactor` 0 is exactly a Lambertian surface (the extension scales
+//! the dielectric's Fresnel term by `specularFactor`, so the specular lobe
+//! vanishes and the diffuse one keeps weight 1) and becomes
+//! [`Bsdf::Lambert`]. The project's fixture generator writes that for its
+//! diffuse scenes. Other `KHR_materials_specular` values are ignored (with a
+//! notice).
 
 use super::loader::{check_uri, label, short_uri, Loader};
 use crate::error::{Error, Result};
-use crate::scene::{Filter, Image, Material, TextureRef, Wrap};
+use crate::scene::{Bsdf, Filter, Image, Material, TextureRef, Wrap};
 use glam::{Vec3, Vec4};
 
-/// Albedo of primitives without a material (glTF's default material: base
-/// colour factor 1).
+/// Base colour of primitives without a material (glTF's default material:
+/// base colour factor 1, metallic 1, roughness 1).
 pub const DEFAULT_ALBEDO: Vec3 = Vec3::ONE;
 
 impl<'p> Loader<'p> {
@@ -18,7 +33,7 @@ impl<'p> Loader<'p> {
     pub(super) fn materials(&mut self) -> Result<(Vec<Material>, Vec<Option<u32>>)> {
         let mut materials = Vec::new();
         let mut sets = Vec::new();
-        let (mut metallic, mut normal, mut occlusion, mut alpha) = (false, false, false, false);
+        let (mut specular, mut normal, mut occlusion, mut alpha) = (false, false, false, false);
         for m in self.document.materials() {
             let index = m.index().unwrap_or(materials.len());
             let name = m
@@ -26,7 +41,6 @@ impl<'p> Loader<'p> {
                 .map_or_else(|| format!("material {index}"), str::to_string);
             let element = || label("material", index, m.name());
             let pbr = m.pbr_metallic_roughness();
-            metallic |= pbr.metallic_factor() > 0.0 || pbr.metallic_roughness_texture().is_some();
             normal |= m.normal_texture().is_some();
             occlusion |= m.occlusion_texture().is_some();
             alpha |= m.alpha_mode() != gltf::material::AlphaMode::Opaque;
@@ -40,19 +54,37 @@ impl<'p> Loader<'p> {
             }
             let base = pbr.base_color_texture();
             let emissive = m.emissive_texture();
-            let set = match (&base, &emissive) {
-                (Some(b), Some(e)) if b.tex_coord() != e.tex_coord() => {
-                    return Err(self.content(
-                        element(),
-                        format!(
-                            "base colour texture reads TEXCOORD_{} but emissive texture reads TEXCOORD_{}: one set per material is supported",
-                            b.tex_coord(),
-                            e.tex_coord()
-                        ),
-                    ))
+            let metal_rough = pbr.metallic_roughness_texture();
+            let mut set: Option<(&str, u32)> = None;
+            for (what, t) in [
+                ("base colour", base.as_ref().map(|t| t.tex_coord())),
+                ("emissive", emissive.as_ref().map(|t| t.tex_coord())),
+                ("metallic-roughness", metal_rough.as_ref().map(|t| t.tex_coord())),
+            ] {
+                match (set, t) {
+                    (Some((first, a)), Some(b)) if a != b => {
+                        return Err(self.content(
+                            element(),
+                            format!(
+                                "{first} texture reads TEXCOORD_{a} but {what} texture reads TEXCOORD_{b}: one set per material is supported"
+                            ),
+                        ))
+                    }
+                    (None, Some(b)) => set = Some((what, b)),
+                    _ => {}
                 }
-                (Some(t), _) | (None, Some(t)) => Some(t.tex_coord()),
-                (None, None) => None,
+            }
+            let (metallic, roughness) = (pbr.metallic_factor(), pbr.roughness_factor());
+            let specular_factor = m.specular().map(|s| s.specular_factor());
+            let bsdf = if metallic == 0.0 && specular_factor == Some(0.0) {
+                Bsdf::Lambert
+            } else {
+                specular |= specular_factor.is_some();
+                Bsdf::MetallicRoughness {
+                    metallic,
+                    roughness,
+                    texture: metal_rough.map(|t| texture_ref(&t.texture())),
+                }
             };
             materials.push(Material {
                 name,
@@ -60,12 +92,15 @@ impl<'p> Loader<'p> {
                 emission,
                 base_color_texture: base.map(|t| texture_ref(&t.texture())),
                 emission_texture: emissive.map(|t| texture_ref(&t.texture())),
+                bsdf,
             });
-            sets.push(set);
+            sets.push(set.map(|(_, s)| s));
         }
-        if metallic {
-            self.notices
-                .push("metallic materials are rendered as diffuse (metallic/roughness not supported)".into());
+        if specular {
+            self.notices.push(
+                "KHR_materials_specular is honoured only as specularFactor 0 on a non-metal (Lambertian); other values are ignored"
+                    .into(),
+            );
         }
         if normal || occlusion {
             self.notices
@@ -85,7 +120,13 @@ impl<'p> Loader<'p> {
         let mut images = Vec::new();
         let used = materials
             .iter()
-            .flat_map(|m| [m.base_color_texture, m.emission_texture])
+            .flat_map(|m| {
+                let metal_rough = match m.bsdf {
+                    Bsdf::MetallicRoughness { texture, .. } => texture,
+                    Bsdf::Lambert => None,
+                };
+                [m.base_color_texture, m.emission_texture, metal_rough]
+            })
             .flatten()
             .map(|t| t.image as usize);
         for i in used {

@@ -20,12 +20,17 @@
 //!   multiplies it. Textures keep their sampler's wrap modes and
 //!   magnification filter (`NEAREST` -> [`Filter::Nearest`], `LINEAR` or
 //!   none -> [`Filter::Bilinear`]) and read the `TEXCOORD_n` set the
-//!   material names (float or normalised 8/16-bit). Everything is diffuse:
-//!   metallic/roughness, normal and occlusion maps and alpha are ignored
-//!   with a notice. A primitive without material gets glTF's default (albedo
-//!   1, no emission).
+//!   material names (float or normalised 8/16-bit). Reflection is the
+//!   specification's metallic-roughness BRDF with its factors (defaults
+//!   metallic 1, roughness 1) and `metallicRoughnessTexture` (blue metallic,
+//!   green roughness, linear), or Lambertian for a non-metal with
+//!   `KHR_materials_specular` `specularFactor` 0 (the `material` module's
+//!   docs). Normal and occlusion maps and alpha are ignored with a notice. A
+//!   primitive without material gets glTF's default material: base colour
+//!   1, metallic 1, roughness 1, no emission.
 //! - **Images**: whatever the `gltf` crate decodes (PNG, JPEG), converted to
-//!   8-bit sRGB RGBA: grey (`R8`) and grey-alpha (`R8G8`) images are
+//!   8-bit RGBA (sRGB colour, or linear data for the metallic-roughness
+//!   texture): grey (`R8`) and grey-alpha (`R8G8`) images are
 //!   expanded, 16-bit channels are rounded to 8 bits, float channels are
 //!   taken as already-encoded values in `[0, 1]` and clamped.
 //! - **Camera**: a perspective camera attached to a node (the N-th camera
@@ -42,7 +47,8 @@
 //! [`GltfScene::scene`] is the rest pose (every node at its file transform);
 //! [`Rig::pose`] gives the animated triangles and camera at any time.
 //!
-//! Extensions other than `KHR_materials_emissive_strength` are ignored with
+//! Extensions other than `KHR_materials_emissive_strength` and
+//! `KHR_materials_specular` (its `specularFactor` 0 only) are ignored with
 //! a notice when merely used (`KHR_texture_transform`, `KHR_lights_punctual`,
 //! ...) and rejected by the `gltf` crate when required.
 //!
@@ -82,7 +88,7 @@ use loader::{label, Loader};
 use std::path::Path;
 
 /// The extensions whose content is used; others are noticed and ignored.
-const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_materials_emissive_strength"];
+const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_materials_emissive_strength", "KHR_materials_specular"];
 
 /// A loaded glTF scene.
 #[derive(Clone, Debug, PartialEq)]
@@ -183,9 +189,17 @@ impl<'p> Loader<'p> {
         let (mut materials, material_sets) = self.materials()?;
         let (images, image_of) = self.images(&materials)?;
         for m in &mut materials {
-            for t in [&mut m.base_color_texture, &mut m.emission_texture]
-                .into_iter()
-                .flatten()
+            let metal_rough = match &mut m.bsdf {
+                crate::scene::Bsdf::MetallicRoughness { texture, .. } => texture.as_mut(),
+                crate::scene::Bsdf::Lambert => None,
+            };
+            for t in [
+                m.base_color_texture.as_mut(),
+                m.emission_texture.as_mut(),
+                metal_rough,
+            ]
+            .into_iter()
+            .flatten()
             {
                 t.image = image_of.get(t.image as usize).copied().flatten().unwrap_or(0);
             }
@@ -252,7 +266,7 @@ impl<'p> Loader<'p> {
             return Err(self.content(scene_label, "contains no triangles"));
         }
         if uses_default {
-            materials.push(Material::new("default", DEFAULT_ALBEDO, Vec3::ZERO));
+            materials.push(Material::metallic_roughness("default", DEFAULT_ALBEDO, 1.0, 1.0));
         }
         if morph {
             self.notices

@@ -4,7 +4,7 @@
 use super::*;
 use crate::animation::Interpolation;
 use crate::error::Error;
-use crate::scene::{Filter, SceneGpu, TextureRef, Wrap};
+use crate::scene::{Bsdf, Filter, SceneGpu, TextureRef, Wrap};
 use glam::Vec2;
 use serde_json::{json, Value};
 use std::fs;
@@ -124,6 +124,8 @@ fn textured_quad_loads_geometry_materials_texture_and_camera() {
         .emission
         .abs_diff_eq(Vec3::new(30.0, 27.0, 24.0), 1e-5));
     assert_eq!(s.materials[1].albedo, Vec3::ZERO);
+    // The generator writes its diffuse materials as exactly Lambertian glTF.
+    assert!(s.materials.iter().all(|m| m.bsdf == Bsdf::Lambert));
     // The checker image, top row first.
     let img = &s.images[0];
     assert_eq!((img.name.as_str(), img.width, img.height), ("checker", 4, 4));
@@ -190,6 +192,15 @@ fn hierarchy_glb_transforms_and_animates() {
     assert_eq!(rig.instances.len(), 2);
     assert_eq!(g.scene.materials.len(), 1); // the default material
     assert_eq!(g.scene.materials[0].albedo, DEFAULT_ALBEDO);
+    assert_eq!(
+        g.scene.materials[0].bsdf,
+        Bsdf::MetallicRoughness {
+            metallic: 1.0,
+            roughness: 1.0,
+            texture: None
+        },
+        "glTF's default material is a rough white metal"
+    );
     // Child vertex (0,0,0) at parent * (1,0,0): (1,2,3) + R_y(90) * 2 * (1,0,0) = (1,2,1).
     let child = g.scene.triangles[0].vertices;
     assert!(child[0].abs_diff_eq(Vec3::new(1.0, 2.0, 1.0), 1e-5), "{child:?}");
@@ -384,8 +395,18 @@ fn ignored_features_give_notices() {
     })
     .expect("loads");
     let n = &g.notices;
+    // Without metallicFactor the material is glTF's default metal, and its
+    // specularFactor 0 no longer makes it Lambertian: that is noticed.
     assert_eq!(
-        n.iter().filter(|l| l.contains("rendered as diffuse")).count(),
+        g.scene.materials[0].bsdf,
+        Bsdf::MetallicRoughness {
+            metallic: 1.0,
+            roughness: 1.0,
+            texture: None
+        }
+    );
+    assert_eq!(
+        n.iter().filter(|l| l.contains("KHR_materials_specular")).count(),
         1,
         "{n:?}"
     );
@@ -396,6 +417,81 @@ fn ignored_features_give_notices() {
     let err = load_patched(|doc, _| doc["extensionsRequired"] = json!(["KHR_texture_transform"]))
         .expect_err("required");
     assert!(matches!(err, Error::GltfLoad { .. }), "{err}");
+}
+
+/// `metallic_quad.gltf`: factors and the metallic-roughness texture are
+/// read (its image as written: linear bytes, green roughness, blue
+/// metallic), omitted factors take glTF's defaults (1, 1), and the GPU form
+/// carries the model, factors and texture.
+#[test]
+fn metallic_roughness_factors_and_texture_are_read() {
+    let g = load(&fixture("metallic_quad.gltf"));
+    assert!(g.notices.is_empty(), "{:?}", g.notices);
+    let m = &g.scene.materials;
+    assert_eq!(m.len(), 3);
+    assert_eq!(m[0].name, "brushed");
+    assert!(m[0].albedo.abs_diff_eq(Vec3::new(0.9, 0.6, 0.3), 1e-6));
+    let texture = TextureRef {
+        image: 0,
+        wrap_u: Wrap::Repeat,
+        wrap_v: Wrap::Repeat,
+        filter: Filter::Nearest,
+    };
+    assert_eq!(
+        m[0].bsdf,
+        Bsdf::MetallicRoughness {
+            metallic: 0.8,
+            roughness: 0.5,
+            texture: Some(texture)
+        }
+    );
+    assert_eq!(
+        m[1].bsdf,
+        Bsdf::MetallicRoughness {
+            metallic: 1.0,
+            roughness: 1.0,
+            texture: None
+        }
+    );
+    assert_eq!(m[2].bsdf, Bsdf::Lambert);
+    let img = &g.scene.images[0];
+    assert_eq!((img.name.as_str(), img.width, img.height), ("metal_rough", 2, 2));
+    assert_eq!(
+        img.texels,
+        [
+            [0, 255, 255, 255],
+            [0, 128, 64, 255],
+            [0, 0, 255, 255],
+            [0, 255, 0, 255]
+        ]
+    );
+    let gpu = SceneGpu::build(&g.scene).expect("builds");
+    use kernels::abi::{MODEL_LAMBERT, MODEL_METALLIC_ROUGHNESS, TEXTURE_NONE};
+    let mat = gpu.materials[0];
+    assert_eq!(mat.model.x, MODEL_METALLIC_ROUGHNESS);
+    assert_eq!((mat.pbr.x, mat.pbr.y), (0.8, 0.5));
+    assert_eq!(mat.model.y, 0);
+    assert_eq!(gpu.materials[1].model.y, TEXTURE_NONE);
+    assert_eq!(gpu.materials[2].model.x, MODEL_LAMBERT);
+    // The kernel's lookup: texel (1, 0) (u in [0.5, 1), v in [0, 0.5)) has
+    // green 128 and blue 64: metallic 0.8 * 64/255, roughness 0.5 * 128/255.
+    let mr = kernels::surface::surface_metallic_roughness(
+        &mat,
+        &gpu.images,
+        gpu.image_count,
+        Vec2::new(0.75, 0.25),
+    );
+    assert!((mr.x - 0.8 * 64.0 / 255.0).abs() < 1e-6, "{mr}");
+    assert!((mr.y - 0.5 * 128.0 / 255.0).abs() < 1e-6, "{mr}");
+    // Out-of-range factors (which the schema forbids) are refused.
+    let bad = load_fixture_patched("metallic_quad", |doc, _| {
+        doc["materials"][0]["pbrMetallicRoughness"]["roughnessFactor"] = json!(1.5)
+    });
+    let refused = match bad {
+        Err(e) => e.to_string(),
+        Ok(g) => SceneGpu::build(&g.scene).expect_err("roughness 1.5").to_string(),
+    };
+    assert!(refused.contains("1.5"), "{refused}");
 }
 
 /// Single-byte corruptions of the fixtures (JSON, GLB container and

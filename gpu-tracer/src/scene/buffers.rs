@@ -1,14 +1,15 @@
 //! The buffers of a scene for the kernels ([`SceneGpu`]): BVH, triangles in
 //! leaf order with their attributes, materials, images and the emitter list.
 
-use super::{Camera, CameraBasis, Filter, Image, Scene, TextureRef, Triangle, Wrap};
+use super::{Bsdf, Camera, CameraBasis, Filter, Image, Scene, TextureRef, Triangle, Wrap};
 use crate::bvh::build_bvh;
 use crate::error::{Error, Result};
 use glam::{UVec4, Vec4};
 use glam::{Vec2, Vec3};
 use kernels::abi::{
     BvhNodeGpu, EmitterGpu, MaterialGpu, TriangleAttrGpu, TriangleGpu, FILTER_BILINEAR, GBUFFER_NO_HIT,
-    IMAGE_HEADER_WORDS, TEXTURE_NONE, WRAP_CLAMP, WRAP_MIRROR, WRAP_REPEAT,
+    IMAGE_HEADER_WORDS, MODEL_LAMBERT, MODEL_METALLIC_ROUGHNESS, TEXTURE_NONE, WRAP_CLAMP, WRAP_MIRROR,
+    WRAP_REPEAT,
 };
 use kernels::trace::normal_and_area;
 
@@ -63,7 +64,8 @@ impl SceneGpu {
     ///
     /// # Errors
     /// [`Error::NoTriangles`] for an empty scene, [`Error::NonFiniteVertex`],
-    /// [`Error::InvalidMaterial`], [`Error::MaterialIndex`],
+    /// [`Error::InvalidMaterial`], [`Error::InvalidMaterialParameter`]
+    /// (metallic or roughness NaN or outside `[0, 1]`), [`Error::MaterialIndex`],
     /// [`Error::SceneTooLarge`], [`Error::InvalidCamera`],
     /// [`Error::BvhTooDeep`].
     pub fn build(scene: &Scene) -> Result<SceneGpu> {
@@ -108,10 +110,36 @@ impl SceneGpu {
             };
             let (base, base_flags) = texture(&m.base_color_texture)?;
             let (emit, emit_flags) = texture(&m.emission_texture)?;
+            let (pbr, model) = match m.bsdf {
+                Bsdf::Lambert => (Vec4::ZERO, UVec4::new(MODEL_LAMBERT, TEXTURE_NONE, 0, 0)),
+                Bsdf::MetallicRoughness {
+                    metallic,
+                    roughness,
+                    texture: t,
+                } => {
+                    for (parameter, value) in [("metallic", metallic), ("roughness", roughness)] {
+                        if !(0.0..=1.0).contains(&value) {
+                            return Err(Error::InvalidMaterialParameter {
+                                name: m.name.clone(),
+                                parameter,
+                                value,
+                                expected: "a number in [0, 1]",
+                            });
+                        }
+                    }
+                    let (image, flags) = texture(&t)?;
+                    (
+                        Vec4::new(metallic, roughness, 0.0, 0.0),
+                        UVec4::new(MODEL_METALLIC_ROUGHNESS, image, flags, 0),
+                    )
+                }
+            };
             materials.push(MaterialGpu {
                 albedo: m.albedo.clamp(Vec3::ZERO, Vec3::ONE).extend(0.0),
                 emission: m.emission.extend(0.0),
                 textures: UVec4::new(base, base_flags, emit, emit_flags),
+                pbr,
+                model,
             });
         }
         let (images, image_count) = pack_images(&scene.images)?;
@@ -508,6 +536,34 @@ pub(super) mod tests {
         let mut s = quad_scene(Vec3::ONE);
         s.camera.up = Vec3::Z;
         assert!(matches!(SceneGpu::build(&s), Err(Error::InvalidCamera)));
+        // Metallic and roughness: NaN and values outside [0, 1] are refused
+        // with the parameter named; the bounds themselves are accepted.
+        for (metallic, roughness, bad) in [
+            (f32::NAN, 0.5, Some("metallic")),
+            (0.5, f32::NAN, Some("roughness")),
+            (-0.01, 0.5, Some("metallic")),
+            (0.5, 1.01, Some("roughness")),
+            (0.0, 1.0, None),
+            (1.0, 0.0, None),
+        ] {
+            let mut s = quad_scene(Vec3::ONE);
+            s.materials[0].bsdf = Bsdf::MetallicRoughness {
+                metallic,
+                roughness,
+                texture: None,
+            };
+            match (SceneGpu::build(&s), bad) {
+                (Err(e @ Error::InvalidMaterialParameter { parameter, .. }), Some(want)) => {
+                    assert_eq!(parameter, want);
+                    assert!(e.to_string().contains("[0, 1]"), "{e}");
+                }
+                (Ok(g), None) => assert_eq!(
+                    (g.materials[0].pbr.x, g.materials[0].pbr.y),
+                    (metallic, roughness)
+                ),
+                (other, _) => panic!("{metallic} {roughness}: {other:?}"),
+            }
+        }
         let mut s = quad_scene(Vec3::ONE);
         s.triangles.clear();
         assert!(matches!(SceneGpu::build(&s), Err(Error::NoTriangles { .. })));

@@ -56,9 +56,40 @@ pub struct TextureRef {
     pub filter: Filter,
 }
 
-/// A Lambertian material with optional emission and textures.
+/// How a [`Material`] reflects light.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Bsdf {
+    /// Lambertian: BRDF `albedo / pi`, two-sided. What OBJ materials without
+    /// `Ks`, the built-in Cornell box and glTF materials with
+    /// `KHR_materials_specular` `specularFactor` 0 and no metal use.
+    #[default]
+    Lambert,
+    /// The glTF 2.0 metallic-roughness BRDF
+    /// (`kernels::bsdf::MetallicRoughness`) with base colour
+    /// [`Material::albedo`] (times its texture), two-sided. It is the
+    /// specification's model, kept as written: its Fresnel mix of a
+    /// dielectric's diffuse and specular lobes is not energy conserving and
+    /// reflects more than it receives at grazing angles and low roughness
+    /// (a white dielectric of roughness 0.1 seen at 78 degrees from the
+    /// normal reflects 1.3 times the incident light; the specification,
+    /// appendix B, "Coupling Diffuse and Specular Reflection", says so).
+    MetallicRoughness {
+        /// glTF `metallicFactor`, in `[0, 1]` (0 dielectric, 1 metal);
+        /// anything else is refused when the GPU form is built.
+        metallic: f32,
+        /// glTF `roughnessFactor` (perceptual; GGX `alpha = roughness^2`),
+        /// in `[0, 1]`; anything else is refused.
+        roughness: f32,
+        /// glTF `metallicRoughnessTexture`: blue multiplies `metallic`,
+        /// green `roughness` (linear data, not sRGB).
+        texture: Option<TextureRef>,
+    },
+}
+
+/// A Lambertian or metallic-roughness material with optional emission and
+/// textures.
 ///
-/// Albedo at a surface point = `albedo * decode(base_color_texture(uv))`,
+/// Albedo (base colour) at a surface point = `albedo * decode(base_color_texture(uv))`,
 /// emitted radiance = `emission * decode(emission_texture(uv))` (sRGB
 /// decoding per texel; the texture factor is 1 without a texture).
 #[derive(Clone, Debug, PartialEq)]
@@ -75,10 +106,12 @@ pub struct Material {
     pub base_color_texture: Option<TextureRef>,
     /// Texture multiplying the emission.
     pub emission_texture: Option<TextureRef>,
+    /// The reflectance model ([`Bsdf::Lambert`] by default).
+    pub bsdf: Bsdf,
 }
 
 impl Material {
-    /// An untextured material.
+    /// An untextured Lambertian material.
     pub fn new(name: impl Into<String>, albedo: Vec3, emission: Vec3) -> Self {
         Material {
             name: name.into(),
@@ -86,6 +119,26 @@ impl Material {
             emission,
             base_color_texture: None,
             emission_texture: None,
+            bsdf: Bsdf::Lambert,
+        }
+    }
+
+    /// An untextured, non-emissive metallic-roughness material: base colour
+    /// `base_color` (linear RGB in `[0, 1]`), `metallic` and `roughness` in
+    /// `[0, 1]`.
+    pub fn metallic_roughness(
+        name: impl Into<String>,
+        base_color: Vec3,
+        metallic: f32,
+        roughness: f32,
+    ) -> Self {
+        Material {
+            bsdf: Bsdf::MetallicRoughness {
+                metallic,
+                roughness,
+                texture: None,
+            },
+            ..Material::new(name, base_color, Vec3::ZERO)
         }
     }
 }

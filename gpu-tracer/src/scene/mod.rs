@@ -1,4 +1,5 @@
-//! Scenes: triangles with diffuse/emissive materials and a pinhole camera
+//! Scenes: triangles with Lambertian or metallic-roughness, possibly
+//! emissive materials and a pinhole camera
 //! ([`Scene`]), and their buffer form for the kernels ([`SceneGpu`]).
 //!
 //! A scene comes from the built-in Cornell box ([`crate::cornell`]), an OBJ
@@ -11,7 +12,7 @@
 //!
 //! - this file: [`Scene`] and its [`Triangle`]s;
 //! - `camera`: [`Camera`] and its [`CameraBasis`];
-//! - `material`: [`Material`], its [`TextureRef`]s ([`Wrap`], [`Filter`])
+//! - `material`: [`Material`], its reflectance model ([`Bsdf`]), its [`TextureRef`]s ([`Wrap`], [`Filter`])
 //!   and the [`Image`]s they name;
 //! - `buffers`: [`SceneGpu`], the buffers the kernels read, and the limits
 //!   on their sizes;
@@ -25,7 +26,7 @@ mod settings;
 
 pub use buffers::{SceneGpu, MAX_IMAGE_WORDS, MAX_MATERIALS, MAX_TRIANGLES};
 pub use camera::{Camera, CameraBasis};
-pub use material::{Filter, Image, Material, TextureRef, Wrap};
+pub use material::{Bsdf, Filter, Image, Material, TextureRef, Wrap};
 pub use settings::{screen_sobol_max_spp, TraceSettings, ZSOBOL_MAX_SPP};
 
 use glam::{Vec2, Vec3};
