@@ -459,9 +459,13 @@ fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
 /// default screen-space Sobol keys.
 fn check_samplers(gpu: &Gpu, passes: &Passes, language: &str) {
     use glam::{UVec2, Vec2};
-    use kernels::sampler_entry::{key_layout, screen_sobol_pair, zsobol_pair, SamplerParams};
+    use kernels::sampler_entry::{
+        key_layout, screen_sobol_pair, spatiotemporal_pair, zsobol_pair, SamplerParams,
+    };
     let keys = defaults::screen_sobol_keys();
     let key_buf = gpu.storage("keys", keys.keys());
+    let tile = defaults::tile_64();
+    let tile_buf = gpu.storage("shift tile", tile.values());
     for (width, height, spp, sample_index, pair, frame) in [
         (37u32, 23u32, 1u32, 0u32, 0u32, 0u32),
         (64, 9, 4, 3, 1, 17),
@@ -520,6 +524,30 @@ fn check_samplers(gpu: &Gpu, passes: &Passes, language: &str) {
             .collect();
         assert_eq!(read_bits(&samples), cpu, "zsobol, {what}");
         assert!(cpu.iter().any(|v| v != &cpu[0]), "{what}: constant samples");
+
+        // The spatiotemporal sampler reads the 64x64 tile (key_side_log2 = 6).
+        let st_params = SamplerParams {
+            key_side_log2: 6,
+            ..params
+        };
+        let st_uniform = gpu.uniform("spatiotemporal params", &st_params);
+        passes.run(
+            gpu,
+            "spatiotemporal",
+            &[&st_uniform, &tile_buf, &samples],
+            n as u32,
+        );
+        let cpu: Vec<[u32; 2]> = (0..n)
+            .map(|i| {
+                let v = spatiotemporal_pair(tile.values(), 6, spp, frame, pixel(i), sample_index, pair);
+                [v.x.to_bits(), v.y.to_bits()]
+            })
+            .collect();
+        assert_eq!(read_bits(&samples), cpu, "spatiotemporal, {what}");
+        assert!(
+            cpu.iter().any(|v| v != &cpu[0]),
+            "{what}: constant spatiotemporal samples"
+        );
     }
 }
 

@@ -84,7 +84,7 @@ fn the_claim_atomic_survives_in_every_language() {
 fn every_file_declares_its_entry_point_and_bindings() {
     for e in &ENTRIES {
         let block = match e.pass() {
-            "screen_sobol" | "zsobol" => "SamplerParamsBlock",
+            "screen_sobol" | "zsobol" | "spatiotemporal" => "SamplerParamsBlock",
             _ => "FrameParamsBlock",
         };
         let hlsl = read_generated(&hlsl_file(e));

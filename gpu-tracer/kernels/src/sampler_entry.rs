@@ -12,11 +12,13 @@
 //! |---|---|---|---|
 //! | [`SCREEN_SOBOL_ENTRY`] | [`SamplerParams`] (uniform) | keys `[u32]` (`sampler_core::defaults::screen_sobol_keys()`) | samples `[Vec2]` (out, `width * height`) |
 //! | [`ZSOBOL_ENTRY`] | [`SamplerParams`] (uniform) | samples `[Vec2]` (out, `width * height`) | |
+//! | [`SPATIOTEMPORAL_ENTRY`] | [`SamplerParams`] (uniform; `key_side_log2` = the shift tile's side, 6 for `sampler_core::defaults::tile_64()`) | shift tile `[u32]` (ranks, `4^key_side_log2`) | samples `[Vec2]` (out, `width * height`) |
 
 use crate::permute_entry::linear_id;
 use glam::{UVec2, UVec3, Vec2};
 use sampler_core::sequences::r2::q32_to_f32;
 use sampler_core::sequences::screen_sobol::{screen_sobol_pair_u32, ScreenSobolLayout};
+use sampler_core::sequences::spatiotemporal::{spatiotemporal_pair_u32, spatiotemporal_shift_u32};
 use sampler_core::sequences::walk::walk_offset;
 use sampler_core::sequences::zsobol::{zsobol_sample_u32, ZSOBOL_MAX_LOG2_SPP};
 use spirv_std::spirv;
@@ -25,6 +27,8 @@ use spirv_std::spirv;
 pub const SCREEN_SOBOL_ENTRY: &str = "sampler_entry::screen_sobol_cs";
 /// Entry point name of [`zsobol_cs`].
 pub const ZSOBOL_ENTRY: &str = "sampler_entry::zsobol_cs";
+/// Entry point name of [`spatiotemporal_cs`].
+pub const SPATIOTEMPORAL_ENTRY: &str = "sampler_entry::spatiotemporal_cs";
 
 /// The uniform of the sampler entry points, 48 bytes (twelve `u32`, the
 /// same in std140 and std430).
@@ -100,6 +104,27 @@ pub fn zsobol_pair(spp: u32, seed: u32, pixel: UVec2, s: u32, pair: u32) -> Vec2
     )
 }
 
+/// Pair `pair` of sample `s` of `pixel` in frame `frame` at `spp` samples
+/// per pixel from the spatiotemporal sampler
+/// (`sampler_core::sequences::spatiotemporal`), its shift read from the
+/// `2^side_log2`-sided rank tile `tile`; each coordinate in `[0, 1)` (24
+/// bits). Pass a pixel's home (`spatiotemporal::home_texel`) as `pixel` to
+/// have its shift follow the picture.
+#[inline]
+pub fn spatiotemporal_pair(
+    tile: &[u32],
+    side_log2: u32,
+    spp: u32,
+    frame: u32,
+    pixel: UVec2,
+    s: u32,
+    pair: u32,
+) -> Vec2 {
+    let shift = spatiotemporal_shift_u32(tile, side_log2, pixel, pair);
+    let v = spatiotemporal_pair_u32(shift, frame, spp, s, pair);
+    Vec2::new(q32_to_f32(v[0]), q32_to_f32(v[1]))
+}
+
 /// The key layout `params` names (zero counts read as 1).
 #[inline]
 pub fn key_layout(params: &SamplerParams) -> ScreenSobolLayout {
@@ -147,6 +172,30 @@ pub fn zsobol_cs(
         let pixel = UVec2::new(i % params.width, i / params.width);
         let spp = params.spp.max(1);
         samples[i as usize] = zsobol_pair(spp, params.frame, pixel, params.sample_index, params.pair);
+    }
+}
+
+/// One invocation per pixel (linear index): [`spatiotemporal_pair`] with the
+/// tile side `params.key_side_log2` (1..=15).
+#[spirv(compute(threads(64)))]
+pub fn spatiotemporal_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &SamplerParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] tile: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] samples: &mut [Vec2],
+) {
+    let i = linear_id(id);
+    if i < params.width.wrapping_mul(params.height) {
+        let pixel = UVec2::new(i % params.width, i / params.width);
+        samples[i as usize] = spatiotemporal_pair(
+            tile,
+            params.key_side_log2,
+            params.spp.max(1),
+            params.frame,
+            pixel,
+            params.sample_index,
+            params.pair,
+        );
     }
 }
 

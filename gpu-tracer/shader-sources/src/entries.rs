@@ -9,7 +9,7 @@ use kernels::permute_entry::{
 use kernels::reproject_entry::{
     CLAIM_ENTRY, CLEAR_CLAIMS_ENTRY, LIST_FREE_ENTRY, RECYCLE_ENTRY, SCAN_ENTRY, TAKE_ENTRY,
 };
-use kernels::sampler_entry::{SCREEN_SOBOL_ENTRY, ZSOBOL_ENTRY};
+use kernels::sampler_entry::{SCREEN_SOBOL_ENTRY, SPATIOTEMPORAL_ENTRY, ZSOBOL_ENTRY};
 
 /// The command that regenerates the files (named in every header).
 pub const COMMAND: &str = "cargo run -p shader-sources";
@@ -46,7 +46,7 @@ pub struct Entry {
 /// group (permutation, feature-aware permutation, reprojection, then the
 /// a-priori samplers). All have 64-wide workgroups
 /// (`kernels::permute_entry::PERMUTE_WORKGROUP`).
-pub const ENTRIES: [Entry; 16] = [
+pub const ENTRIES: [Entry; 17] = [
     Entry {
         spirv: SEED_INIT_ENTRY,
         name: "permute_entry_seed_init_cs",
@@ -150,6 +150,11 @@ pub const ENTRIES: [Entry; 16] = [
         spirv: ZSOBOL_ENTRY,
         name: "sampler_entry_zsobol_cs",
         bindings: &["params", "samples"],
+    },
+    Entry {
+        spirv: SPATIOTEMPORAL_ENTRY,
+        name: "sampler_entry_spatiotemporal_cs",
+        bindings: &["params", "tile", "samples"],
     },
 ];
 
