@@ -68,6 +68,11 @@ struct RenderArgs {
     /// Vertical field of view in degrees for `--camera-from/--camera-at`.
     #[arg(long, default_value_t = 40.0)]
     fov: f32,
+    /// Environment seen by rays that leave the scene: `r,g,b`, a constant sky
+    /// of that linear radiance (each finite, >= 0). Environment maps
+    /// (`.exr`/`.hdr`) are not read yet.
+    #[arg(long, value_parser = parse_environment, allow_hyphen_values = true)]
+    env: Option<glam::Vec3>,
     /// Camera motion on top of the scene's: `orbit` (about the looked-at
     /// point, `--camera-speed` in degrees per frame), `dolly` (forward,
     /// scene units per frame) or `pan` (right, pixels per frame at the
@@ -300,9 +305,10 @@ fn render(args: RenderArgs) -> Result<()> {
     }
     let mut sequence =
         SceneSequence::new(&scene, timeline, args.height).context("cannot prepare the scene")?;
-    if sequence.scene().emitter_count == 0 {
+    let environment = args.env.unwrap_or(glam::Vec3::ZERO);
+    if sequence.scene().emitter_count == 0 && environment == glam::Vec3::ZERO {
         eprintln!(
-            "warning: scene {} has no emitter (no emissive material): the image will be black",
+            "warning: scene {} has no emitter (no emissive material) and no --env: the image will be black",
             args.scene
         );
     }
@@ -310,6 +316,7 @@ fn render(args: RenderArgs) -> Result<()> {
     let mut settings = TraceSettings::new(args.width, args.height);
     settings.spp = args.spp;
     settings.max_depth = args.max_depth;
+    settings.environment = environment;
     settings.seed_mode = match args.seed_mode {
         SeedModeArg::Fixed => SEED_MODE_FIXED,
         SeedModeArg::Advance => SEED_MODE_ADVANCE,
@@ -633,6 +640,22 @@ fn parse_vec3(s: &str) -> Result<glam::Vec3, String> {
         [x, y, z] if nums.iter().all(|v| v.is_finite()) => Ok(glam::Vec3::new(x, y, z)),
         _ => Err(format!("'{s}' is not three finite numbers x,y,z")),
     }
+}
+
+/// Parses `--env`: `r,g,b`, each finite and `>= 0`; a file name is refused
+/// with a clear message (environment maps are not read yet).
+fn parse_environment(s: &str) -> Result<glam::Vec3, String> {
+    let lower = s.to_ascii_lowercase();
+    if lower.ends_with(".exr") || lower.ends_with(".hdr") {
+        return Err(format!(
+            "'{s}': environment maps are not supported yet; give a constant sky as r,g,b"
+        ));
+    }
+    let v = parse_vec3(s).map_err(|e| format!("{e} (a constant sky's radiance r,g,b)"))?;
+    if v.min_element() < 0.0 {
+        return Err(format!("'{s}': a radiance cannot be negative"));
+    }
+    Ok(v)
 }
 
 fn parse_tile(s: &str) -> Result<u32, String> {

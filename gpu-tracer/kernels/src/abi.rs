@@ -188,7 +188,7 @@ pub const SAMPLER_FOLLOW_HOMES: u32 = 1 << 9;
 pub const SAMPLER_KIND_MASK: u32 = 0xFF;
 
 /// Per-frame parameters of the trace, G-buffer and accumulate passes
-/// (uniform buffer, 208 bytes).
+/// (uniform buffer, 224 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct TraceParams {
@@ -275,6 +275,10 @@ pub struct TraceParams {
     pub point_samples: u32,
     /// Padding, 0.
     pub pad1: u32,
+    /// Radiance of the environment, linear RGB in `xyz` (each finite and
+    /// `>= 0`; zero: no environment), `w` = 0: what every ray that leaves the
+    /// scene sees, in every direction ([`crate::environment`]).
+    pub environment: Vec4,
 }
 
 /// One node of the BVH2 built by obvhs 0.4 (`Bvh2Node`), 48 bytes.
@@ -459,7 +463,7 @@ impl EmitterGpu {
     };
 }
 
-const _: () = assert!(core::mem::size_of::<TraceParams>() == 208);
+const _: () = assert!(core::mem::size_of::<TraceParams>() == 224);
 const _: () = assert!(core::mem::size_of::<TriangleAttrGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<GBufferGpu>() == 64);
 const _: () = assert!(core::mem::size_of::<BvhNodeGpu>() == 48);

@@ -10,7 +10,7 @@
 //!   [`bvh`] BVH2 traversal, [`sampling`] warps, [`numbers`] where a path's numbers come
 //!   from (seed stream or a-priori sampler), [`trace`] the path tracer
 //!   ([`trace_pixel`] is what the trace entry point runs per pixel),
-//!   [`accumulate`] the running mean, [`texture`] image lookup and
+//!   [`environment`] what rays leaving the scene see, [`accumulate`] the running mean, [`texture`] image lookup and
 //!   [`surface`] textured albedo and emission, [`bsdf`] the reflectance
 //!   models (GGX microfacets and the glTF metallic-roughness BRDF, not yet
 //!   used by [`trace`]), [`gbuffer`] the G-buffer and
@@ -59,6 +59,7 @@ pub mod bvh;
 pub mod camera;
 pub mod dither;
 pub mod entry;
+pub mod environment;
 pub mod filter_entry;
 pub mod filters;
 pub mod gbuffer;

@@ -7,8 +7,9 @@
 //! glTF metallic-roughness BRDF (two-sided too: the shading normal is the
 //! geometric normal flipped towards the outgoing direction), plus emission
 //! from the front side of a triangle (see [`TriangleGpu`]); [`crate::shading`]
-//! evaluates and samples them. There is no environment: rays leaving the
-//! scene carry nothing. At every path vertex the estimator combines
+//! evaluates and samples them. Rays leaving the scene see the environment
+//! ([`crate::environment`], found by BSDF sampling only, weight 1). At every
+//! path vertex the estimator combines
 //! - **next-event estimation**: an emitter picked with probability
 //!   proportional to its power, a uniform point on it, and a shadow ray,
 //!   weighted by `f cos` ([`Shading::eval_cos`]);
@@ -43,6 +44,7 @@ use crate::abi::{
 };
 use crate::bvh::{any_hit, closest_hit};
 use crate::camera::primary_ray;
+use crate::environment::environment_radiance;
 use crate::intersect::Ray;
 use crate::sampling::sample_triangle_barycentrics;
 use crate::shading::Shading;
@@ -184,7 +186,10 @@ pub(crate) fn trace_sample_with(
         *rays += 1;
         let hit = match closest_hit(nodes, triangles, &ray, 0.0, f32::MAX) {
             Some(h) => h,
-            None => break,
+            None => {
+                radiance += throughput * environment_radiance(params, ray.dir);
+                break;
+            }
         };
         let tri = triangles[hit.triangle as usize];
         let (v0, v1, v2) = (tri.v0.truncate(), tri.v1.truncate(), tri.v2.truncate());

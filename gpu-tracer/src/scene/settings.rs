@@ -9,7 +9,7 @@ use kernels::abi::{
 };
 
 /// Settings of the trace pass that do not depend on the scene.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TraceSettings {
     /// Visible width in pixels, `>= 1`.
     pub width: u32,
@@ -37,6 +37,10 @@ pub struct TraceSettings {
     /// from the sampler, the rest from the seeds: for the seed permutation).
     /// See [`TraceParams::sampler`].
     pub sampler: u32,
+    /// Radiance of a constant environment (sky), linear RGB, each channel
+    /// finite and `>= 0`; zero (the default): none. See
+    /// [`TraceParams::environment`].
+    pub environment: glam::Vec3,
 }
 
 /// Largest spp per frame of [`SAMPLER_ZSOBOL`]: `2^ZSOBOL_MAX_LOG2_SPP` = 256.
@@ -63,6 +67,7 @@ impl TraceSettings {
             rr_depth: 3,
             seed_mode: kernels::abi::SEED_MODE_FIXED,
             sampler: kernels::abi::SAMPLER_SEEDS,
+            environment: glam::Vec3::ZERO,
         }
     }
 }
@@ -103,6 +108,16 @@ impl SceneGpu {
                 value: s.max_depth,
                 expected: "1..=64 (kernels::abi::MAX_DEPTH_LIMIT)",
             });
+        }
+        for value in s.environment.to_array() {
+            // `!(v >= 0)` also refuses NaN; infinities are refused too.
+            if !(value >= 0.0 && value <= f32::MAX) {
+                return Err(Error::InvalidSetting {
+                    name: "environment",
+                    value,
+                    expected: "a finite radiance >= 0 in every channel",
+                });
+            }
         }
         if s.seed_mode > SEED_MODE_ADVANCE {
             return Err(Error::InvalidParameter {
@@ -185,6 +200,7 @@ impl SceneGpu {
             image_count: self.image_count,
             point_samples: 0,
             pad1: 0,
+            environment: s.environment.extend(0.0),
         })
     }
 }
@@ -216,6 +232,18 @@ mod tests {
             TraceSettings { max_depth: 65, ..ok },
             TraceSettings { seed_mode: 2, ..ok },
             TraceSettings { sampler: 4, ..ok },
+            TraceSettings {
+                environment: Vec3::new(1.0, f32::NAN, 0.0),
+                ..ok
+            },
+            TraceSettings {
+                environment: Vec3::new(-0.5, 1.0, 1.0),
+                ..ok
+            },
+            TraceSettings {
+                environment: Vec3::new(f32::INFINITY, 1.0, 1.0),
+                ..ok
+            },
             TraceSettings {
                 sampler: SAMPLER_JITTER_ONLY,
                 ..ok

@@ -443,3 +443,84 @@ fn gltf_fixtures_are_fresh() {
         );
     }
 }
+
+/// `--env r,g,b`: a constant sky lights an open scene with no emitter (no
+/// warning then), the CPU and the GPU agree on it, and bad values fail
+/// before any work with nothing written.
+#[test]
+fn a_constant_sky_lights_an_open_scene() {
+    let exe = tracer();
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("floor.obj");
+    std::fs::write(
+        &obj,
+        "mtllib floor.mtl\nv -50 0 -50\nv 50 0 -50\nv 50 0 50\nv -50 0 50\nusemtl grey\nf 1 3 2\nf 1 4 3\n",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("floor.mtl"), "newmtl grey\nKd 0.8 0.8 0.8\n").unwrap();
+    let render = |device: &str, env: &str, out: &str| {
+        run(
+            &exe,
+            &[
+                "render",
+                "--scene",
+                obj.to_str().unwrap(),
+                "--camera-from",
+                "0,10,10",
+                "--camera-at",
+                "0,0,0",
+                "--width",
+                "24",
+                "--height",
+                "16",
+                "--frames",
+                "4",
+                "--spp",
+                "4",
+                "--env",
+                env,
+                "--device",
+                device,
+                "--out",
+                dir.path().join(out).to_str().unwrap(),
+            ],
+        )
+    };
+    let mean_of = |out: &str| {
+        let img = image::open(dir.path().join(out).join("mean.exr"))
+            .unwrap()
+            .into_rgb32f();
+        img.pixels().map(|p| p[0] + p[1] + p[2]).sum::<f32>() / (3.0 * 24.0 * 16.0)
+    };
+    let o = render("cpu", "0.5,0.5,0.5", "cpu");
+    let t = text(&o);
+    assert!(o.status.success(), "{t}");
+    assert!(!t.contains("has no emitter"), "{t}");
+    // The floor reflects 0.8 of the sky (one bounce: nothing above it), the
+    // sky itself is 0.5 where the camera misses the floor.
+    let cpu = mean_of("cpu");
+    assert!((0.39..=0.51).contains(&cpu), "mean radiance {cpu}");
+    let o = render("gpu", "0.5,0.5,0.5", "gpu");
+    if o.status.success() {
+        let gpu = mean_of("gpu");
+        assert!((gpu - cpu).abs() < 0.02, "GPU {gpu} against CPU {cpu}");
+    } else {
+        assert!(
+            !gpu_required(),
+            "BLUENOISE_REQUIRE_GPU=1 and no GPU: {}",
+            text(&o)
+        );
+        eprintln!("SKIPPED the GPU half: {}", text(&o));
+    }
+    for (env, needle) in [
+        ("-1,0,0", "cannot be negative"),
+        ("1,nan,0", "finite"),
+        ("1,2", "three finite numbers"),
+        ("sky.exr", "environment maps are not supported yet"),
+    ] {
+        let o = render("cpu", env, "bad");
+        assert!(!o.status.success(), "--env {env} must fail");
+        assert!(text(&o).contains(needle), "--env {env}: {}", text(&o));
+        assert!(!dir.path().join("bad").exists(), "--env {env} wrote output");
+    }
+}
