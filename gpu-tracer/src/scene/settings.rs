@@ -110,8 +110,8 @@ impl SceneGpu {
             });
         }
         for value in s.environment.to_array() {
-            // `!(v >= 0)` also refuses NaN; infinities are refused too.
-            if !(value >= 0.0 && value <= f32::MAX) {
+            // NaN is in no range: refused with the negatives and infinities.
+            if !(0.0..=f32::MAX).contains(&value) {
                 return Err(Error::InvalidSetting {
                     name: "environment",
                     value,
