@@ -64,21 +64,24 @@ mod tests {
             ..Default::default()
         };
         let attrs = [TriangleAttrGpu::default()];
+        let trace = |params: &TraceParams, pixel: UVec2, seed: u32| {
+            trace_pixel(
+                params,
+                pixel,
+                seed,
+                &[],
+                &[node],
+                &[floor],
+                &[material],
+                &[EmitterGpu::NONE],
+                &attrs,
+                &[0],
+            )
+        };
         let mut saw_floor = false;
         for (x, y) in [(0u32, 0u32), (3, 4), (7, 7), (5, 1)] {
             for seed in [1u32, 77, 123_456] {
-                let c = trace_pixel(
-                    &params,
-                    UVec2::new(x, y),
-                    seed,
-                    &[],
-                    &[node],
-                    &[floor],
-                    &[material],
-                    &[EmitterGpu::NONE],
-                    &attrs,
-                    &[0],
-                );
+                let c = trace(&params, UVec2::new(x, y), seed);
                 let err = (c.truncate() - sky).abs().max_element();
                 assert!(
                     err <= 1e-5 * sky.max_element(),
@@ -93,18 +96,7 @@ mod tests {
             environment: Vec4::ZERO,
             ..params
         };
-        let c = trace_pixel(
-            &dark,
-            UVec2::new(3, 6),
-            5,
-            &[],
-            &[node],
-            &[floor],
-            &[material],
-            &[EmitterGpu::NONE],
-            &attrs,
-            &[0],
-        );
+        let c = trace(&dark, UVec2::new(3, 6), 5);
         assert_eq!(c.truncate(), Vec3::ZERO);
     }
 }
