@@ -115,7 +115,9 @@ impl Shading {
     pub fn sample(&self, u: Vec2) -> BsdfSample {
         if self.glossy {
             let p = self.bsdf.specular_probability(self.wo);
-            let s = self.bsdf.sample(self.wo, reuse_lobe_number(u, p), u.x);
+            let s = self
+                .bsdf
+                .sample_lobe(self.wo, reuse_lobe_number(u, p), u.x < p, p);
             if s.pdf <= 0.0 {
                 return BsdfSample::NONE;
             }

@@ -228,7 +228,20 @@ impl MetallicRoughness {
             return BsdfSample::NONE;
         }
         let p_specular = self.specular_probability(wo);
-        let wi = if u_lobe < p_specular {
+        self.sample_lobe(wo, u, u_lobe < p_specular, p_specular)
+    }
+
+    /// [`Self::sample`] with the lobe already chosen: the specular one when
+    /// `specular`, which the caller drew with probability `p_specular` =
+    /// [`Self::specular_probability`]`(wo)` (passed so that a caller that
+    /// needed it to choose does not compute it twice). The same sample as
+    /// `sample(wo, u, u_lobe)` with `specular = u_lobe < p_specular`.
+    #[inline]
+    pub fn sample_lobe(&self, wo: Vec3, u: Vec2, specular: bool, p_specular: f32) -> BsdfSample {
+        if wo.z <= 0.0 {
+            return BsdfSample::NONE;
+        }
+        let wi = if specular {
             reflect(wo, sample_visible_normal(wo, self.alpha(), u))
         } else {
             sample_cosine_hemisphere(u)
