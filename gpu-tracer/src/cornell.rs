@@ -71,6 +71,7 @@ pub fn cornell_box() -> Scene {
         };
     }
     Scene {
+        lights: Vec::new(),
         triangles,
         images: Vec::new(),
         materials: room_materials(),
@@ -132,6 +133,7 @@ pub fn cornell_glossy() -> Scene {
         ));
     }
     Scene {
+        lights: Vec::new(),
         triangles,
         images: Vec::new(),
         materials,
@@ -162,7 +164,7 @@ fn camera() -> Camera {
 
 /// Adds a UV sphere, faces pointing outwards, skipping the degenerate
 /// triangles at the poles.
-fn add_sphere(out: &mut Vec<Triangle>, centre: Vec3, radius: f32, material: u32) {
+pub(crate) fn add_sphere(out: &mut Vec<Triangle>, centre: Vec3, radius: f32, material: u32) {
     use std::f32::consts::{PI, TAU};
     let point = |ring: u32, seg: u32| {
         let theta = PI * ring as f32 / SPHERE_RINGS as f32;
@@ -323,7 +325,7 @@ mod tests {
             let n = (t.v1 - t.v0).truncate().cross((t.v2 - t.v0).truncate());
             assert!(n.normalize().dot(-Vec3::Y) > 0.999, "light must face down: {n}");
         }
-        let total_area: f32 = gpu.emitters.iter().map(|e| e.area).sum();
+        let total_area: f32 = gpu.emitters.iter().map(|e| e.area()).sum();
         assert!((total_area - 130.0 * 105.0).abs() < 1.0);
         // Walls face inwards: the floor's normal points up, the red wall's towards -x.
         let floor = scene.triangles[0].vertices;

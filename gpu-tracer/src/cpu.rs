@@ -399,6 +399,7 @@ mod tests {
             triangles.push(Triangle::new([q[0], q[2], q[3]], 0));
         }
         let scene = Scene {
+            lights: Vec::new(),
             triangles,
             materials: vec![Material::new("furnace", Vec3::splat(a), Vec3::splat(e))],
             images: Vec::new(),

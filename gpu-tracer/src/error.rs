@@ -88,6 +88,19 @@ pub enum Error {
         /// What it must be, for the message.
         expected: &'static str,
     },
+    /// A light's parameter is unusable: a negative, NaN or infinite
+    /// intensity or colour channel, a non-finite position, a zero or
+    /// non-finite direction, a range that is not positive, spot cone angles
+    /// outside `0 <= inner < outer <= pi/2`, or an angular radius outside
+    /// `[0, pi/2)`. Refused, not clamped.
+    InvalidLight {
+        /// Name of the light.
+        name: String,
+        /// The parameter at fault (`"intensity"`, `"outer cone angle"`, ...).
+        parameter: &'static str,
+        /// What is wrong, for the message.
+        reason: String,
+    },
     /// A material names a texture image that does not exist.
     InvalidTexture {
         /// Name of the material.
@@ -241,6 +254,11 @@ impl fmt::Display for Error {
                 value,
                 expected,
             } => write!(f, "material '{name}' has {parameter} {value}: it must be {expected}"),
+            Error::InvalidLight {
+                name,
+                parameter,
+                reason,
+            } => write!(f, "light '{name}' has an invalid {parameter}: {reason}"),
             Error::InvalidTexture { material, reason } => {
                 write!(f, "material '{material}' has an invalid texture: {reason}")
             }

@@ -9,7 +9,9 @@
 //! - [`scene`]: [`Scene`] (triangles, materials, camera), its buffer form
 //!   for the kernels [`SceneGpu`], and the trace pass's [`TraceSettings`].
 //! - [`bvh`]: [`bvh::build_bvh`] builds the BVH of a scene with obvhs.
-//! - [`cornell`]: [`cornell::cornell_box`], the built-in Cornell box.
+//! - [`cornell`]: [`cornell::cornell_box`], the built-in Cornell box, and
+//!   its glossy twin; [`outdoor`]: [`outdoor::sun_and_sky`], objects on open
+//!   ground under a sun and a sky.
 //! - [`obj`]: [`obj::load_obj`] loads a Wavefront OBJ file and its MTL.
 //! - [`gltf`]: [`gltf::load_gltf`] loads a glTF 2.0 file (`.gltf` or
 //!   `.glb`): meshes, materials, textures, camera and animation.
@@ -71,6 +73,7 @@ pub mod gpu;
 pub mod image_out;
 pub mod motion;
 pub mod obj;
+pub mod outdoor;
 pub mod render;
 pub mod sampler_data;
 pub mod scene;

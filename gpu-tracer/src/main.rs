@@ -49,9 +49,11 @@ enum Command {
 #[derive(clap::Args, Debug)]
 struct RenderArgs {
     /// `cornell` for the built-in Cornell box, `cornell-glossy` for the same
-    /// room with three GGX spheres (roughness 0.1, 0.3, 0.6), the path of a
-    /// glTF 2.0 file (`.gltf` or `.glb`: meshes, metallic-roughness
-    /// materials, textures, cameras, node animation), or of an OBJ file
+    /// room with three GGX spheres (roughness 0.1, 0.3, 0.6), `sun-sky` for
+    /// objects on open ground under a sun with a disk and a sky (the sky is
+    /// its default `--env`), the path of a glTF 2.0 file (`.gltf` or `.glb`:
+    /// meshes, metallic-roughness materials, textures, cameras, node
+    /// animation, KHR_lights_punctual lights), or of an OBJ file
     /// (materials from its MTL: Kd diffuse, Ke emission, Ks/Ns specular).
     #[arg(long, default_value = "cornell")]
     scene: String,
@@ -305,10 +307,15 @@ fn render(args: RenderArgs) -> Result<()> {
     }
     let mut sequence =
         SceneSequence::new(&scene, timeline, args.height).context("cannot prepare the scene")?;
-    let environment = args.env.unwrap_or(glam::Vec3::ZERO);
+    let default_environment = if args.scene == "sun-sky" {
+        gpu_tracer::outdoor::SKY
+    } else {
+        glam::Vec3::ZERO
+    };
+    let environment = args.env.unwrap_or(default_environment);
     if sequence.scene().emitter_count == 0 && environment == glam::Vec3::ZERO {
         eprintln!(
-            "warning: scene {} has no emitter (no emissive material) and no --env: the image will be black",
+            "warning: scene {} has no emitter (no emissive material, no light) and no --env: the image will be black",
             args.scene
         );
     }
@@ -561,6 +568,9 @@ fn load_scene(args: &RenderArgs) -> Result<(Scene, Option<Rig>)> {
     }
     if args.scene == "cornell-glossy" {
         return Ok((cornell::cornell_glossy(), None));
+    }
+    if args.scene == "sun-sky" {
+        return Ok((gpu_tracer::outdoor::sun_and_sky(), None));
     }
     match ext.as_deref() {
         Some("gltf" | "glb") => {

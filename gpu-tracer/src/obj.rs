@@ -131,6 +131,7 @@ pub fn load_obj(path: impl AsRef<Path>) -> Result<Scene> {
         materials.push(Material::new("default", DEFAULT_ALBEDO, Vec3::ZERO));
     }
     let mut scene = Scene {
+        lights: Vec::new(),
         triangles,
         images: Vec::new(),
         materials,

@@ -432,35 +432,92 @@ pub struct GBufferGpu {
     pub ids: UVec4,
 }
 
-/// One entry of the emitter list for next-event estimation, 16 bytes.
+/// [`EmitterGpu::kind`]: an emissive triangle ([`EmitterGpu::triangle`]),
+/// sampled by a uniform point on its area. The zero value.
+pub const EMITTER_TRIANGLE: u32 = 0;
+/// [`EmitterGpu::kind`]: a point light (glTF `KHR_lights_punctual` `point`):
+/// intensity in candela at [`EmitterGpu::position`], the same in every
+/// direction. A delta light: found by next-event estimation only.
+pub const EMITTER_POINT: u32 = 1;
+/// [`EmitterGpu::kind`]: a spot light (`KHR_lights_punctual` `spot`): a
+/// point light whose intensity is scaled by the extension's smooth cone
+/// falloff around [`EmitterGpu::direction`] (`crate::lights::spot_falloff`).
+pub const EMITTER_SPOT: u32 = 2;
+/// [`EmitterGpu::kind`]: a directional light (`KHR_lights_punctual`
+/// `directional`): illuminance in lux from infinitely far away, travelling
+/// along [`EmitterGpu::direction`]; with a non-zero angular radius
+/// ([`EmitterGpu::shape`]`.x`) a sun disk of uniform radiance. Found by
+/// next-event estimation only (rays that escape see the environment, not
+/// the disk).
+pub const EMITTER_DIRECTIONAL: u32 = 3;
+
+/// One entry of the emitter list for next-event estimation, 80 bytes: an
+/// emissive triangle or a punctual light ([`EMITTER_TRIANGLE`],
+/// [`EMITTER_POINT`], [`EMITTER_SPOT`], [`EMITTER_DIRECTIONAL`]).
 ///
-/// Emitters are picked with probability proportional to their power
-/// `area * mean(emission rgb)` by a binary search over `cdf`.
+/// Emitters are picked with probability proportional to their power by a
+/// binary search over `cdf` (the host's `gpu_tracer::scene` documents the
+/// power of each kind). Photometric units are the renderer's radiance
+/// unit: an emissive surface of radiance 1 and a point light of 1 cd at 1
+/// unit of distance give the same irradiance scale (1 lux = 1 unit of
+/// irradiance).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct EmitterGpu {
-    /// Index into the triangle buffer (BVH leaf order).
+    /// What the entry is: one of the `EMITTER_*` constants.
+    pub kind: u32,
+    /// [`EMITTER_TRIANGLE`]: index into the triangle buffer (BVH leaf
+    /// order); 0 for the other kinds.
     pub triangle: u32,
     /// Inclusive cumulative selection probability: the sum of `pdf` over this
     /// entry and all before it, in `(0, 1]`; the last entry holds exactly 1.
     pub cdf: f32,
     /// Probability of picking this entry, in `(0, 1]`.
     pub pdf: f32,
-    /// Triangle area in square world units, `> 0`, as the host computed it for
-    /// the selection probability. The kernels recompute the area from the
-    /// vertices (the same f32 operations on both sides of the MIS weight).
-    pub area: f32,
+    /// Point and spot lights: `xyz` = position in world units, `w` = range
+    /// in world units beyond which the light has no effect, windowed as the
+    /// extension recommends (`crate::lights::range_window`); `w` = 0 for an
+    /// unbounded light. Zero for the other kinds.
+    pub position: Vec4,
+    /// Spot lights: `xyz` = unit axis of the cone, the direction the light
+    /// shines along (the node's `-z`). Directional lights: `xyz` = unit
+    /// direction the light travels (from the light into the scene). `w` = 0.
+    pub direction: Vec4,
+    /// `xyz` = linear RGB intensity: candela for point and spot lights
+    /// (colour times intensity), lux (illuminance on a surface facing the
+    /// light) for directional lights; zero for triangles. `w` = triangle
+    /// area in square world units as the host computed it for the selection
+    /// probability (the kernels recompute the area from the vertices, the
+    /// same f32 operations on both sides of the MIS weight), 0 for the other
+    /// kinds.
+    pub intensity: Vec4,
+    /// Spot lights: `x` = cosine of the outer cone angle, `y` = `1 /
+    /// max(1e-3, cos inner - cos outer)` (the extension's angle scale).
+    /// Directional lights: `x` = `1 - cos(angular radius)`, in `[0, 1)`, 0
+    /// for a delta light (the glTF directional light), computed in f64 on
+    /// the host so that small radii keep their precision. `z`, `w` = 0.
+    pub shape: Vec4,
 }
 
 impl EmitterGpu {
     /// Padding entry for an emitter buffer of a scene without emitters
     /// (never read while `emitter_count == 0`).
     pub const NONE: EmitterGpu = EmitterGpu {
+        kind: EMITTER_TRIANGLE,
         triangle: 0,
         cdf: 1.0,
         pdf: 0.0,
-        area: 0.0,
+        position: Vec4::ZERO,
+        direction: Vec4::ZERO,
+        intensity: Vec4::ZERO,
+        shape: Vec4::ZERO,
     };
+
+    /// Triangle area in square world units as the host computed it (the
+    /// selection power of an [`EMITTER_TRIANGLE`]); 0 for the other kinds.
+    pub fn area(&self) -> f32 {
+        self.intensity.w
+    }
 }
 
 const _: () = assert!(core::mem::size_of::<TraceParams>() == 224);
@@ -469,4 +526,4 @@ const _: () = assert!(core::mem::size_of::<GBufferGpu>() == 64);
 const _: () = assert!(core::mem::size_of::<BvhNodeGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<TriangleGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<MaterialGpu>() == 80);
-const _: () = assert!(core::mem::size_of::<EmitterGpu>() == 16);
+const _: () = assert!(core::mem::size_of::<EmitterGpu>() == 80);

@@ -10,6 +10,9 @@
 //!   [`bvh`] BVH2 traversal, [`sampling`] warps, [`numbers`] where a path's numbers come
 //!   from (seed stream or a-priori sampler), [`trace`] the path tracer
 //!   ([`trace_pixel`] is what the trace entry point runs per pixel),
+//!   [`lights`] next-event estimation's emitter choice and light samples
+//!   (emissive triangles, point, spot and directional lights),
+//!   [`geometry`] triangle normals and ray offsets,
 //!   [`environment`] what rays leaving the scene see, [`accumulate`] the running mean, [`texture`] image lookup and
 //!   [`surface`] textured albedo and emission, [`bsdf`] the reflectance
 //!   models (GGX microfacets and the glTF metallic-roughness BRDF, not yet
@@ -63,7 +66,9 @@ pub mod environment;
 pub mod filter_entry;
 pub mod filters;
 pub mod gbuffer;
+pub mod geometry;
 pub mod intersect;
+pub mod lights;
 pub mod motion;
 pub mod numbers;
 pub mod permute_entry;

@@ -43,6 +43,26 @@ impl Frame {
     }
 }
 
+/// Uniform direction in the cone of half-angle `theta_max` around `+z`,
+/// from `u` in `[0, 1)^2`, given `one_minus_cos_max = 1 - cos(theta_max)`
+/// in `(0, 2]` (passed instead of the angle so that small cones keep their
+/// precision). Density per solid angle: `1 / (2 pi one_minus_cos_max)`.
+///
+/// `cos theta = 1 - u.x * one_minus_cos_max`, `phi = 2 pi u.y`; `sin theta`
+/// from `(1 - cos)(1 + cos)`, exact for small angles.
+#[inline]
+pub fn sample_uniform_cone(u: Vec2, one_minus_cos_max: f32) -> Vec3 {
+    let one_minus_cos = u.x * one_minus_cos_max;
+    let cos_theta = 1.0 - one_minus_cos;
+    let sin_theta = libm::sqrtf((one_minus_cos * (2.0 - one_minus_cos)).max(0.0));
+    let phi = TAU * u.y;
+    Vec3::new(
+        sin_theta * libm::cosf(phi),
+        sin_theta * libm::sinf(phi),
+        cos_theta,
+    )
+}
+
 /// Cosine-weighted direction on the hemisphere around `+z`, from `u` in
 /// `[0, 1)^2`. Density per solid angle: [`cosine_hemisphere_pdf`]`(z)`.
 ///
@@ -155,6 +175,33 @@ mod tests {
         for c in corner {
             let frac = c as f64 / n as f64;
             assert!((frac - 0.25).abs() < 0.01, "{frac}");
+        }
+    }
+
+    #[test]
+    fn cone_sampling_is_uniform_in_the_cone() {
+        // Uniform in the cone: cos theta uniform on [cos_max, 1], so E[z] is
+        // the midpoint; phi uniform, so E[x] = E[y] = 0; no direction leaves it.
+        for one_minus_cos_max in [1e-4f32, 0.05, 1.0] {
+            let n = 50_000;
+            let cos_max = 1.0 - one_minus_cos_max as f64;
+            let (mut sz, mut sx) = (0.0f64, 0.0f64);
+            for i in 0..n {
+                let d = sample_uniform_cone(u2(i), one_minus_cos_max);
+                assert!((d.length() - 1.0).abs() < 1e-5, "{d}");
+                assert!(d.z as f64 >= cos_max - 1e-6, "{d} outside {one_minus_cos_max}");
+                sz += d.z as f64;
+                sx += d.x as f64;
+            }
+            let mid = 0.5 * (1.0 + cos_max);
+            let tol = 0.01 * one_minus_cos_max as f64 + 1e-6;
+            assert!(
+                (sz / n as f64 - mid).abs() < tol,
+                "E[z] = {} for {one_minus_cos_max}",
+                sz / n as f64
+            );
+            let sin_max = (1.0 - cos_max * cos_max).sqrt();
+            assert!((sx / n as f64).abs() < 0.02 * sin_max + 1e-6);
         }
     }
 }

@@ -11,7 +11,9 @@
 //! ([`crate::environment`], found by BSDF sampling only, weight 1). At every
 //! path vertex the estimator combines
 //! - **next-event estimation**: an emitter picked with probability
-//!   proportional to its power, a uniform point on it, and a shadow ray,
+//!   proportional to its power, a light sample on it
+//!   ([`crate::lights`]: a uniform point on an emissive triangle, or the
+//!   direction to a point, spot or directional light), and a shadow ray,
 //!   weighted by `f cos` ([`Shading::eval_cos`]);
 //! - **BSDF sampling**: a cosine-weighted direction (Lambertian) or the
 //!   metallic-roughness sampler's (GGX visible normals or cosine, the lobe
@@ -19,7 +21,9 @@
 //!   emitter the emission is counted too.
 //!
 //! Both strategies are weighted by the power heuristic (Veach 1997, MIS with
-//! beta = 2), so each path is counted once in expectation, never twice.
+//! beta = 2), so each path is counted once in expectation, never twice;
+//! punctual lights, which BSDF sampling cannot find, are counted by
+//! next-event estimation alone with weight 1.
 //! Emission seen directly from the camera is counted with weight 1. An
 //! emitter absent from the emitter list (or with `emitter_count == 0`) is
 //! only found by BSDF sampling and counted with weight 1.
@@ -37,6 +41,8 @@
 //! here; the blue-noise-dither baseline ([`crate::dither`]) builds on this
 //! module.
 
+pub use crate::geometry::{normal_and_area, RAY_OFFSET};
+pub use crate::lights::{select_emitter, select_emitter_reusing};
 pub use crate::numbers::*;
 
 use crate::abi::{
@@ -45,24 +51,18 @@ use crate::abi::{
 use crate::bvh::{any_hit, closest_hit};
 use crate::camera::primary_ray;
 use crate::environment::environment_radiance;
+use crate::geometry::offset_point;
 use crate::intersect::Ray;
-use crate::sampling::sample_triangle_barycentrics;
+use crate::lights::sample_emitter;
 use crate::shading::Shading;
 use crate::surface::{surface_emission, triangle_uv};
-use glam::{UVec2, Vec2, Vec3, Vec4};
+use glam::{UVec2, Vec3, Vec4};
 use sampler_core::RandomStream;
 
 /// Largest Russian-roulette survival probability: paths with a bright
 /// throughput still end with probability >= 5%, which bounds path length in
 /// closed scenes with albedo near 1.
 pub const RR_MAX_SURVIVAL: f32 = 0.95;
-
-/// Relative offset of ray origins from surfaces, against self-intersection:
-/// a new ray starts `RAY_OFFSET * (1 + max |p_i|)` away from the surface
-/// point `p` along the normal facing the new direction. f32 rounding of hit
-/// points is about `1e-7` relative; 5e-5 leaves a wide margin while staying
-/// below 0.03 units in a 555-unit Cornell box.
-pub const RAY_OFFSET: f32 = 5e-5;
 
 /// Mean radiance of the pixel's `params.spp` samples for this frame, as
 /// `(r, g, b, 1)`: the value the trace pass writes to the frame colour
@@ -221,36 +221,28 @@ pub(crate) fn trace_sample_with(
         // Next-event estimation.
         if params.emitter_count > 0 && depth + 2 <= max_depth && shading.reflects() {
             let (index, u_point) = select_emitter_reusing(emitters, params.emitter_count, u_light);
-            let e = emitters[index as usize];
-            let lt = triangles[e.triangle as usize];
-            let (l0, l1, l2) = (lt.v0.truncate(), lt.v1.truncate(), lt.v2.truncate());
-            let (light_normal, light_area) = normal_and_area(l0, l1, l2);
-            let b = sample_triangle_barycentrics(u_point);
-            let q = l0 + (l1 - l0) * b.x + (l2 - l0) * b.y;
-            let to_light = q - origin;
-            let dist2 = to_light.length_squared();
-            let dist = libm::sqrtf(dist2);
-            if dist > 0.0 {
-                let wi = to_light / dist;
-                let cos_light = -wi.dot(light_normal);
-                let cos_surface = wi.dot(normal);
-                if cos_light > 0.0 && cos_surface > 0.0 && e.pdf > 0.0 {
-                    let light_pdf = e.pdf * dist2 / (light_area * cos_light);
-                    let (brdf_cos, brdf_pdf) = shading.eval_cos(wi, cos_surface);
-                    let weight = power_heuristic(light_pdf, brdf_pdf);
-                    let t_max = dist - 2.0 * surface_offset(q);
-                    if t_max > 0.0 && {
-                        *rays += 1;
-                        !any_hit(nodes, triangles, &Ray::new(origin, wi), 0.0, t_max)
-                    } {
-                        let light_uv = triangle_uv(&attrs[e.triangle as usize], b.x, b.y);
-                        let light_emission = surface_emission(
-                            &materials[lt.v0.w as u32 as usize],
-                            images,
-                            params.image_count,
-                            light_uv,
-                        );
-                        radiance += throughput * brdf_cos * light_emission * (weight / light_pdf);
+            let light = sample_emitter(
+                &emitters[index as usize],
+                origin,
+                u_point,
+                triangles,
+                materials,
+                attrs,
+                images,
+                params.image_count,
+            );
+            if light.is_some() {
+                let cos_surface = light.wi.dot(normal);
+                if cos_surface > 0.0 && light.t_max > 0.0 {
+                    let (brdf_cos, brdf_pdf) = shading.eval_cos(light.wi, cos_surface);
+                    let weight = if light.mis {
+                        power_heuristic(light.pdf, brdf_pdf)
+                    } else {
+                        1.0
+                    };
+                    *rays += 1;
+                    if !any_hit(nodes, triangles, &Ray::new(origin, light.wi), 0.0, light.t_max) {
+                        radiance += throughput * brdf_cos * light.radiance * (weight / light.pdf);
                     }
                 }
             }
@@ -290,59 +282,6 @@ pub(crate) fn trace_sample_with(
     }
 }
 
-/// Unit geometric normal `(v1 - v0) x (v2 - v0)` (front side) and area of a
-/// triangle; a zero-area triangle gives a zero normal and area 0.
-#[inline]
-pub fn normal_and_area(v0: Vec3, v1: Vec3, v2: Vec3) -> (Vec3, f32) {
-    let c = (v1 - v0).cross(v2 - v0);
-    let len = c.length();
-    if len > 0.0 {
-        (c / len, 0.5 * len)
-    } else {
-        (Vec3::ZERO, 0.0)
-    }
-}
-
-/// Index of the emitter whose cumulative-probability interval
-/// `[cdf[i - 1], cdf[i])` contains `u` in `[0, 1)`: the first `i` with
-/// `u < cdf[i]`, found by binary search over the first `count` entries
-/// (`count >= 1`); `count - 1` if none (rounding in the last `cdf`).
-#[inline]
-pub fn select_emitter(emitters: &[EmitterGpu], count: u32, u: f32) -> u32 {
-    let mut lo = 0u32;
-    let mut hi = count.max(1) - 1;
-    while lo < hi {
-        let mid = lo + (hi - lo) / 2;
-        if u < emitters[mid as usize].cdf {
-            hi = mid;
-        } else {
-            lo = mid + 1;
-        }
-    }
-    lo
-}
-
-/// [`select_emitter`] with `u.x`, and the pair for the point on that
-/// emitter: `u.x` rescaled to `[0, 1)` within the emitter's interval
-/// `[cdf - pdf, cdf)` (sample reuse, so `u`'s stratification carries over to
-/// the whole set of emitters), and `u.y` unchanged.
-#[inline]
-pub fn select_emitter_reusing(emitters: &[EmitterGpu], count: u32, u: Vec2) -> (u32, Vec2) {
-    let index = select_emitter(emitters, count, u.x);
-    let e = emitters[index as usize];
-    let mut x = 0.0f32;
-    if e.pdf > 0.0 {
-        x = (u.x - (e.cdf - e.pdf)) / e.pdf;
-    }
-    // f32 rounding of the cumulative sums can land just outside [0, 1).
-    // Not `f32::clamp`: it asserts `min <= max`, a panic path in shaders.
-    #[allow(clippy::manual_clamp)]
-    {
-        x = x.max(0.0).min(0.999_999_94);
-    }
-    (index, Vec2::new(x, u.y))
-}
-
 /// Power heuristic weight `a^2 / (a^2 + b^2)` of the strategy with density
 /// `a` against one with density `b` (both `>= 0`); 0 when `a == 0`, and
 /// free of overflow for large densities.
@@ -356,24 +295,13 @@ pub fn power_heuristic(a: f32, b: f32) -> f32 {
     }
 }
 
-/// Distance by which rays leave a surface at `p`: `RAY_OFFSET * (1 + max |p_i|)`.
-#[inline]
-fn surface_offset(p: Vec3) -> f32 {
-    RAY_OFFSET * (1.0 + p.abs().max_element())
-}
-
-/// `p` moved off its surface along the unit `normal`.
-#[inline]
-fn offset_point(p: Vec3, normal: Vec3) -> Vec3 {
-    p + normal * surface_offset(p)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::abi::{
         SAMPLER_JITTER_ONLY, SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS, SAMPLER_ZSOBOL, SEED_MODE_ADVANCE,
     };
+    use glam::Vec2;
     use sampler_core::sequences::screen_sobol::ScreenSobolLayout;
 
     #[test]
@@ -384,51 +312,6 @@ mod tests {
         }
         assert_eq!(power_heuristic(0.0, 1.0), 0.0);
         assert_eq!(power_heuristic(f32::INFINITY, 1.0), 1.0);
-    }
-
-    #[test]
-    fn emitter_selection_follows_the_cdf() {
-        let e = |cdf: f32| EmitterGpu {
-            cdf,
-            ..EmitterGpu::NONE
-        };
-        let list = [e(0.1), e(0.1), e(0.6), e(1.0)];
-        assert_eq!(select_emitter(&list, 4, 0.0), 0);
-        assert_eq!(select_emitter(&list, 4, 0.0999), 0);
-        // Entry 1 has probability 0: never chosen.
-        assert_eq!(select_emitter(&list, 4, 0.1), 2);
-        assert_eq!(select_emitter(&list, 4, 0.5999), 2);
-        assert_eq!(select_emitter(&list, 4, 0.6), 3);
-        assert_eq!(select_emitter(&list, 4, 0.999_999_9), 3);
-        assert_eq!(select_emitter(&list, 1, 0.7), 0);
-    }
-
-    /// The reused number spans `[0, 1)` inside each emitter's interval, in
-    /// order, and the second number passes through.
-    #[test]
-    fn emitter_selection_reuses_the_number() {
-        let e = |cdf: f32, pdf: f32| EmitterGpu {
-            cdf,
-            pdf,
-            ..EmitterGpu::NONE
-        };
-        let list = [e(0.25, 0.25), e(1.0, 0.75)];
-        let pick = |x: f32| select_emitter_reusing(&list, 2, Vec2::new(x, 0.3));
-        assert_eq!(pick(0.0), (0, Vec2::new(0.0, 0.3)));
-        assert_eq!(pick(0.125), (0, Vec2::new(0.5, 0.3)));
-        assert_eq!(pick(0.25), (1, Vec2::new(0.0, 0.3)));
-        assert_eq!(pick(0.625), (1, Vec2::new(0.5, 0.3)));
-        let mut last = (0u32, -1.0f32);
-        for i in 0..1000 {
-            let (k, u) = pick(i as f32 / 1000.0);
-            assert!((0.0..1.0).contains(&u.x), "{i}: {u}");
-            if k == last.0 {
-                assert!(u.x > last.1, "{i}: not increasing");
-            }
-            last = (k, u.x);
-        }
-        assert_eq!(pick(0.999_999_94).0, 1);
-        assert!(pick(0.999_999_94).1.x < 1.0);
     }
 
     #[test]
@@ -760,15 +643,5 @@ mod tests {
                 assert_eq!(cells, [0, 1, 2, 3], "pixel {pixel} {pts:?}");
             }
         }
-    }
-
-    #[test]
-    fn triangle_normal_and_area() {
-        let (n, a) = normal_and_area(Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 3.0, 0.0));
-        assert_eq!((n, a), (Vec3::Z, 3.0));
-        assert_eq!(
-            normal_and_area(Vec3::ZERO, Vec3::X, Vec3::X * 2.0),
-            (Vec3::ZERO, 0.0)
-        );
     }
 }

@@ -47,7 +47,8 @@ fn scene(floor: MaterialGpu) -> Scene {
         triangle,
         cdf,
         pdf: 0.5,
-        area,
+        intensity: Vec4::new(0.0, 0.0, 0.0, area),
+        ..EmitterGpu::NONE
     };
     Scene {
         nodes: [BvhNodeGpu {

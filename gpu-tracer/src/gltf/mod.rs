@@ -33,6 +33,11 @@
 //!   texture): grey (`R8`) and grey-alpha (`R8G8`) images are
 //!   expanded, 16-bit channels are rounded to 8 bits, float channels are
 //!   taken as already-encoded values in `[0, 1]` and clamped.
+//! - **Lights**: `KHR_lights_punctual` point, spot and directional lights
+//!   on the scene's nodes ([`Light`](crate::scene::Light)), in the
+//!   extension's units (candela, lux) with its range window and spot
+//!   falloff, placed by the nodes' rest transforms (animation does not move
+//!   them, with a notice); lit by next-event estimation.
 //! - **Camera**: a perspective camera attached to a node (the N-th camera
 //!   node in traversal order, see [`load_gltf`]), looking along the node's
 //!   `-Z` with `+Y` up; its vertical field of view is used and its aspect
@@ -47,10 +52,11 @@
 //! [`GltfScene::scene`] is the rest pose (every node at its file transform);
 //! [`Rig::pose`] gives the animated triangles and camera at any time.
 //!
-//! Extensions other than `KHR_materials_emissive_strength` and
-//! `KHR_materials_specular` (its `specularFactor` 0 only) are ignored with
-//! a notice when merely used (`KHR_texture_transform`, `KHR_lights_punctual`,
-//! ...) and rejected by the `gltf` crate when required.
+//! Extensions other than `KHR_materials_emissive_strength`,
+//! `KHR_lights_punctual` and `KHR_materials_specular` (its
+//! `specularFactor` 0 only) are ignored with a notice when merely used
+//! (`KHR_texture_transform`, ...) and rejected by the `gltf` crate when
+//! required.
 //!
 //! [`Filter::Nearest`]: crate::scene::Filter::Nearest
 //! [`Filter::Bilinear`]: crate::scene::Filter::Bilinear
@@ -71,6 +77,7 @@
 
 mod animation;
 mod camera;
+mod lights;
 mod loader;
 mod material;
 mod mesh;
@@ -88,7 +95,11 @@ use loader::{label, Loader};
 use std::path::Path;
 
 /// The extensions whose content is used; others are noticed and ignored.
-const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_materials_emissive_strength", "KHR_materials_specular"];
+const SUPPORTED_EXTENSIONS: &[&str] = &[
+    "KHR_materials_emissive_strength",
+    "KHR_materials_specular",
+    "KHR_lights_punctual",
+];
 
 /// A loaded glTF scene.
 #[derive(Clone, Debug, PartialEq)]
@@ -280,10 +291,17 @@ impl<'p> Loader<'p> {
             self.notices.push("vertex colours (COLOR_0) are ignored".into());
         }
 
+        let lights = self.lights(&order, &rest_world)?;
         rig.camera = self.camera(&order, camera_index)?;
         rig.channels = self.channels(&rig_index)?;
+        if !lights.is_empty() && !rig.channels.is_empty() {
+            self.notices.push(
+                "lights stay at their rest pose: animation moves the meshes and the camera only".into(),
+            );
+        }
 
         let mut scene = Scene {
+            lights,
             triangles,
             materials,
             images,

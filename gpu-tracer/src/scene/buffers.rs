@@ -1,17 +1,17 @@
 //! The buffers of a scene for the kernels ([`SceneGpu`]): BVH, triangles in
 //! leaf order with their attributes, materials, images and the emitter list.
 
-use super::{Bsdf, Camera, CameraBasis, Filter, Image, Scene, TextureRef, Triangle, Wrap};
+use super::emitters::{emitter_list, scene_radius};
+use super::{Bsdf, Camera, CameraBasis, Filter, Image, Light, Scene, TextureRef, Triangle, Wrap};
 use crate::bvh::build_bvh;
 use crate::error::{Error, Result};
 use glam::{UVec4, Vec4};
 use glam::{Vec2, Vec3};
 use kernels::abi::{
-    BvhNodeGpu, EmitterGpu, MaterialGpu, TriangleAttrGpu, TriangleGpu, FILTER_BILINEAR, GBUFFER_NO_HIT,
-    IMAGE_HEADER_WORDS, MODEL_LAMBERT, MODEL_METALLIC_ROUGHNESS, TEXTURE_NONE, WRAP_CLAMP, WRAP_MIRROR,
-    WRAP_REPEAT,
+    BvhNodeGpu, EmitterGpu, MaterialGpu, TriangleAttrGpu, TriangleGpu, EMITTER_TRIANGLE, FILTER_BILINEAR,
+    GBUFFER_NO_HIT, IMAGE_HEADER_WORDS, MODEL_LAMBERT, MODEL_METALLIC_ROUGHNESS, TEXTURE_NONE, WRAP_CLAMP,
+    WRAP_MIRROR, WRAP_REPEAT,
 };
-use kernels::trace::normal_and_area;
 
 /// Largest material count: indices are stored as exact `f32` integers.
 pub const MAX_MATERIALS: usize = 1 << 24;
@@ -47,6 +47,9 @@ pub struct SceneGpu {
     pub emitters: Vec<EmitterGpu>,
     /// Number of meaningful entries of `emitters`.
     pub emitter_count: u32,
+    /// The scene's punctual lights (validated), kept to rebuild the emitter
+    /// list when the geometry moves ([`SceneGpu::set_positions`]).
+    pub lights: Vec<Light>,
     /// `original_index[i]` = index in [`Scene::triangles`] of `triangles[i]`.
     pub original_index: Vec<u32>,
     /// Depth of the deepest BVH leaf (root = 0).
@@ -59,15 +62,16 @@ impl SceneGpu {
     /// Validates `scene` and builds its buffers: BVH (obvhs, medium
     /// preset), triangles reordered to leaf order with material index and
     /// emitter-selection probability in `w`, materials, and the emitter list
-    /// (every front-emitting triangle with positive area and emission,
-    /// picked with probability proportional to `area * mean(emission)`).
+    /// (every front-emitting triangle with positive area and emission, then
+    /// every light, picked with probability proportional to power: the
+    /// `emitters` module).
     ///
     /// # Errors
     /// [`Error::NoTriangles`] for an empty scene, [`Error::NonFiniteVertex`],
     /// [`Error::InvalidMaterial`], [`Error::InvalidMaterialParameter`]
     /// (metallic or roughness NaN or outside `[0, 1]`), [`Error::MaterialIndex`],
     /// [`Error::SceneTooLarge`], [`Error::InvalidCamera`],
-    /// [`Error::BvhTooDeep`].
+    /// [`Error::InvalidLight`], [`Error::BvhTooDeep`].
     pub fn build(scene: &Scene) -> Result<SceneGpu> {
         if scene.triangles.is_empty() {
             return Err(Error::NoTriangles {
@@ -89,6 +93,9 @@ impl SceneGpu {
             });
         }
         let camera = scene.camera.basis()?;
+        for light in &scene.lights {
+            light.validate()?;
+        }
         let mut materials = Vec::with_capacity(scene.materials.len());
         for m in &scene.materials {
             let ok = m.albedo.is_finite()
@@ -161,7 +168,7 @@ impl SceneGpu {
             }
         }
 
-        let g = build_geometry(&scene.triangles, &materials)?;
+        let g = build_geometry(&scene.triangles, &materials, &scene.lights)?;
         let previous = g.triangles.iter().map(positions_only).collect();
         Ok(SceneGpu {
             nodes: g.nodes,
@@ -174,6 +181,7 @@ impl SceneGpu {
             prev_camera: camera,
             emitters: g.emitters,
             emitter_count: g.emitter_count,
+            lights: scene.lights.clone(),
             original_index: g.original_index,
             bvh_depth: g.bvh_depth,
             camera,
@@ -214,7 +222,7 @@ impl SceneGpu {
                 object: a.ids.x,
             };
         }
-        let g = build_geometry(&scene_order, &self.materials)?;
+        let g = build_geometry(&scene_order, &self.materials, &self.lights)?;
         self.previous = g.triangles.iter().map(positions_only).collect();
         self.nodes = g.nodes;
         self.triangles = g.triangles;
@@ -267,17 +275,21 @@ impl SceneGpu {
         Ok(())
     }
 
-    /// Total emitted power `sum(area * mean(emission))` over the emitter
-    /// list, in radiance units x area (useful to compare scenes' brightness).
+    /// Total emitted power over pi, `sum(area * mean(emission))` over the
+    /// emissive triangles plus [`Light::power`] of the lights, in radiance
+    /// units x area (useful to compare scenes' brightness).
     pub fn emitted_power(&self) -> f32 {
-        self.emitters[..self.emitter_count as usize]
+        let triangles: f32 = self.emitters[..self.emitter_count as usize]
             .iter()
+            .filter(|e| e.kind == EMITTER_TRIANGLE)
             .map(|e| {
                 let t = &self.triangles[e.triangle as usize];
                 let m = &self.materials[t.v0.w as usize];
-                e.area * (m.emission.x + m.emission.y + m.emission.z) / 3.0
+                e.area() * (m.emission.x + m.emission.y + m.emission.z) / 3.0
             })
-            .sum()
+            .sum();
+        let radius = scene_radius(&self.triangles);
+        triangles + self.lights.iter().map(|l| l.power(radius) as f32).sum::<f32>()
     }
 }
 
@@ -294,19 +306,20 @@ struct Geometry {
 }
 
 /// Builds the BVH of `triangles_in` (validated), reorders them into leaf
-/// order with their attributes, and builds the emitter list (every
-/// front-emitting triangle with positive area and emission, picked with
-/// probability proportional to `area * mean(emission)`).
-fn build_geometry(triangles_in: &[Triangle], materials: &[MaterialGpu]) -> Result<Geometry> {
+/// order with their attributes, and builds the emitter list of those
+/// triangles and `lights` (validated).
+fn build_geometry(
+    triangles_in: &[Triangle],
+    materials: &[MaterialGpu],
+    lights: &[Light],
+) -> Result<Geometry> {
     let vertices: Vec<[Vec3; 3]> = triangles_in.iter().map(|t| t.vertices).collect();
     let bvh = build_bvh(&vertices)?;
 
     // Triangles in leaf order; emitters with power-proportional selection.
     let mut triangles = Vec::with_capacity(bvh.primitive_indices.len());
     let mut attrs = Vec::with_capacity(bvh.primitive_indices.len());
-    let mut emitters = Vec::new();
-    let mut total_power = 0.0f64;
-    for (i, &orig) in bvh.primitive_indices.iter().enumerate() {
+    for &orig in &bvh.primitive_indices {
         let t = triangles_in[orig as usize];
         let [a, b, c] = t.vertices;
         triangles.push(TriangleGpu {
@@ -319,32 +332,8 @@ fn build_geometry(triangles_in: &[Triangle], materials: &[MaterialGpu]) -> Resul
             uv2: Vec4::new(t.uvs[2].x, t.uvs[2].y, 0.0, 0.0),
             ids: UVec4::new(t.object, orig, 0, 0),
         });
-        let emission = materials[t.material as usize].emission.truncate();
-        let (_, area) = normal_and_area(a, b, c);
-        let power = area as f64 * (emission.x as f64 + emission.y as f64 + emission.z as f64) / 3.0;
-        if power > 0.0 {
-            total_power += power;
-            emitters.push(EmitterGpu {
-                triangle: i as u32,
-                cdf: total_power as f32, // normalised below
-                pdf: power as f32,
-                area,
-            });
-        }
     }
-    let emitter_count = emitters.len() as u32;
-    let mut running = 0.0f64;
-    let n = emitters.len();
-    for (k, e) in emitters.iter_mut().enumerate() {
-        let p = e.pdf as f64 / total_power;
-        running += p;
-        e.pdf = p as f32;
-        e.cdf = if k + 1 == n { 1.0 } else { running as f32 };
-        triangles[e.triangle as usize].v1.w = e.pdf;
-    }
-    if emitters.is_empty() {
-        emitters.push(EmitterGpu::NONE);
-    }
+    let (emitters, emitter_count) = emitter_list(&mut triangles, materials, lights);
     Ok(Geometry {
         nodes: bvh.nodes,
         triangles,
@@ -455,6 +444,7 @@ pub(super) mod tests {
         let d = Vec3::new(0.0, 1.0, 0.0);
         let big = |p: Vec3| p * 3.0 + Vec3::new(-1.0, -1.0, -1.0);
         Scene {
+            lights: Vec::new(),
             triangles: vec![
                 Triangle::new([a, b, c], 1),
                 Triangle::new([a, c, d], 1),
@@ -486,7 +476,7 @@ pub(super) mod tests {
         for e in &gpu.emitters {
             let t = gpu.triangles[e.triangle as usize];
             assert_eq!(t.v1.w, e.pdf);
-            assert!((e.area - 0.5).abs() < 1e-6);
+            assert!((e.area() - 0.5).abs() < 1e-6);
             assert_eq!(gpu.materials[t.v0.w as usize].emission.x, 3.0);
         }
         // Reordered triangles are a permutation of the input.

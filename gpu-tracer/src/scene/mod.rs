@@ -1,5 +1,5 @@
 //! Scenes: triangles with Lambertian or metallic-roughness, possibly
-//! emissive materials and a pinhole camera
+//! emissive materials, punctual lights and a pinhole camera
 //! ([`Scene`]), and their buffer form for the kernels ([`SceneGpu`]).
 //!
 //! A scene comes from the built-in Cornell box ([`crate::cornell`]), an OBJ
@@ -12,6 +12,9 @@
 //!
 //! - this file: [`Scene`] and its [`Triangle`]s;
 //! - `camera`: [`Camera`] and its [`CameraBasis`];
+//! - `light`: punctual [`Light`]s ([`LightKind`]: point, spot, directional);
+//! - `emitters`: the emitter list for next-event estimation (emissive
+//!   triangles and lights, picked by power);
 //! - `material`: [`Material`], its reflectance model ([`Bsdf`]), its [`TextureRef`]s ([`Wrap`], [`Filter`])
 //!   and the [`Image`]s they name;
 //! - `buffers`: [`SceneGpu`], the buffers the kernels read, and the limits
@@ -21,11 +24,14 @@
 
 mod buffers;
 mod camera;
+mod emitters;
+mod light;
 mod material;
 mod settings;
 
 pub use buffers::{SceneGpu, MAX_IMAGE_WORDS, MAX_MATERIALS, MAX_TRIANGLES};
 pub use camera::{Camera, CameraBasis};
+pub use light::{Light, LightKind};
 pub use material::{Bsdf, Filter, Image, Material, TextureRef, Wrap};
 pub use settings::{screen_sobol_max_spp, TraceSettings, ZSOBOL_MAX_SPP};
 
@@ -72,6 +78,9 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// Images indexed by [`TextureRef::image`].
     pub images: Vec<Image>,
+    /// Punctual lights (point, spot, directional), besides the emissive
+    /// triangles; empty for most OBJ scenes.
+    pub lights: Vec<Light>,
     /// The viewpoint.
     pub camera: Camera,
 }
