@@ -74,8 +74,9 @@ enum Command {
         salt: u32,
         /// Scene: cornell, cornell-textured (the checker-textured glTF of the
         /// demodulation study), cornell-untextured (the same with each texture
-        /// replaced by its mean colour) or cornell-glossy (three GGX spheres,
-        /// roughness 0.1, 0.3, 0.6).
+        /// replaced by its mean colour), cornell-glossy (three GGX spheres,
+        /// roughness 0.1, 0.3, 0.6) or sun-sky (objects on open ground under a
+        /// sun with a disk and a constant sky; its own camera and insets).
         #[arg(long, default_value = "cornell")]
         scene: String,
         /// Also write the tables to this file.

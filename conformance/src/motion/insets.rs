@@ -65,7 +65,7 @@ pub fn fit_insets(config: &MotionConfig, cases: &[MotionCase]) -> Result<Vec<Ins
     let still = gpu_tracer::SceneGpu::build(&scene)?;
     let params = still.trace_params(&settings, 0)?;
     let mut anchors = Vec::new();
-    for inset in inset_layout(size) {
+    for inset in inset_layout(crate::study::StudyScene::Cornell, size) {
         let (cx, cy) = (inset.x0 + inset.side / 2, inset.y0 + inset.side / 2);
         let ray = kernels::camera::primary_ray(&params, cx, cy, Vec2::ZERO);
         let hit = kernels::bvh::closest_hit(&still.nodes, &still.triangles, &ray, 0.0, f32::MAX)

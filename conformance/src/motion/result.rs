@@ -217,7 +217,7 @@ mod tests {
             description: String::new(),
             config: MotionConfig::new(32, 20, 4),
             stats: SequenceStats::default(),
-            insets: inset_layout(32)[..1].to_vec(),
+            insets: inset_layout(crate::study::StudyScene::Cornell, 32)[..1].to_vec(),
             own_insets: vec![true],
             runs: vec![
                 run(MotionMethod::White, 2.0, 4.0),

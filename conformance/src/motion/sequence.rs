@@ -118,6 +118,7 @@ impl MotionSequence {
                         size,
                         config.max_depth,
                         config.ref_spp,
+                        settings.environment,
                         &name,
                         cache_dir,
                         |_, _| rendered = true,

@@ -68,6 +68,7 @@ impl StudyConfig {
         s.spp = self.spp;
         s.max_depth = self.max_depth;
         s.seed_mode = self.seed_mode;
+        s.environment = self.scene.environment();
         s
     }
 

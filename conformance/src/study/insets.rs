@@ -1,11 +1,13 @@
-//! Flat insets: square regions of the Cornell box's image on one flat surface, where the
+//! Flat insets: square regions of a study scene's image on one flat surface, where the
 //! low-frequency power of the error is measured (see [`crate::study`], "Flat
 //! insets"), and the checks that they see their surface.
 
+use super::scene::StudyScene;
 use crate::Grid;
 use anyhow::{bail, ensure, Context, Result};
 use glam::Vec2;
 use gpu_tracer::cornell::{GREEN, RED};
+use gpu_tracer::outdoor;
 use gpu_tracer::scene::SceneGpu;
 use kernels::abi::TraceParams;
 
@@ -20,6 +22,12 @@ pub enum Surface {
     RedWall,
     /// The green (right) wall.
     GreenWall,
+    /// `sun-sky`: the ground where the sun's centre is visible.
+    SunlitGround,
+    /// `sun-sky`: the ground where the sun's whole disk is hidden (umbra).
+    ShadowedGround,
+    /// `sun-sky`: the wall's face towards the camera (lit by the sky only).
+    ShadedWall,
 }
 
 /// A square region of the image on one flat surface.
@@ -45,7 +53,7 @@ pub struct Inset {
 /// back wall right of the tall block, both side walls at mid height);
 /// [`check_inset`] verifies them at every size. [`Surface::Floor`] is kept for callers
 /// that place their own insets.
-pub(crate) fn inset_layout(size: u32) -> Vec<Inset> {
+pub(crate) fn inset_layout(scene: StudyScene, size: u32) -> Vec<Inset> {
     let f = |v: f64| (v * size as f64).round() as u32;
     let big = (size * 3 / 16).max(4);
     let small = (size / 8).max(4);
@@ -57,11 +65,36 @@ pub(crate) fn inset_layout(size: u32) -> Vec<Inset> {
         side,
         max_gradient: f64::NAN,
     };
+    if scene == StudyScene::SunSky {
+        return vec![
+            mk("sunlit ground", Surface::SunlitGround, 0.04, 0.74, big),
+            mk(
+                "shadowed ground",
+                Surface::ShadowedGround,
+                0.55,
+                0.69,
+                (size / 16).max(4),
+            ),
+            mk("shaded wall", Surface::ShadedWall, 0.47, 0.26, small),
+        ];
+    }
     vec![
         mk("back wall", Surface::BackWall, 0.54, 0.25, big),
         mk("red wall", Surface::RedWall, 0.05, 0.4, small),
         mk("green wall", Surface::GreenWall, 0.8, 0.4, small),
     ]
+}
+
+/// Whether the ray from `p` (on the ground) towards the sun's disk at angle
+/// `offset` (radians) off its centre, in the plane of the sun and `y`, is
+/// unoccluded.
+fn sees_sun(scene: &SceneGpu, p: glam::Vec3, offset: f32) -> bool {
+    let sun = outdoor::sun_direction();
+    let side = sun.cross(glam::Vec3::Y).normalize();
+    let dir = glam::Quat::from_axis_angle(side, offset) * sun;
+    let origin = p + glam::Vec3::Y * 1e-3;
+    let ray = kernels::intersect::Ray::new(origin, dir);
+    !kernels::bvh::any_hit(&scene.nodes, &scene.triangles, &ray, 0.0, f32::MAX)
 }
 
 pub(crate) fn check_inset(scene: &SceneGpu, params: &TraceParams, inset: &Inset) -> Result<()> {
@@ -83,6 +116,12 @@ pub(crate) fn check_inset(scene: &SceneGpu, params: &TraceParams, inset: &Inset)
                 Surface::Floor => p.y <= 0.5,
                 Surface::RedWall => material == RED,
                 Surface::GreenWall => material == GREEN,
+                Surface::SunlitGround => material == outdoor::GROUND && sees_sun(scene, p, 0.0),
+                Surface::ShadowedGround => {
+                    let r = outdoor::SUN_ANGULAR_RADIUS;
+                    material == outdoor::GROUND && [-r, 0.0, r].iter().all(|&o| !sees_sun(scene, p, o))
+                }
+                Surface::ShadedWall => material == outdoor::WALL && p.z > -2.01,
             };
             if !ok {
                 bail!(

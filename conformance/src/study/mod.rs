@@ -95,9 +95,12 @@
 //!
 //! # Scenes
 //!
-//! [`StudyConfig::scene`] picks the Cornell box (default) or the checker-textured glTF
-//! Cornell box and its untextured twin ([`StudyScene`]); all three share the camera,
-//! the insets and the region definition. [`MethodRun::lf_demodulated`] measures the
+//! [`StudyConfig::scene`] picks the Cornell box (default), the checker-textured glTF
+//! Cornell box and its untextured twin, the glossy Cornell box, or the outdoor
+//! `sun-sky` scene ([`StudyScene`]). The four rooms share the camera and the insets;
+//! `sun-sky` has its own camera, its constant sky ([`StudyScene::environment`]) and
+//! insets (sunlit ground, ground in the sphere's umbra, the wall's shaded face); all
+//! share the region definition. [`MethodRun::lf_demodulated`] measures the
 //! insets' error with the albedo divided out, which separates the texture's share of a
 //! textured inset's error from the irradiance noise the seeds arrange.
 //!

@@ -63,6 +63,7 @@ impl Reference {
             config.size,
             config.max_depth,
             config.ref_spp,
+            config.scene.environment(),
             &name,
             cache_dir,
             progress,
@@ -73,16 +74,19 @@ impl Reference {
     /// posed (its current camera and geometry) with `ref_spp` samples per pixel (two
     /// halves of `ref_spp / 2`), paths of at most `max_depth` segments, cached under
     /// `cache_name`, which must identify the scene, pose and settings (for moving
-    /// scenes: [`pose_key`]). `progress(done, total)` counts render passes.
+    /// scenes: [`pose_key`]), with `environment` the constant sky's radiance
+    /// (`TraceSettings::environment`). `progress(done, total)` counts render passes.
     ///
     /// # Errors
     /// `ref_spp < 2` or rendering errors; cache I/O errors are ignored (the image is
     /// then rendered).
+    #[allow(clippy::too_many_arguments)]
     pub fn get_named(
         scene: &SceneGpu,
         size: u32,
         max_depth: u32,
         ref_spp: u32,
+        environment: Vec3,
         cache_name: &str,
         cache_dir: Option<&Path>,
         mut progress: impl FnMut(u32, u32),
@@ -101,6 +105,7 @@ impl Reference {
         let mut settings = TraceSettings::new(size, size);
         settings.max_depth = max_depth;
         settings.seed_mode = SEED_MODE_FIXED;
+        settings.environment = environment;
         let mut halves = [vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]];
         let mut color = vec![Vec4::ZERO; n];
         let total = 2 * passes;

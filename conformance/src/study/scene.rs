@@ -14,12 +14,17 @@
 //! `gpu_tracer::cornell::cornell_glossy`: the room with three GGX spheres
 //! (roughness 0.1, 0.3, 0.6) in place of the blocks, for the samplers on
 //! glossy reflections. The insets, regions and camera of the study are the
-//! Cornell box's for all four.
+//! Cornell box's for these four. `sun-sky` is
+//! `gpu_tracer::outdoor::sun_and_sky` rendered with its constant sky
+//! (`gpu_tracer::outdoor::SKY`): soft shadows from a sun with a disk and
+//! sky occlusion, with its own camera and insets (sunlit ground, ground in
+//! the sphere's shadow, the wall's shaded face).
 
 use anyhow::{Context, Result};
 use glam::Vec3;
 use gpu_tracer::cornell::{cornell_box, cornell_glossy};
 use gpu_tracer::gltf::load_gltf;
+use gpu_tracer::outdoor::{sun_and_sky, SKY};
 use gpu_tracer::scene::{Image, Scene};
 use std::path::PathBuf;
 
@@ -37,15 +42,19 @@ pub enum StudyScene {
     /// `gpu_tracer::cornell::cornell_glossy`: three metallic-roughness
     /// spheres in the room.
     CornellGlossy,
+    /// `gpu_tracer::outdoor::sun_and_sky` under its sky: a directional sun
+    /// with a disk and a constant environment.
+    SunSky,
 }
 
 impl StudyScene {
     /// Every scene.
-    pub const ALL: [StudyScene; 4] = [
+    pub const ALL: [StudyScene; 5] = [
         StudyScene::Cornell,
         StudyScene::CornellTextured,
         StudyScene::CornellUntextured,
         StudyScene::CornellGlossy,
+        StudyScene::SunSky,
     ];
 
     /// Name on the command line and in cache file names.
@@ -55,12 +64,23 @@ impl StudyScene {
             StudyScene::CornellTextured => "cornell-textured",
             StudyScene::CornellUntextured => "cornell-untextured",
             StudyScene::CornellGlossy => "cornell-glossy",
+            StudyScene::SunSky => "sun-sky",
         }
     }
 
     /// The scene called `name` ([`StudyScene::name`]).
     pub fn from_name(name: &str) -> Option<StudyScene> {
         StudyScene::ALL.into_iter().find(|s| s.name() == name)
+    }
+
+    /// Radiance of the constant environment the scene is rendered with
+    /// (`TraceSettings::environment`): [`SKY`] for [`StudyScene::SunSky`],
+    /// black (closed rooms) otherwise.
+    pub fn environment(self) -> Vec3 {
+        match self {
+            StudyScene::SunSky => SKY,
+            _ => Vec3::ZERO,
+        }
     }
 
     /// The glTF file of the textured scenes.
@@ -78,6 +98,9 @@ impl StudyScene {
         }
         if self == StudyScene::CornellGlossy {
             return Ok(cornell_glossy());
+        }
+        if self == StudyScene::SunSky {
+            return Ok(sun_and_sky());
         }
         let path = StudyScene::gltf_path();
         let mut scene = load_gltf(&path, None)
@@ -123,6 +146,12 @@ mod tests {
             .load()
             .expect("built-in");
         assert_eq!(glossy, cornell_glossy());
+        // Only the outdoor scene has a sky.
+        assert_eq!(StudyScene::SunSky.load().expect("built-in"), sun_and_sky());
+        for s in StudyScene::ALL {
+            let want = if s == StudyScene::SunSky { SKY } else { Vec3::ZERO };
+            assert_eq!(s.environment(), want, "{s:?}");
+        }
     }
 
     #[test]

@@ -43,7 +43,7 @@ impl Study {
         config.layout()?;
         let scene = SceneGpu::build(&config.scene.load()?)?;
         let reference = Reference::get(&scene, &config, cache_dir, progress)?;
-        let mut insets = inset_layout(config.size);
+        let mut insets = inset_layout(config.scene, config.size);
         let params = scene.trace_params(&config.settings(), 0)?;
         for inset in &mut insets {
             check_inset(&scene, &params, inset)?;

@@ -83,7 +83,8 @@ fn lit_frames_agree_with_the_cpu_renderer() {
         return;
     };
     let mut room = gpu_tracer::cornell::cornell_box();
-    room.lights.push(Light::point("bulb", glam::Vec3::new(400.0, 400.0, 200.0), 4.0e4));
+    room.lights
+        .push(Light::point("bulb", glam::Vec3::new(400.0, 400.0, 200.0), 4.0e4));
     room.lights.push(Light {
         name: "spot".into(),
         kind: LightKind::Spot {
@@ -102,7 +103,13 @@ fn lit_frames_agree_with_the_cpu_renderer() {
     ] {
         let scene = gpu_tracer::SceneGpu::build(&scene).unwrap();
         compare_trace_statistics(&gpu, &scene, kernels::abi::SAMPLER_SEEDS, name);
-        compare_same_seeds(&gpu, &scene, kernels::abi::SAMPLER_SEEDS, PermuteMode::White, name);
+        compare_same_seeds(
+            &gpu,
+            &scene,
+            kernels::abi::SAMPLER_SEEDS,
+            PermuteMode::White,
+            name,
+        );
     }
 }
 
