@@ -72,6 +72,7 @@ fn inset_lf(study: &Study, seeds_kind: Seeds, fixed: bool) -> f64 {
                     &scene.emitters,
                     &scene.attrs,
                     &scene.images,
+                    &scene.environment,
                 )
             })
             .collect();

@@ -72,6 +72,7 @@ pub fn cornell_box() -> Scene {
     }
     Scene {
         lights: Vec::new(),
+        environment_map: None,
         triangles,
         images: Vec::new(),
         materials: room_materials(),
@@ -134,6 +135,7 @@ pub fn cornell_glossy() -> Scene {
     }
     Scene {
         lights: Vec::new(),
+        environment_map: None,
         triangles,
         images: Vec::new(),
         materials,

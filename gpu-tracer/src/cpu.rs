@@ -91,6 +91,7 @@ pub fn render_frame(
                     &scene.emitters,
                     &scene.attrs,
                     &scene.images,
+                    &scene.environment,
                 );
                 *out = c;
                 rays += n as u64;
@@ -400,6 +401,7 @@ mod tests {
         }
         let scene = Scene {
             lights: Vec::new(),
+            environment_map: None,
             triangles,
             materials: vec![Material::new("furnace", Vec3::splat(a), Vec3::splat(e))],
             images: Vec::new(),
@@ -571,6 +573,7 @@ mod tests {
                     &scene.emitters,
                     &scene.attrs,
                     &scene.images,
+                    &scene.environment,
                 );
                 assert_eq!(color[(y * 16 + x) as usize], want, "sampler {sampler} ({x}, {y})");
             }
@@ -625,6 +628,7 @@ mod tests {
             &scene.emitters,
             &scene.attrs,
             &scene.images,
+            &scene.environment,
         );
         let mut sum = Vec3::ZERO;
         for s in 0..3 {
@@ -641,6 +645,7 @@ mod tests {
                 &scene.emitters,
                 &scene.attrs,
                 &scene.images,
+                &scene.environment,
             );
         }
         assert_eq!(got, (sum / 3.0).extend(1.0));

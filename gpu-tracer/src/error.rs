@@ -101,6 +101,16 @@ pub enum Error {
         /// What is wrong, for the message.
         reason: String,
     },
+    /// An environment map is unusable: a side of 0 or over
+    /// `sampler_core::limits::MAX_DISTRIBUTION_SIDE`, the wrong number of
+    /// texels, a NaN, infinite or negative texel, a non-finite rotation, or
+    /// a file that cannot be read or decoded as one.
+    InvalidEnvironmentMap {
+        /// The map's name (its file's path).
+        name: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// A material names a texture image that does not exist.
     InvalidTexture {
         /// Name of the material.
@@ -259,6 +269,9 @@ impl fmt::Display for Error {
                 parameter,
                 reason,
             } => write!(f, "light '{name}' has an invalid {parameter}: {reason}"),
+            Error::InvalidEnvironmentMap { name, reason } => {
+                write!(f, "environment map '{name}' is unusable: {reason}")
+            }
             Error::InvalidTexture { material, reason } => {
                 write!(f, "material '{material}' has an invalid texture: {reason}")
             }

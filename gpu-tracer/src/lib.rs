@@ -13,6 +13,8 @@
 //!   its glossy twin; [`outdoor`]: [`outdoor::sun_and_sky`], objects on open
 //!   ground under a sun and a sky.
 //! - [`obj`]: [`obj::load_obj`] loads a Wavefront OBJ file and its MTL.
+//! - [`environment_file`]: [`environment_file::load_environment_map`] reads an
+//!   equirectangular `.exr` or `.hdr` environment map.
 //! - [`gltf`]: [`gltf::load_gltf`] loads a glTF 2.0 file (`.gltf` or
 //!   `.glb`): meshes, materials, textures, camera and animation.
 //!
@@ -65,6 +67,7 @@ pub mod bvh;
 pub mod camera_path;
 pub mod cornell;
 pub mod cpu;
+pub mod environment_file;
 pub mod error;
 pub mod feature_keys;
 pub mod filter;

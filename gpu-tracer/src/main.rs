@@ -71,10 +71,15 @@ struct RenderArgs {
     #[arg(long, default_value_t = 40.0)]
     fov: f32,
     /// Environment seen by rays that leave the scene: `r,g,b`, a constant sky
-    /// of that linear radiance (each finite, >= 0). Environment maps
-    /// (`.exr`/`.hdr`) are not read yet.
+    /// of that linear radiance (each finite, >= 0), or an equirectangular
+    /// environment map (`FILE.exr` or `FILE.hdr`, linear radiance, +Y up,
+    /// the image's centre looking down -Z), importance-sampled.
     #[arg(long, value_parser = parse_environment, allow_hyphen_values = true)]
-    env: Option<glam::Vec3>,
+    env: Option<EnvArg>,
+    /// Rotation of the `--env` map about +Y in degrees (a positive angle
+    /// turns its content to the viewer's right).
+    #[arg(long, allow_hyphen_values = true)]
+    env_rotation: Option<f32>,
     /// Camera motion on top of the scene's: `orbit` (about the looked-at
     /// point, `--camera-speed` in degrees per frame), `dolly` (forward,
     /// scene units per frame) or `pan` (right, pixels per frame at the
@@ -267,6 +272,26 @@ fn main() -> Result<()> {
 fn render(args: RenderArgs) -> Result<()> {
     // Fail on bad input before any work: scene, motion, output directory.
     let (mut scene, mut rig) = load_scene(&args)?;
+    let mut environment = if args.scene == "sun-sky" {
+        gpu_tracer::outdoor::SKY
+    } else {
+        glam::Vec3::ZERO
+    };
+    match &args.env {
+        Some(EnvArg::Constant(radiance)) => environment = *radiance,
+        Some(EnvArg::Map(path)) => {
+            let rotation = args.env_rotation.unwrap_or(0.0);
+            scene.environment_map = Some(
+                gpu_tracer::environment_file::load_environment_map(path, rotation)
+                    .context("cannot use --env")?,
+            );
+            environment = glam::Vec3::ZERO;
+        }
+        None => {}
+    }
+    if args.env_rotation.is_some() && !matches!(args.env, Some(EnvArg::Map(_))) {
+        bail!("--env-rotation applies to an environment map (--env FILE.exr|.hdr)");
+    }
     if let (Some(from), Some(at)) = (args.camera_from, args.camera_at) {
         scene.camera = Camera {
             origin: from,
@@ -307,12 +332,6 @@ fn render(args: RenderArgs) -> Result<()> {
     }
     let mut sequence =
         SceneSequence::new(&scene, timeline, args.height).context("cannot prepare the scene")?;
-    let default_environment = if args.scene == "sun-sky" {
-        gpu_tracer::outdoor::SKY
-    } else {
-        glam::Vec3::ZERO
-    };
-    let environment = args.env.unwrap_or(default_environment);
     if sequence.scene().emitter_count == 0 && environment == glam::Vec3::ZERO {
         eprintln!(
             "warning: scene {} has no emitter (no emissive material, no light) and no --env: the image will be black",
@@ -652,20 +671,29 @@ fn parse_vec3(s: &str) -> Result<glam::Vec3, String> {
     }
 }
 
-/// Parses `--env`: `r,g,b`, each finite and `>= 0`; a file name is refused
-/// with a clear message (environment maps are not read yet).
-fn parse_environment(s: &str) -> Result<glam::Vec3, String> {
+/// What `--env` names: a constant sky or an environment map file.
+#[derive(Clone, Debug)]
+enum EnvArg {
+    /// A constant radiance, linear RGB.
+    Constant(glam::Vec3),
+    /// An `.exr` or `.hdr` file, read after parsing (so that a missing file
+    /// is reported with the other input errors).
+    Map(PathBuf),
+}
+
+/// Parses `--env`: a name ending in `.exr` or `.hdr` (any case) is a map
+/// file; anything else must be `r,g,b`, each finite and `>= 0`.
+fn parse_environment(s: &str) -> Result<EnvArg, String> {
     let lower = s.to_ascii_lowercase();
     if lower.ends_with(".exr") || lower.ends_with(".hdr") {
-        return Err(format!(
-            "'{s}': environment maps are not supported yet; give a constant sky as r,g,b"
-        ));
+        return Ok(EnvArg::Map(PathBuf::from(s)));
     }
-    let v = parse_vec3(s).map_err(|e| format!("{e} (a constant sky's radiance r,g,b)"))?;
+    let v =
+        parse_vec3(s).map_err(|e| format!("{e} (a constant sky's radiance r,g,b, or a .exr/.hdr file)"))?;
     if v.min_element() < 0.0 {
         return Err(format!("'{s}': a radiance cannot be negative"));
     }
-    Ok(v)
+    Ok(EnvArg::Constant(v))
 }
 
 fn parse_tile(s: &str) -> Result<u32, String> {

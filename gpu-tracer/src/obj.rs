@@ -132,6 +132,7 @@ pub fn load_obj(path: impl AsRef<Path>) -> Result<Scene> {
     }
     let mut scene = Scene {
         lights: Vec::new(),
+        environment_map: None,
         triangles,
         images: Vec::new(),
         materials,

@@ -104,6 +104,7 @@ pub fn sun_and_sky() -> Scene {
             SUN_ILLUMINANCE,
             SUN_ANGULAR_RADIUS,
         )],
+        environment_map: None,
         camera: Camera {
             origin: Vec3::new(0.0, 5.5, 9.0),
             target: Vec3::new(0.0, 0.6, 0.0),

@@ -25,6 +25,7 @@ fn floor(lights: Vec<Light>) -> SceneGpu {
         materials: vec![Material::new("floor", Vec3::splat(ALBEDO), Vec3::ZERO)],
         images: Vec::new(),
         lights,
+        environment_map: None,
         camera: Camera {
             origin: Vec3::new(0.0, 1.0, 0.0),
             target: Vec3::ZERO,

@@ -158,6 +158,7 @@ pub fn render_dither(
                     &scene.emitters,
                     &scene.attrs,
                     &scene.images,
+                    &scene.environment,
                 );
             }
         });

@@ -71,9 +71,10 @@ fn glossy_frames_agree_with_the_cpu_renderer() {
     );
 }
 
-/// Punctual lights (point, spot, a directional sun with a disk) on the GPU
-/// against the CPU: the outdoor scene, and the Cornell box with a point and
-/// a spot light beside its area light (selection by power across kinds).
+/// Punctual lights (point, spot, a directional sun with a disk) and an
+/// environment map on the GPU against the CPU: the outdoor scene (with and
+/// without a sky map), and the Cornell box with a point and a spot light
+/// beside its area light (selection by power across kinds).
 /// Per-pixel means agree statistically, and with the same seeds the frames
 /// agree pixel for pixel up to float rounding.
 #[test]
@@ -97,9 +98,31 @@ fn lit_frames_agree_with_the_cpu_renderer() {
         intensity: 8.0e4,
         range: None,
     });
+    // The outdoor scene under a sky map with a bright spot instead of its
+    // constant sky: the map's importance sampling and MIS weights.
+    let mut mapped = gpu_tracer::outdoor::sun_and_sky();
+    let (w, h) = (64u32, 32u32);
+    mapped.environment_map = Some(gpu_tracer::scene::EnvironmentMap {
+        name: "spot sky".into(),
+        width: w,
+        height: h,
+        texels: (0..w * h)
+            .map(|i| {
+                let (x, y) = (i % w, i / w);
+                let spot = if (x as i32 - 20).abs() < 3 && (y as i32 - 9).abs() < 2 {
+                    50.0
+                } else {
+                    0.0
+                };
+                [0.3 + spot, 0.35 + spot, 0.45 * (1.0 - y as f32 / h as f32)]
+            })
+            .collect(),
+        rotation_degrees: 75.0,
+    });
     for (scene, name) in [
         (gpu_tracer::outdoor::sun_and_sky(), "sun-sky"),
         (room, "cornell + point + spot"),
+        (mapped, "sun-sky under a sky map"),
     ] {
         let scene = gpu_tracer::SceneGpu::build(&scene).unwrap();
         compare_trace_statistics(&gpu, &scene, kernels::abi::SAMPLER_SEEDS, name);
@@ -404,6 +427,7 @@ fn textured_moving_scene_and_gbuffer_agree_with_the_cpu() {
     };
     let scene = Scene {
         lights: Vec::new(),
+        environment_map: None,
         triangles,
         materials: vec![
             floor,

@@ -25,6 +25,7 @@
 //! | | 7 | storage, read | screen-space Sobol keys `[u32]` laid out as [`TraceParams::key_side_log2`], [`TraceParams::key_pairs`], [`TraceParams::key_levels`] say (`sampler_core::sequences::screen_sobol`; the host binds `sampler_core::defaults::screen_sobol_keys()`), then the [`SPATIOTEMPORAL_TILE_LOG2`]-sided shift tile of [`SAMPLER_SPATIOTEMPORAL`] (the host appends `sampler_core::defaults::tile_64()`'s ranks), then the frame's point table of [`SAMPLER_SPATIOTEMPORAL`] ([`TraceParams::point_samples`]); read only with [`SAMPLER_SCREEN_SOBOL`] (with or without [`SAMPLER_JITTER_ONLY`]) and [`SAMPLER_SPATIOTEMPORAL`], at least one element |
 //! | | 8 | storage, read | `[TriangleAttrGpu]`, parallel to binding 2 |
 //! | | 9 | storage, read | images `[u32]` (layout in [`IMAGE_HEADER_WORDS`]), at least one element |
+//! | | 10 | storage, read | environment map `[f32]`: sampling table then texels ([`crate::environment::environment_texel`]), at least one element |
 //! | [`GBUFFER_ENTRY`] | 0 | uniform | [`TraceParams`] (current and previous camera) |
 //! | | 1 | storage, read | `[BvhNodeGpu]` |
 //! | | 2 | storage, read | `[TriangleGpu]` |
@@ -49,7 +50,7 @@
 //!
 //! The three entry points run on 8 x 8 workgroups ([`TRACE_WORKGROUP`]) over the
 //! visible frame: dispatch `ceil(width / 8) x ceil(height / 8) x 1`. The
-//! trace pass binds 9 storage buffers: the host requests a
+//! trace pass binds 10 storage buffers: the host requests a
 //! `max_storage_buffers_per_shader_stage` of at least that
 //! ([`MAX_STORAGE_BUFFERS_PER_STAGE`]).
 //! wgpu refuses empty buffers, so every storage buffer holds at least one
@@ -73,7 +74,7 @@ pub const MOTION_ENTRY: &str = "entry::motion_cs";
 /// (`crate::surface_features`).
 pub const FEATURES_ENTRY: &str = "entry::features_cs";
 /// Storage buffers the widest entry point ([`TRACE_ENTRY`]) binds.
-pub const MAX_STORAGE_BUFFERS_PER_STAGE: u32 = 9;
+pub const MAX_STORAGE_BUFFERS_PER_STAGE: u32 = 10;
 
 /// [`MaterialGpu::textures`]: no texture.
 pub const TEXTURE_NONE: u32 = u32::MAX;
@@ -188,7 +189,7 @@ pub const SAMPLER_FOLLOW_HOMES: u32 = 1 << 9;
 pub const SAMPLER_KIND_MASK: u32 = 0xFF;
 
 /// Per-frame parameters of the trace, G-buffer and accumulate passes
-/// (uniform buffer, 224 bytes).
+/// (uniform buffer, 240 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct TraceParams {
@@ -275,10 +276,18 @@ pub struct TraceParams {
     pub point_samples: u32,
     /// Padding, 0.
     pub pad1: u32,
-    /// Radiance of the environment, linear RGB in `xyz` (each finite and
-    /// `>= 0`; zero: no environment), `w` = 0: what every ray that leaves the
-    /// scene sees, in every direction ([`crate::environment`]).
+    /// Radiance of the constant environment, linear RGB in `xyz` (each
+    /// finite and `>= 0`; zero: no environment): what every ray that leaves
+    /// the scene sees, in every direction, when [`Self::environment_map`] is
+    /// empty ([`crate::environment`]); zero with a map. `w`: the probability
+    /// that next-event estimation picks the environment map's entry of the
+    /// emitter list ([`EMITTER_ENVIRONMENT`]), for the MIS weight of BSDF
+    /// samples that escape; 0 when there is none.
     pub environment: Vec4,
+    /// The environment map's size and rotation (`width` 0: no map; then
+    /// binding 10 holds one unused element). Its table and texels are
+    /// binding 10 ([`crate::environment::environment_texel`] has the layout).
+    pub environment_map: sampler_core::EnvironmentParams,
 }
 
 /// One node of the BVH2 built by obvhs 0.4 (`Bvh2Node`), 48 bytes.
@@ -450,6 +459,10 @@ pub const EMITTER_SPOT: u32 = 2;
 /// next-event estimation only (rays that escape see the environment, not
 /// the disk).
 pub const EMITTER_DIRECTIONAL: u32 = 3;
+/// [`EmitterGpu::kind`]: the environment map ([`TraceParams::environment_map`],
+/// binding 10), sampled in proportion to luminance times solid angle and
+/// combined with BSDF sampling by MIS. At most one entry.
+pub const EMITTER_ENVIRONMENT: u32 = 4;
 
 /// One entry of the emitter list for next-event estimation, 80 bytes: an
 /// emissive triangle or a punctual light ([`EMITTER_TRIANGLE`],
@@ -520,7 +533,7 @@ impl EmitterGpu {
     }
 }
 
-const _: () = assert!(core::mem::size_of::<TraceParams>() == 224);
+const _: () = assert!(core::mem::size_of::<TraceParams>() == 240);
 const _: () = assert!(core::mem::size_of::<TriangleAttrGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<GBufferGpu>() == 64);
 const _: () = assert!(core::mem::size_of::<BvhNodeGpu>() == 48);

@@ -46,6 +46,7 @@ pub fn trace_pixel_dithered(
     emitters: &[EmitterGpu],
     attrs: &[TriangleAttrGpu],
     images: &[u32],
+    environment: &[f32],
 ) -> Vec4 {
     let dithered = params.seed_mode == SEED_MODE_BLUE_NOISE_DITHER;
     if !dithered {
@@ -60,6 +61,7 @@ pub fn trace_pixel_dithered(
             emitters,
             attrs,
             images,
+            environment,
         );
     }
     let spp = params.spp.max(1);
@@ -84,6 +86,7 @@ pub fn trace_pixel_dithered(
             emitters,
             attrs,
             images,
+            environment,
             &mut rays,
         );
         s += 1;

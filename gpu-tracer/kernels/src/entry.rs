@@ -33,6 +33,7 @@ pub fn trace_cs(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] keys: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 8)] attrs: &[TriangleAttrGpu],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] images: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 10)] environment: &[f32],
 ) {
     if id.x >= params.width || id.y >= params.height {
         return;
@@ -49,6 +50,7 @@ pub fn trace_cs(
         emitters,
         attrs,
         images,
+        environment,
     );
     color[id.y.wrapping_mul(params.width).wrapping_add(id.x) as usize] = value;
 }

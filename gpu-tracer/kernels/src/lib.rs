@@ -49,7 +49,7 @@
 //!     ..Default::default()
 //! };
 //! let attrs = [TriangleAttrGpu::default()];
-//! let c = trace_pixel(&params, UVec2::new(1, 2), 12345, &[], &[node], &[tri], &[material], &[EmitterGpu::NONE], &attrs, &[0]);
+//! let c = trace_pixel(&params, UVec2::new(1, 2), 12345, &[], &[node], &[tri], &[material], &[EmitterGpu::NONE], &attrs, &[0], &[0.0]);
 //! assert_eq!(c, Vec4::new(2.0, 1.0, 0.5, 1.0));
 //! ```
 #![cfg_attr(target_arch = "spirv", no_std)]

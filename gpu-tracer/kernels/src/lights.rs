@@ -19,13 +19,15 @@
 //! ([`spot_falloff`]).
 
 use crate::abi::{
-    EmitterGpu, MaterialGpu, TriangleAttrGpu, TriangleGpu, EMITTER_DIRECTIONAL, EMITTER_SPOT,
-    EMITTER_TRIANGLE,
+    EmitterGpu, MaterialGpu, TraceParams, TriangleAttrGpu, TriangleGpu, EMITTER_DIRECTIONAL,
+    EMITTER_ENVIRONMENT, EMITTER_SPOT, EMITTER_TRIANGLE,
 };
+use crate::environment::environment_texel;
 use crate::geometry::{normal_and_area, surface_offset};
 use crate::sampling::{sample_triangle_barycentrics, sample_uniform_cone, Frame};
 use crate::surface::{surface_emission, triangle_uv};
 use glam::{Vec2, Vec3};
+use sampler_core::distributions::environment::sample_environment;
 
 /// One light sample seen from a shading point: the estimator of the light
 /// it carries is `f(wi) cos * radiance * mis_weight / pdf`, counted when
@@ -115,7 +117,10 @@ pub fn select_emitter_reusing(emitters: &[EmitterGpu], count: u32, u: Vec2) -> (
 
 /// A light sample from emitter `e` (one entry of the emitter list) for the
 /// shading point `origin` (already offset from its surface), with `u` in
-/// `[0, 1)^2` (after [`select_emitter_reusing`]). [`LightSample::NONE`]
+/// `[0, 1)^2` (after [`select_emitter_reusing`]). `environment` is the
+/// environment map's buffer (binding 10), read for
+/// [`EMITTER_ENVIRONMENT`] (a direction drawn in proportion to luminance
+/// times solid angle, combined with BSDF sampling by MIS like triangles). [`LightSample::NONE`]
 /// when the sample carries no light: the point is behind the emitting triangle or on the
 /// light, outside the spot cone or beyond the range, or the entry has
 /// probability 0.
@@ -129,7 +134,8 @@ pub fn sample_emitter(
     materials: &[MaterialGpu],
     attrs: &[TriangleAttrGpu],
     images: &[u32],
-    image_count: u32,
+    params: &TraceParams,
+    environment: &[f32],
 ) -> LightSample {
     if e.pdf <= 0.0 {
         return LightSample::NONE;
@@ -156,8 +162,22 @@ pub fn sample_emitter(
         return LightSample {
             wi,
             t_max: dist - 2.0 * surface_offset(q),
-            radiance: surface_emission(material, images, image_count, light_uv),
+            radiance: surface_emission(material, images, params.image_count, light_uv),
             pdf: e.pdf * dist2 / (light_area * cos_light),
+            mis: true,
+        };
+    }
+    if e.kind == EMITTER_ENVIRONMENT {
+        let map = params.environment_map;
+        let s = sample_environment(environment, map, u);
+        if s.pdf <= 0.0 {
+            return LightSample::NONE;
+        }
+        return LightSample {
+            wi: s.direction,
+            t_max: f32::MAX,
+            radiance: environment_texel(map, environment, s.uv),
+            pdf: e.pdf * s.pdf,
             mis: true,
         };
     }
@@ -308,7 +328,17 @@ mod tests {
         let tri = [TriangleGpu::default()];
         let attrs = [TriangleAttrGpu::default()];
         let materials = [MaterialGpu::default()];
-        sample_emitter(e, origin, u, &tri, &materials, &attrs, &[0], 0)
+        sample_emitter(
+            e,
+            origin,
+            u,
+            &tri,
+            &materials,
+            &attrs,
+            &[0],
+            &TraceParams::default(),
+            &[0.0],
+        )
     }
 
     /// Point light: intensity over the squared distance, towards the light,

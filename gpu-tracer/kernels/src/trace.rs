@@ -50,7 +50,7 @@ use crate::abi::{
 };
 use crate::bvh::{any_hit, closest_hit};
 use crate::camera::primary_ray;
-use crate::environment::environment_radiance;
+use crate::environment::{environment_mis_weight, environment_radiance};
 use crate::geometry::offset_point;
 use crate::intersect::Ray;
 use crate::lights::sample_emitter;
@@ -84,9 +84,20 @@ pub fn trace_pixel(
     emitters: &[EmitterGpu],
     attrs: &[TriangleAttrGpu],
     images: &[u32],
+    environment: &[f32],
 ) -> Vec4 {
     trace_pixel_counted(
-        params, pixel, seed, keys, nodes, triangles, materials, emitters, attrs, images,
+        params,
+        pixel,
+        seed,
+        keys,
+        nodes,
+        triangles,
+        materials,
+        emitters,
+        attrs,
+        images,
+        environment,
     )
     .0
 }
@@ -106,6 +117,7 @@ pub fn trace_pixel_counted(
     emitters: &[EmitterGpu],
     attrs: &[TriangleAttrGpu],
     images: &[u32],
+    environment: &[f32],
 ) -> (Vec4, u32) {
     let spp = params.spp.max(1);
     let mut sum = Vec3::ZERO;
@@ -114,7 +126,17 @@ pub fn trace_pixel_counted(
     while s < spp {
         let numbers = PathNumbers::new(params, pixel, seed, s);
         sum += trace_sample_with(
-            params, keys, numbers, nodes, triangles, materials, emitters, attrs, images, &mut rays,
+            params,
+            keys,
+            numbers,
+            nodes,
+            triangles,
+            materials,
+            emitters,
+            attrs,
+            images,
+            environment,
+            &mut rays,
         );
         s += 1;
     }
@@ -137,6 +159,7 @@ pub fn trace_sample(
     emitters: &[EmitterGpu],
     attrs: &[TriangleAttrGpu],
     images: &[u32],
+    environment: &[f32],
 ) -> Vec3 {
     let mut rays = 0u32;
     let numbers = PathNumbers::from_stream(stream, pixel);
@@ -150,6 +173,7 @@ pub fn trace_sample(
         emitters,
         attrs,
         images,
+        environment,
         &mut rays,
     )
 }
@@ -169,6 +193,7 @@ pub(crate) fn trace_sample_with(
     emitters: &[EmitterGpu],
     attrs: &[TriangleAttrGpu],
     images: &[u32],
+    environment: &[f32],
     rays: &mut u32,
 ) -> Vec3 {
     let max_depth = params.max_depth.min(MAX_DEPTH_LIMIT);
@@ -187,7 +212,8 @@ pub(crate) fn trace_sample_with(
         let hit = match closest_hit(nodes, triangles, &ray, 0.0, f32::MAX) {
             Some(h) => h,
             None => {
-                radiance += throughput * environment_radiance(params, ray.dir);
+                let weight = environment_mis_weight(params, environment, ray.dir, bsdf_pdf);
+                radiance += throughput * environment_radiance(params, environment, ray.dir) * weight;
                 break;
             }
         };
@@ -229,7 +255,8 @@ pub(crate) fn trace_sample_with(
                 materials,
                 attrs,
                 images,
-                params.image_count,
+                params,
+                environment,
             );
             if light.is_some() {
                 let cos_surface = light.wi.dot(normal);
@@ -414,6 +441,7 @@ mod tests {
                 &scene.emitters,
                 &scene.attrs,
                 &[0],
+                &[0.0],
             )
             .x
         })
@@ -477,6 +505,7 @@ mod tests {
                             &scene.emitters,
                             &scene.attrs,
                             &[0],
+                            &[0.0],
                             &mut 0,
                         );
                     }

@@ -108,6 +108,7 @@ fn estimate(s: &Scene, p: &TraceParams, salt: u32, n: u32) -> (f64, f64) {
                     &s.emitters,
                     &s.attrs,
                     &[0],
+                    &[0.0],
                 );
                 let l = f64::from(c.x + c.y + c.z) / 3.0;
                 sum += l;

@@ -302,6 +302,7 @@ impl<'p> Loader<'p> {
 
         let mut scene = Scene {
             lights,
+            environment_map: None,
             triangles,
             materials,
             images,

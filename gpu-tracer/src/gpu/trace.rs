@@ -46,12 +46,14 @@ struct SceneBuffers {
     attrs: wgpu::Buffer,
     images: wgpu::Buffer,
     previous: wgpu::Buffer,
+    /// The environment map's table and texels (binding 10 of the trace pass).
+    environment: wgpu::Buffer,
     /// Element counts, to tell whether an update fits the buffers.
-    counts: [usize; 7],
+    counts: [usize; 8],
 }
 
 impl SceneBuffers {
-    fn counts(scene: &SceneGpu) -> [usize; 7] {
+    fn counts(scene: &SceneGpu) -> [usize; 8] {
         [
             scene.nodes.len(),
             scene.triangles.len(),
@@ -60,6 +62,7 @@ impl SceneBuffers {
             scene.attrs.len(),
             scene.images.len(),
             scene.previous.len(),
+            scene.environment.len(),
         ]
     }
 
@@ -72,13 +75,14 @@ impl SceneBuffers {
             attrs: gpu.storage("triangle attributes", &scene.attrs),
             images: gpu.storage("images", &scene.images),
             previous: gpu.storage("previous positions", &scene.previous),
+            environment: gpu.storage("environment map", &scene.environment),
             counts: Self::counts(scene),
         }
     }
 
     /// Rewrites, in place (same counts), the buffers a new pose changes:
     /// BVH, triangles, their attributes (leaf order), emitters and previous
-    /// positions. Materials and images stay: a pose never changes them
+    /// positions. Materials, images and the environment map stay: a pose never changes them
     /// ([`SceneGpu::set_positions`]).
     fn write_pose(&self, gpu: &Gpu, scene: &SceneGpu) {
         let q = &gpu.queue;
@@ -283,6 +287,7 @@ impl Tracer {
                 keys,
                 &s.attrs,
                 &s.images,
+                &s.environment,
             ],
         );
         let gbuf = gpu.bind(

@@ -50,6 +50,16 @@ pub struct SceneGpu {
     /// The scene's punctual lights (validated), kept to rebuild the emitter
     /// list when the geometry moves ([`SceneGpu::set_positions`]).
     pub lights: Vec<Light>,
+    /// The environment map's buffer for binding 10 (sampling table, then
+    /// texels: `kernels::environment::environment_texel`); one zero when the
+    /// scene has none (wgpu refuses empty buffers).
+    pub environment: Vec<f32>,
+    /// The environment map's size and rotation; `width` 0 when there is none.
+    pub environment_map: sampler_core::EnvironmentParams,
+    /// The map's mean radiance over directions
+    /// ([`EnvironmentMap::mean_radiance`](super::EnvironmentMap::mean_radiance)),
+    /// its selection power in the emitter list; 0 without a map.
+    pub environment_mean: f64,
     /// `original_index[i]` = index in [`Scene::triangles`] of `triangles[i]`.
     pub original_index: Vec<u32>,
     /// Depth of the deepest BVH leaf (root = 0).
@@ -71,7 +81,8 @@ impl SceneGpu {
     /// [`Error::InvalidMaterial`], [`Error::InvalidMaterialParameter`]
     /// (metallic or roughness NaN or outside `[0, 1]`), [`Error::MaterialIndex`],
     /// [`Error::SceneTooLarge`], [`Error::InvalidCamera`],
-    /// [`Error::InvalidLight`], [`Error::BvhTooDeep`].
+    /// [`Error::InvalidLight`], [`Error::InvalidEnvironmentMap`],
+    /// [`Error::BvhTooDeep`].
     pub fn build(scene: &Scene) -> Result<SceneGpu> {
         if scene.triangles.is_empty() {
             return Err(Error::NoTriangles {
@@ -96,6 +107,14 @@ impl SceneGpu {
         for light in &scene.lights {
             light.validate()?;
         }
+        let (environment, environment_map, environment_mean) = match &scene.environment_map {
+            Some(map) => {
+                map.validate()?;
+                let (data, params) = map.buffer()?;
+                (data, params, map.mean_radiance())
+            }
+            None => (vec![0.0], sampler_core::EnvironmentParams::default(), 0.0),
+        };
         let mut materials = Vec::with_capacity(scene.materials.len());
         for m in &scene.materials {
             let ok = m.albedo.is_finite()
@@ -168,7 +187,7 @@ impl SceneGpu {
             }
         }
 
-        let g = build_geometry(&scene.triangles, &materials, &scene.lights)?;
+        let g = build_geometry(&scene.triangles, &materials, &scene.lights, environment_mean)?;
         let previous = g.triangles.iter().map(positions_only).collect();
         Ok(SceneGpu {
             nodes: g.nodes,
@@ -182,6 +201,9 @@ impl SceneGpu {
             emitters: g.emitters,
             emitter_count: g.emitter_count,
             lights: scene.lights.clone(),
+            environment,
+            environment_map,
+            environment_mean,
             original_index: g.original_index,
             bvh_depth: g.bvh_depth,
             camera,
@@ -222,7 +244,7 @@ impl SceneGpu {
                 object: a.ids.x,
             };
         }
-        let g = build_geometry(&scene_order, &self.materials, &self.lights)?;
+        let g = build_geometry(&scene_order, &self.materials, &self.lights, self.environment_mean)?;
         self.previous = g.triangles.iter().map(positions_only).collect();
         self.nodes = g.nodes;
         self.triangles = g.triangles;
@@ -232,6 +254,15 @@ impl SceneGpu {
         self.original_index = g.original_index;
         self.bvh_depth = g.bvh_depth;
         Ok(())
+    }
+
+    /// The probability that next-event estimation picks the environment
+    /// map's entry of the emitter list; 0 when there is none.
+    pub fn environment_select_pdf(&self) -> f32 {
+        self.emitters[..self.emitter_count as usize]
+            .iter()
+            .find(|e| e.kind == kernels::abi::EMITTER_ENVIRONMENT)
+            .map_or(0.0, |e| e.pdf)
     }
 
     /// Sets this frame's camera and the previous frame's (for motion
@@ -276,8 +307,9 @@ impl SceneGpu {
     }
 
     /// Total emitted power over pi, `sum(area * mean(emission))` over the
-    /// emissive triangles plus [`Light::power`] of the lights, in radiance
-    /// units x area (useful to compare scenes' brightness).
+    /// emissive triangles plus [`Light::power`] of the lights and the
+    /// environment map's (the `emitters` module), in radiance units x area
+    /// (useful to compare scenes' brightness).
     pub fn emitted_power(&self) -> f32 {
         let triangles: f32 = self.emitters[..self.emitter_count as usize]
             .iter()
@@ -289,7 +321,8 @@ impl SceneGpu {
             })
             .sum();
         let radius = scene_radius(&self.triangles);
-        triangles + self.lights.iter().map(|l| l.power(radius) as f32).sum::<f32>()
+        let environment = 4.0 * std::f64::consts::PI * (radius as f64).powi(2) * self.environment_mean;
+        triangles + self.lights.iter().map(|l| l.power(radius) as f32).sum::<f32>() + environment as f32
     }
 }
 
@@ -307,11 +340,13 @@ struct Geometry {
 
 /// Builds the BVH of `triangles_in` (validated), reorders them into leaf
 /// order with their attributes, and builds the emitter list of those
-/// triangles and `lights` (validated).
+/// triangles, `lights` (validated) and an environment map of mean radiance
+/// `environment_mean` (0 for none).
 fn build_geometry(
     triangles_in: &[Triangle],
     materials: &[MaterialGpu],
     lights: &[Light],
+    environment_mean: f64,
 ) -> Result<Geometry> {
     let vertices: Vec<[Vec3; 3]> = triangles_in.iter().map(|t| t.vertices).collect();
     let bvh = build_bvh(&vertices)?;
@@ -333,7 +368,7 @@ fn build_geometry(
             ids: UVec4::new(t.object, orig, 0, 0),
         });
     }
-    let (emitters, emitter_count) = emitter_list(&mut triangles, materials, lights);
+    let (emitters, emitter_count) = emitter_list(&mut triangles, materials, lights, environment_mean);
     Ok(Geometry {
         nodes: bvh.nodes,
         triangles,
@@ -445,6 +480,7 @@ pub(super) mod tests {
         let big = |p: Vec3| p * 3.0 + Vec3::new(-1.0, -1.0, -1.0);
         Scene {
             lights: Vec::new(),
+            environment_map: None,
             triangles: vec![
                 Triangle::new([a, b, c], 1),
                 Triangle::new([a, c, d], 1),

@@ -1,20 +1,25 @@
 //! The emitter list next-event estimation picks from
 //! ([`kernels::abi::EmitterGpu`]): every front-emitting triangle with
 //! positive area and emission, then every punctual light with positive
-//! power, each picked with probability proportional to its power.
+//! power, then the environment map if it is not black, each picked with
+//! probability proportional to its power.
 //!
 //! Powers are compared divided by pi: an emissive triangle's is `area *
-//! mean(emission rgb)`, a light's is [`Light::power`]. The selection
+//! mean(emission rgb)`, a light's is [`Light::power`], an environment map's
+//! `4 pi r^2 L` with `L` its mean radiance over directions and `r` the
+//! radius of the scene's bounding sphere (pbrt-v4's estimate for infinite
+//! lights). The selection
 //! probability of each emissive triangle is also written to its
 //! `TriangleGpu::v1.w`, for the MIS weight of BSDF samples that hit it.
 
 use super::Light;
 use glam::Vec3;
-use kernels::abi::{EmitterGpu, MaterialGpu, TriangleGpu, EMITTER_TRIANGLE};
+use kernels::abi::{EmitterGpu, MaterialGpu, TriangleGpu, EMITTER_ENVIRONMENT, EMITTER_TRIANGLE};
 use kernels::trace::normal_and_area;
 
 /// The emitter list of `triangles` (leaf order, material index in
-/// `v0.w`) and `lights` (validated), and the number of meaningful entries
+/// `v0.w`), `lights` (validated) and an environment map of mean radiance
+/// `environment_mean` (0: none, or black), and the number of meaningful entries
 /// (0 when nothing emits: the list then holds one [`EmitterGpu::NONE`],
 /// as wgpu refuses empty buffers). Sets each triangle's `v1.w` to its
 /// selection probability (0 for triangles that are not in the list).
@@ -22,6 +27,7 @@ pub(super) fn emitter_list(
     triangles: &mut [TriangleGpu],
     materials: &[MaterialGpu],
     lights: &[Light],
+    environment_mean: f64,
 ) -> (Vec<EmitterGpu>, u32) {
     let mut emitters = Vec::new();
     let mut powers = Vec::new();
@@ -47,6 +53,13 @@ pub(super) fn emitter_list(
             emitters.push(light.emitter());
             powers.push(power);
         }
+    }
+    if environment_mean > 0.0 {
+        emitters.push(EmitterGpu {
+            kind: EMITTER_ENVIRONMENT,
+            ..EmitterGpu::NONE
+        });
+        powers.push(4.0 * std::f64::consts::PI * (radius as f64).powi(2) * environment_mean);
     }
 
     let total: f64 = powers.iter().sum();

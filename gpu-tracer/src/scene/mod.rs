@@ -13,6 +13,7 @@
 //! - this file: [`Scene`] and its [`Triangle`]s;
 //! - `camera`: [`Camera`] and its [`CameraBasis`];
 //! - `light`: punctual [`Light`]s ([`LightKind`]: point, spot, directional);
+//! - `environment`: [`EnvironmentMap`]s (equirectangular sky images);
 //! - `emitters`: the emitter list for next-event estimation (emissive
 //!   triangles and lights, picked by power);
 //! - `material`: [`Material`], its reflectance model ([`Bsdf`]), its [`TextureRef`]s ([`Wrap`], [`Filter`])
@@ -25,12 +26,14 @@
 mod buffers;
 mod camera;
 mod emitters;
+mod environment;
 mod light;
 mod material;
 mod settings;
 
 pub use buffers::{SceneGpu, MAX_IMAGE_WORDS, MAX_MATERIALS, MAX_TRIANGLES};
 pub use camera::{Camera, CameraBasis};
+pub use environment::EnvironmentMap;
 pub use light::{Light, LightKind};
 pub use material::{Bsdf, Filter, Image, Material, TextureRef, Wrap};
 pub use settings::{screen_sobol_max_spp, TraceSettings, ZSOBOL_MAX_SPP};
@@ -81,6 +84,10 @@ pub struct Scene {
     /// Punctual lights (point, spot, directional), besides the emissive
     /// triangles; empty for most OBJ scenes.
     pub lights: Vec<Light>,
+    /// What rays that leave the scene see, when it is an image: an
+    /// importance-sampled environment map. `None`: the constant
+    /// `TraceSettings::environment` (black by default).
+    pub environment_map: Option<EnvironmentMap>,
     /// The viewpoint.
     pub camera: Camera,
 }

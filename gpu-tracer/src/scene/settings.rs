@@ -119,6 +119,13 @@ impl SceneGpu {
                 });
             }
         }
+        if self.environment_map.width > 0 && s.environment != glam::Vec3::ZERO {
+            return Err(Error::InvalidSetting {
+                name: "environment",
+                value: s.environment.max_element(),
+                expected: "0 when the scene has an environment map (a constant sky and a map are exclusive)",
+            });
+        }
         if s.seed_mode > SEED_MODE_ADVANCE {
             return Err(Error::InvalidParameter {
                 name: "seed_mode",
@@ -200,7 +207,8 @@ impl SceneGpu {
             image_count: self.image_count,
             point_samples: 0,
             pad1: 0,
-            environment: s.environment.extend(0.0),
+            environment: s.environment.extend(self.environment_select_pdf()),
+            environment_map: self.environment_map,
         })
     }
 }

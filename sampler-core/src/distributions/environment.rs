@@ -214,8 +214,9 @@ pub fn sample_environment(table: &[f32], params: EnvironmentParams, u: Vec2) -> 
 pub fn pdf_environment(table: &[f32], params: EnvironmentParams, dir: Vec3) -> f32 {
     let length = libm::sqrtf(dir.length_squared());
     let sin_theta = libm::sqrtf(dir.x * dir.x + dir.z * dir.z) / length;
-    // Also false for NaN: zero, infinite and NaN directions.
-    if sin_theta >= MIN_SIN_THETA && length < f32::INFINITY {
+    // Also false for NaN: zero, infinite and NaN directions. `<= f32::MAX`,
+    // not `< INFINITY`: naga rejects infinite literals in SPIR-V.
+    if sin_theta >= MIN_SIN_THETA && length <= f32::MAX {
         let uv = direction_to_uv(dir, params.rotation_turns);
         pdf_2d(table, params.width, params.height, uv) / (TWO_PI_SQUARED * sin_theta)
     } else {

@@ -445,8 +445,9 @@ fn gltf_fixtures_are_fresh() {
 }
 
 /// `--env r,g,b`: a constant sky lights an open scene with no emitter (no
-/// warning then), the CPU and the GPU agree on it, and bad values fail
-/// before any work with nothing written.
+/// warning then), the CPU and the GPU agree on it, an environment map of
+/// the same radiance (`--env sky.exr`, importance-sampled) gives the same
+/// image, and bad values fail before any work with nothing written.
 #[test]
 fn a_constant_sky_lights_an_open_scene() {
     let exe = tracer();
@@ -512,11 +513,20 @@ fn a_constant_sky_lights_an_open_scene() {
         );
         eprintln!("SKIPPED the GPU half: {}", text(&o));
     }
+    // The same sky as a map, written as a 16x8 EXR.
+    let sky = dir.path().join("sky.exr");
+    let img = image::Rgb32FImage::from_pixel(16, 8, image::Rgb([0.5, 0.5, 0.5]));
+    image::DynamicImage::ImageRgb32F(img).save(&sky).unwrap();
+    let o = render("cpu", sky.to_str().unwrap(), "map");
+    assert!(o.status.success(), "{}", text(&o));
+    let map = mean_of("map");
+    assert!((map - cpu).abs() < 0.02, "map {map} against constant {cpu}");
+    let missing = dir.path().join("missing.hdr");
     for (env, needle) in [
         ("-1,0,0", "cannot be negative"),
         ("1,nan,0", "finite"),
         ("1,2", "three finite numbers"),
-        ("sky.exr", "environment maps are not supported yet"),
+        (missing.to_str().unwrap(), "cannot open"),
     ] {
         let o = render("cpu", env, "bad");
         assert!(!o.status.success(), "--env {env} must fail");
