@@ -1,0 +1,135 @@
+//! What each built-in scene's paths cost on the GPU per ray: the 1-spp
+//! path-traced frame (1280x720, max depth 8, seed stream) of the Lambertian
+//! Cornell box, the glossy Cornell box (GGX spheres: NEE with MIS at
+//! glossy vertices) and the outdoor `sun-sky` scene (a sun disk sampled in
+//! its cone, a constant sky, open space), alternated round by round on one
+//! device in one run.
+//!
+//! ```text
+//! cargo bench -p gpu-tracer --bench gpu_scenes
+//! ```
+//!
+//! Prints each scene's median trace time, the rays its frame traces
+//! (camera, continuation and shadow rays: every BVH query, counted by the
+//! CPU renderer on the same frame with white seeds, `kernels::trace_pixel_counted`),
+//! the time per ray and its ratio to the Cornell box's: issue 30's goal is
+//! <= 1.5x per path vertex for the glossy and the outdoor scene on
+//! lavapipe. `ROUNDS=N` sets the rounds (default 5; a lavapipe frame takes
+//! seconds); `--test` runs one.
+
+use glam::Vec4;
+use gpu_tracer::cornell::{cornell_box, cornell_glossy};
+use gpu_tracer::gpu::{Gpu, PassTimer, PermutePipelines, SeedPermuter, TracePipelines, Tracer};
+use gpu_tracer::outdoor::{sun_and_sky, SKY};
+use gpu_tracer::{cpu, SceneGpu, TraceSettings};
+use sampler_core::FrameLayout;
+use std::time::Instant;
+
+const WIDTH: u32 = 1280;
+const HEIGHT: u32 = 720;
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+fn main() {
+    let quick = std::env::args().any(|a| a == "--test");
+    let rounds = if quick {
+        1
+    } else {
+        std::env::var("ROUNDS")
+            .ok()
+            .and_then(|r| r.parse().ok())
+            .unwrap_or(5usize)
+            .max(1)
+    };
+    let gpu = match Gpu::new() {
+        Ok(g) => g,
+        Err(e) => {
+            println!("gpu_scenes: SKIPPED, {e}");
+            return;
+        }
+    };
+    let layout = FrameLayout::new(WIDTH, HEIGHT, 4, 64).expect("layout");
+    let scenes = [
+        ("cornell", cornell_box(), glam::Vec3::ZERO),
+        ("cornell-glossy", cornell_glossy(), glam::Vec3::ZERO),
+        ("sun-sky", sun_and_sky(), SKY),
+    ];
+    let tp = TracePipelines::new(&gpu).expect("trace pipelines");
+    let pp = PermutePipelines::new(&gpu).expect("permute pipelines");
+    let (tile, tables) = (
+        sampler_core::defaults::tile_64(),
+        sampler_core::defaults::tables_64(),
+    );
+    let mut rows = Vec::new();
+    for (name, scene, sky) in scenes {
+        let scene = SceneGpu::build(&scene).expect("scene");
+        let mut settings = TraceSettings::new(WIDTH, HEIGHT);
+        settings.padded_width = layout.padded_width();
+        settings.environment = sky;
+        let params = scene.trace_params(&settings, 1).expect("params");
+        // Rays of one frame, counted on the CPU.
+        let seeds = cpu::white_seeds(settings.padded_width, HEIGHT, 1);
+        let mut color = vec![Vec4::ZERO; (WIDTH * HEIGHT) as usize];
+        let rays = cpu::render_frame(&scene, &params, &seeds, &mut color).expect("cpu frame");
+        let gpu_color = Tracer::color_buffer(&gpu, WIDTH, HEIGHT);
+        let permuter = SeedPermuter::new(&gpu, &pp, layout, &tile, &tables, &gpu_color).expect("permuter");
+        let tracer = Tracer::new(&gpu, &tp, &scene, &params, &permuter.seeds, gpu_color);
+        permuter.set_frame(&gpu, 1);
+        let mut e = gpu.device.create_command_encoder(&Default::default());
+        permuter.encode_seed_init(&mut e, &pp);
+        gpu.queue.submit([e.finish()]);
+        rows.push((name, rays, tracer, Vec::new()));
+    }
+    let timer = PassTimer::new(&gpu, 1);
+    // Round 0 warms every pipeline up and is not counted.
+    for round in 0..=rounds {
+        for (_, _, tracer, ms) in rows.iter_mut() {
+            let mut e = gpu.device.create_command_encoder(&Default::default());
+            tracer.encode_trace(&mut e, &tp, timer.as_ref().map(|t| (t, 0)));
+            if let Some(t) = &timer {
+                t.resolve(&mut e);
+            }
+            let start = Instant::now();
+            gpu.queue.submit([e.finish()]);
+            gpu.wait().expect("wait");
+            let wall = start.elapsed().as_secs_f64() * 1e3;
+            let t = match &timer {
+                Some(t) => t.read_ms(&gpu).expect("timestamps")[0],
+                None => wall,
+            };
+            if round > 0 {
+                ms.push(t);
+            }
+        }
+    }
+    println!(
+        "gpu_scenes: {WIDTH}x{HEIGHT}, 1 spp, depth 8, seed stream, {rounds} rounds, on {}",
+        gpu.describe()
+    );
+    println!(
+        "timing: {}",
+        if timer.is_some() {
+            "timestamp queries"
+        } else {
+            "wall clock per submission"
+        }
+    );
+    println!(
+        "{:<16} {:>10} {:>12} {:>10} {:>22}",
+        "scene", "median ms", "rays/frame", "ns/ray", "per ray, x cornell"
+    );
+    let per_ray: Vec<f64> = rows
+        .iter_mut()
+        .map(|(_, rays, _, ms)| median(ms) * 1e6 / *rays as f64)
+        .collect();
+    for ((name, rays, _, ms), ns) in rows.iter_mut().zip(&per_ray) {
+        println!(
+            "{name:<16} {:>10.3} {rays:>12} {ns:>10.3} {:>21.3}x",
+            median(ms),
+            ns / per_ray[0]
+        );
+    }
+}
