@@ -700,6 +700,57 @@ fn metallic_quad(dir: &Path) {
     write_gltf(dir, "metallic_quad", doc, bin);
 }
 
+/// A scene lit only by `KHR_lights_punctual` lights (which it requires): a
+/// grey floor and a raised table top, a warm point light, a spot light
+/// aimed down through the table's edge and a dim directional light; no
+/// emissive material, so without the extension it would render black.
+fn punctual_lights(dir: &Path) {
+    let mut bin = Bin::default();
+    let floor = MeshData::default().quad(Vec3::ZERO, Vec3::Y, Vec3::X, 3.0, 3.0, Vec2::ONE);
+    let top = MeshData::default().quad(Vec3::new(0.3, 0.6, 0.0), Vec3::Y, Vec3::X, 0.6, 0.4, Vec2::ONE);
+    let prims = [
+        bin.primitive(&floor, Some(0), false),
+        bin.primitive(&top, Some(1), false),
+    ];
+    let eye = Vec3::new(0.0, 3.0, 4.0);
+    let camera = look_rotation(eye, Vec3::new(0.0, 0.3, 0.0));
+    // A spot light above the table shining straight down (-z turned to -y).
+    let down = Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2);
+    let sun = Quat::from_rotation_x(-1.0) * Quat::from_rotation_y(0.6);
+    let doc = json!({
+        "asset": asset(),
+        "extensionsUsed": ["KHR_materials_specular", "KHR_lights_punctual"],
+        "extensionsRequired": ["KHR_lights_punctual"],
+        "extensions": {"KHR_lights_punctual": {"lights": [
+            {"name": "bulb", "type": "point", "color": [1.0, 0.85, 0.7], "intensity": 6.0, "range": 20.0},
+            {"name": "spot", "type": "spot", "intensity": 12.0,
+             "spot": {"innerConeAngle": 0.25, "outerConeAngle": 0.45}},
+            {"name": "sun", "type": "directional", "color": [0.9, 0.95, 1.0], "intensity": 0.4}
+        ]}},
+        "materials": [material("floor", [0.6, 0.6, 0.6], None), material("table", [0.7, 0.45, 0.3], None)],
+        "meshes": [
+            {"name": "floor", "primitives": [prims[0]]},
+            {"name": "table", "primitives": [prims[1]]}
+        ],
+        "cameras": [{
+            "name": "view", "type": "perspective",
+            "perspective": {"yfov": 50f32.to_radians(), "znear": 0.05, "aspectRatio": 1.0}
+        }],
+        "nodes": [
+            {"name": "floor", "mesh": 0},
+            {"name": "table", "mesh": 1},
+            {"name": "bulb", "translation": [-1.2, 1.5, 0.8], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+            {"name": "spot", "translation": [0.8, 2.0, 0.0], "rotation": down.to_array(),
+             "extensions": {"KHR_lights_punctual": {"light": 1}}},
+            {"name": "sun", "rotation": sun.to_array(), "extensions": {"KHR_lights_punctual": {"light": 2}}},
+            {"name": "camera", "camera": 0, "translation": eye.to_array(), "rotation": camera.to_array()}
+        ],
+        "scenes": [{"name": "punctual_lights", "nodes": [0, 1, 2, 3, 4, 5]}],
+        "scene": 0
+    });
+    write_gltf(dir, "punctual_lights", doc, bin);
+}
+
 fn main() {
     let dir = std::env::args_os().nth(1).map_or_else(
         || Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gltf"),
@@ -714,4 +765,5 @@ fn main() {
     cornell_textured(&dir);
     write(&dir, "metal_rough.png", &metal_rough_png());
     metallic_quad(&dir);
+    punctual_lights(&dir);
 }

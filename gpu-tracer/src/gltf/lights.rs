@@ -142,6 +142,34 @@ mod tests {
         assert_eq!(gpu.emitter_count, 2 + 3);
     }
 
+    /// The generator's `punctual_lights.gltf` (which requires the
+    /// extension and has no emissive material) loads its three lights and
+    /// renders lit, not black.
+    #[test]
+    fn the_lights_fixture_renders_lit() {
+        let g = super::super::tests::load(&super::super::tests::fixture("punctual_lights.gltf"));
+        let kinds: Vec<_> = g.scene.lights.iter().map(|l| l.kind).collect();
+        assert!(matches!(
+            kinds[..],
+            [
+                LightKind::Point,
+                LightKind::Spot { .. },
+                LightKind::Directional { .. }
+            ]
+        ));
+        assert!(g.scene.materials.iter().all(|m| m.emission == Vec3::ZERO));
+        let scene = crate::scene::SceneGpu::build(&g.scene).expect("build");
+        assert_eq!(scene.emitter_count, 3);
+        let mut settings = crate::scene::TraceSettings::new(32, 32);
+        settings.spp = 4;
+        let params = scene.trace_params(&settings, 0).expect("params");
+        let seeds = crate::cpu::white_seeds(32, 32, 1);
+        let mut color = vec![glam::Vec4::ZERO; 32 * 32];
+        crate::cpu::render_frame(&scene, &params, &seeds, &mut color).expect("render");
+        let lit = color.iter().filter(|c| c.x > 0.01).count();
+        assert!(lit > 32 * 32 / 3, "only {lit} of 1024 pixels lit");
+    }
+
     #[test]
     fn bad_lights_are_refused_with_the_light_named() {
         type Edit = fn(&mut Value);
