@@ -8,7 +8,10 @@
 //!   `TRIANGLES`, `TRIANGLE_STRIP` and `TRIANGLE_FAN` primitives, indexed or
 //!   not (strips and fans are converted to triangles, dropping the
 //!   degenerate ones that repeat a vertex); `POINTS` and `LINE*` primitives
-//!   are an error. Positions must be `VEC3` floats. A mirroring node
+//!   are an error. Positions are `VEC3` floats, or 8/16-bit integers
+//!   (normalised or not) in files that declare `KHR_mesh_quantization`
+//!   (the dequantising scale and offset live in the node transforms, as
+//!   the extension intends). A mirroring node
 //!   transform (negative determinant) swaps two vertices of each triangle
 //!   so that the front side (counter-clockwise, the emitting side) stays the
 //!   authored one. Each (node, mesh) pair is one object
@@ -20,7 +23,9 @@
 //!   multiplies it. Textures keep their sampler's wrap modes and
 //!   magnification filter (`NEAREST` -> [`Filter::Nearest`], `LINEAR` or
 //!   none -> [`Filter::Bilinear`]) and read the `TEXCOORD_n` set the
-//!   material names (float or normalised 8/16-bit). Reflection is the
+//!   material names (float or normalised unsigned 8/16-bit; with
+//!   `KHR_mesh_quantization` also signed and not-normalised 8/16-bit
+//!   integers: the `attribute` module's table). Reflection is the
 //!   specification's metallic-roughness BRDF with its factors (defaults
 //!   metallic 1, roughness 1) and `metallicRoughnessTexture` (blue metallic,
 //!   green roughness, linear), or Lambertian for a non-metal with
@@ -47,8 +52,9 @@
 //! [`GltfScene::scene`] is the rest pose (every node at its file transform);
 //! [`Rig::pose`] gives the animated triangles and camera at any time.
 //!
-//! Extensions other than `KHR_materials_emissive_strength` and
-//! `KHR_materials_specular` (its `specularFactor` 0 only) are ignored with
+//! Extensions other than `KHR_materials_emissive_strength`,
+//! `KHR_materials_specular` (its `specularFactor` 0 only) and
+//! `KHR_mesh_quantization` are ignored with
 //! a notice when merely used (`KHR_texture_transform`, `KHR_lights_punctual`,
 //! ...) and rejected by the `gltf` crate when required.
 //!
@@ -64,12 +70,15 @@
 //!   buffer views, URIs, accessors);
 //! - `nodes`: the scene's node hierarchy and rest transforms;
 //! - `mesh`: the triangles of each mesh primitive;
+//! - `attribute`: vertex attributes of every component type (floats and
+//!   `KHR_mesh_quantization`'s integers) as `f32`;
 //! - `material`: materials, texture references and image conversion;
 //! - `camera`: the chosen camera node;
 //! - `animation`: the animation channels;
 //! - `tests`: tests of the whole loader on the fixtures.
 
 mod animation;
+mod attribute;
 mod camera;
 mod loader;
 mod material;
@@ -88,7 +97,11 @@ use loader::{label, Loader};
 use std::path::Path;
 
 /// The extensions whose content is used; others are noticed and ignored.
-const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_materials_emissive_strength", "KHR_materials_specular"];
+const SUPPORTED_EXTENSIONS: &[&str] = &[
+    "KHR_materials_emissive_strength",
+    "KHR_materials_specular",
+    attribute::MESH_QUANTIZATION,
+];
 
 /// A loaded glTF scene.
 #[derive(Clone, Debug, PartialEq)]
