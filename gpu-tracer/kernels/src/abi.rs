@@ -55,7 +55,7 @@
 //! wgpu refuses empty buffers, so every storage buffer holds at least one
 //! element; the counts in [`TraceParams`] say how many are meaningful.
 
-use glam::{UVec4, Vec4};
+use glam::{UVec4, Vec2, Vec4};
 
 /// Name of the path-tracing entry point (rust-gpu qualifies it with its module path) (one invocation per visible pixel).
 pub const TRACE_ENTRY: &str = "entry::trace_cs";
@@ -79,7 +79,8 @@ pub const MAX_STORAGE_BUFFERS_PER_STAGE: u32 = 9;
 pub const TEXTURE_NONE: u32 = u32::MAX;
 /// Sampler flags of [`MaterialGpu::textures`]: wrap mode along `u` in bits
 /// 0-1, along `v` in bits 2-3 ([`WRAP_REPEAT`], [`WRAP_CLAMP`],
-/// [`WRAP_MIRROR`]), filter in bit 4 ([`FILTER_BILINEAR`] or nearest).
+/// [`WRAP_MIRROR`]), filter in bit 4 ([`FILTER_BILINEAR`] or nearest),
+/// [`TEXEL_LINEAR`] in bit 5, [`UV_TRANSFORM`] in bit 6.
 pub const WRAP_REPEAT: u32 = 0;
 /// Clamp to the edge texel.
 pub const WRAP_CLAMP: u32 = 1;
@@ -332,8 +333,48 @@ pub const MODEL_METALLIC_ROUGHNESS: u32 = 1;
 /// channel `c` reads as `c / 255`.
 pub const TEXEL_LINEAR: u32 = 1 << 5;
 
-/// A possibly emissive, possibly textured material, 80 bytes: Lambertian
-/// or glTF metallic-roughness ([`Self::model`]).
+/// Flag of a texture's sampler flags (bit 6): the texture coordinates go
+/// through the texture's [`UvTransformGpu`] (in [`MaterialGpu`]) before the
+/// lookup (glTF `KHR_texture_transform`). Clear: the coordinates are used as
+/// they are (bit for bit, no arithmetic).
+pub const UV_TRANSFORM: u32 = 1 << 6;
+
+/// An affine map of texture coordinates, 32 bytes: `uv' = (u . (uv, 1),
+/// v . (uv, 1))` with the dot products over `xyz`, i.e. the first two rows
+/// of glTF `KHR_texture_transform`'s 3x3 matrix `translation * rotation *
+/// scale` (the host computes them). Read only when the texture's sampler
+/// flags carry [`UV_TRANSFORM`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct UvTransformGpu {
+    /// First row `(m00, m01, m02)`: `u' = m00 u + m01 v + m02`; `w` = 0.
+    pub u: Vec4,
+    /// Second row `(m10, m11, m12)`: `v' = m10 u + m11 v + m12`; `w` = 0.
+    pub v: Vec4,
+}
+
+impl UvTransformGpu {
+    /// The identity map.
+    pub const IDENTITY: UvTransformGpu = UvTransformGpu {
+        u: Vec4::new(1.0, 0.0, 0.0, 0.0),
+        v: Vec4::new(0.0, 1.0, 0.0, 0.0),
+    };
+
+    /// `uv` mapped: `(u . (uv, 1), v . (uv, 1))`, evaluated as
+    /// `m0 * u + m1 * v + m2` per row (the same f32 operations on the CPU
+    /// and the GPU).
+    #[inline]
+    pub fn apply(&self, uv: Vec2) -> Vec2 {
+        Vec2::new(
+            self.u.x * uv.x + self.u.y * uv.y + self.u.z,
+            self.v.x * uv.x + self.v.y * uv.y + self.v.z,
+        )
+    }
+}
+
+/// A possibly emissive, possibly textured material, 176 bytes: Lambertian
+/// or glTF metallic-roughness ([`Self::model`]), each texture with its own
+/// coordinate transform.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct MaterialGpu {
@@ -361,6 +402,15 @@ pub struct MaterialGpu {
     /// multiplying its factor); `z`: its sampler flags (with
     /// [`TEXEL_LINEAR`]); `w` = 0.
     pub model: UVec4,
+    /// Coordinate transform of the base colour texture (read with
+    /// [`UV_TRANSFORM`] in its flags, `textures.y`).
+    pub base_color_uv: UvTransformGpu,
+    /// Coordinate transform of the emission texture (read with
+    /// [`UV_TRANSFORM`] in `textures.w`).
+    pub emission_uv: UvTransformGpu,
+    /// Coordinate transform of the metallic-roughness texture (read with
+    /// [`UV_TRANSFORM`] in `model.z`).
+    pub metal_rough_uv: UvTransformGpu,
 }
 
 impl MaterialGpu {
@@ -372,6 +422,9 @@ impl MaterialGpu {
             textures: UVec4::new(TEXTURE_NONE, 0, TEXTURE_NONE, 0),
             pbr: Vec4::ZERO,
             model: UVec4::new(MODEL_LAMBERT, TEXTURE_NONE, 0, 0),
+            base_color_uv: UvTransformGpu::IDENTITY,
+            emission_uv: UvTransformGpu::IDENTITY,
+            metal_rough_uv: UvTransformGpu::IDENTITY,
         }
     }
 
@@ -385,6 +438,9 @@ impl MaterialGpu {
             textures: UVec4::new(TEXTURE_NONE, 0, TEXTURE_NONE, 0),
             pbr: Vec4::new(metallic, roughness, 0.0, 0.0),
             model: UVec4::new(MODEL_METALLIC_ROUGHNESS, TEXTURE_NONE, 0, 0),
+            base_color_uv: UvTransformGpu::IDENTITY,
+            emission_uv: UvTransformGpu::IDENTITY,
+            metal_rough_uv: UvTransformGpu::IDENTITY,
         }
     }
 }
@@ -468,5 +524,6 @@ const _: () = assert!(core::mem::size_of::<TriangleAttrGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<GBufferGpu>() == 64);
 const _: () = assert!(core::mem::size_of::<BvhNodeGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<TriangleGpu>() == 48);
-const _: () = assert!(core::mem::size_of::<MaterialGpu>() == 80);
+const _: () = assert!(core::mem::size_of::<UvTransformGpu>() == 32);
+const _: () = assert!(core::mem::size_of::<MaterialGpu>() == 176);
 const _: () = assert!(core::mem::size_of::<EmitterGpu>() == 16);

@@ -80,6 +80,8 @@
 mod animation;
 mod attribute;
 mod camera;
+#[cfg(test)]
+mod extension_tests;
 mod loader;
 mod material;
 mod mesh;
@@ -100,6 +102,7 @@ use std::path::Path;
 const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_emissive_strength",
     "KHR_materials_specular",
+    "KHR_texture_transform",
     attribute::MESH_QUANTIZATION,
 ];
 

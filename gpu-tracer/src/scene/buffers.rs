@@ -7,9 +7,9 @@ use crate::error::{Error, Result};
 use glam::{UVec4, Vec4};
 use glam::{Vec2, Vec3};
 use kernels::abi::{
-    BvhNodeGpu, EmitterGpu, MaterialGpu, TriangleAttrGpu, TriangleGpu, FILTER_BILINEAR, GBUFFER_NO_HIT,
-    IMAGE_HEADER_WORDS, MODEL_LAMBERT, MODEL_METALLIC_ROUGHNESS, TEXTURE_NONE, WRAP_CLAMP, WRAP_MIRROR,
-    WRAP_REPEAT,
+    BvhNodeGpu, EmitterGpu, MaterialGpu, TriangleAttrGpu, TriangleGpu, UvTransformGpu, FILTER_BILINEAR,
+    GBUFFER_NO_HIT, IMAGE_HEADER_WORDS, MODEL_LAMBERT, MODEL_METALLIC_ROUGHNESS, TEXTURE_NONE, UV_TRANSFORM,
+    WRAP_CLAMP, WRAP_MIRROR, WRAP_REPEAT,
 };
 use kernels::trace::normal_and_area;
 
@@ -65,7 +65,8 @@ impl SceneGpu {
     /// # Errors
     /// [`Error::NoTriangles`] for an empty scene, [`Error::NonFiniteVertex`],
     /// [`Error::InvalidMaterial`], [`Error::InvalidMaterialParameter`]
-    /// (metallic or roughness NaN or outside `[0, 1]`), [`Error::MaterialIndex`],
+    /// (metallic or roughness NaN or outside `[0, 1]`), [`Error::InvalidTexture`] (an image
+    /// index out of range, a non-finite texture transform), [`Error::MaterialIndex`],
     /// [`Error::SceneTooLarge`], [`Error::InvalidCamera`],
     /// [`Error::BvhTooDeep`].
     pub fn build(scene: &Scene) -> Result<SceneGpu> {
@@ -98,18 +99,32 @@ impl SceneGpu {
             if !ok {
                 return Err(Error::InvalidMaterial { name: m.name.clone() });
             }
-            let texture = |t: &Option<TextureRef>| -> Result<(u32, u32)> {
+            // (image, sampler flags, coordinate transform) of a texture.
+            let texture = |t: &Option<TextureRef>| -> Result<(u32, u32, UvTransformGpu)> {
                 match t {
-                    None => Ok((TEXTURE_NONE, 0)),
-                    Some(t) if (t.image as usize) < scene.images.len() => Ok((t.image, sampler_flags(t))),
-                    Some(t) => Err(Error::InvalidTexture {
+                    None => Ok((TEXTURE_NONE, 0, UvTransformGpu::IDENTITY)),
+                    Some(t) if (t.image as usize) >= scene.images.len() => Err(Error::InvalidTexture {
                         material: m.name.clone(),
                         reason: format!("image {} of {}", t.image, scene.images.len()),
                     }),
+                    Some(t) => match t.transform {
+                        None => Ok((t.image, sampler_flags(t), UvTransformGpu::IDENTITY)),
+                        Some(x) if x.rows.iter().flatten().all(|v| v.is_finite()) => {
+                            let [a, b] = x.rows;
+                            let row = |r: [f32; 3]| Vec3::from(r).extend(0.0);
+                            let gpu = UvTransformGpu { u: row(a), v: row(b) };
+                            Ok((t.image, sampler_flags(t) | UV_TRANSFORM, gpu))
+                        }
+                        Some(x) => Err(Error::InvalidTexture {
+                            material: m.name.clone(),
+                            reason: format!("texture transform {:?} is not finite", x.rows),
+                        }),
+                    },
                 }
             };
-            let (base, base_flags) = texture(&m.base_color_texture)?;
-            let (emit, emit_flags) = texture(&m.emission_texture)?;
+            let (base, base_flags, base_color_uv) = texture(&m.base_color_texture)?;
+            let (emit, emit_flags, emission_uv) = texture(&m.emission_texture)?;
+            let mut metal_rough_uv = UvTransformGpu::IDENTITY;
             let (pbr, model) = match m.bsdf {
                 Bsdf::Lambert => (Vec4::ZERO, UVec4::new(MODEL_LAMBERT, TEXTURE_NONE, 0, 0)),
                 Bsdf::MetallicRoughness {
@@ -127,7 +142,8 @@ impl SceneGpu {
                             });
                         }
                     }
-                    let (image, flags) = texture(&t)?;
+                    let (image, flags, uv) = texture(&t)?;
+                    metal_rough_uv = uv;
                     (
                         Vec4::new(metallic, roughness, 0.0, 0.0),
                         UVec4::new(MODEL_METALLIC_ROUGHNESS, image, flags, 0),
@@ -140,6 +156,9 @@ impl SceneGpu {
                 textures: UVec4::new(base, base_flags, emit, emit_flags),
                 pbr,
                 model,
+                base_color_uv,
+                emission_uv,
+                metal_rough_uv,
             });
         }
         let (images, image_count) = pack_images(&scene.images)?;
@@ -639,6 +658,7 @@ pub(super) mod tests {
             wrap_u: Wrap::Clamp,
             wrap_v: Wrap::Mirror,
             filter: Filter::Bilinear,
+            transform: None,
         });
         let gpu = SceneGpu::build(&scene).expect("valid");
         assert_eq!(gpu.image_count, 2);
