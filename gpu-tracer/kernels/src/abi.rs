@@ -91,7 +91,7 @@ pub const FILTER_BILINEAR: u32 = 1 << 4;
 /// Images buffer layout: image `i`'s header is words `4 i .. 4 i + 4` =
 /// `(first texel word, width, height, 0)`; texels follow all headers, one
 /// `u32` each, row-major from the top row, `r | g << 8 | b << 16 | a << 24`
-/// with sRGB-encoded colour (alpha unused).
+/// with sRGB-encoded colour and linear alpha (read by alpha cut-outs).
 pub const IMAGE_HEADER_WORDS: u32 = 4;
 
 /// [`GBufferGpu::ids`]`.x` of a pixel whose centre ray hits nothing.
@@ -314,7 +314,8 @@ pub struct TriangleGpu {
     /// picks this triangle (its [`EmitterGpu::pdf`]), 0 when it is not in the
     /// emitter list. Needed to weight emitters hit by BSDF sampling (MIS).
     pub v1: Vec4,
-    /// Third vertex in `xyz`; `w` = 0.
+    /// Third vertex in `xyz`; `w` = [`CUT_OUT`] when the material can cut
+    /// holes (alpha test at every candidate hit), 0 otherwise.
     pub v2: Vec4,
 }
 
@@ -372,9 +373,16 @@ impl UvTransformGpu {
     }
 }
 
-/// A possibly emissive, possibly textured material, 176 bytes: Lambertian
-/// or glTF metallic-roughness ([`Self::model`]), each texture with its own
-/// coordinate transform.
+/// [`TriangleGpu::v2`]`.w` of a triangle whose material can cut holes
+/// ([`MaterialGpu::alpha`]`.x > 0`, glTF `alphaMode` `MASK`): the
+/// traversals (`crate::bvh`) test the base colour alpha at each candidate
+/// hit and skip it in a hole. Any other value (0) is opaque: no test, no
+/// cost.
+pub const CUT_OUT: f32 = 1.0;
+
+/// A possibly emissive, possibly textured, possibly cut-out material, 192
+/// bytes: Lambertian or glTF metallic-roughness ([`Self::model`]), each
+/// texture with its own coordinate transform.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct MaterialGpu {
@@ -402,6 +410,12 @@ pub struct MaterialGpu {
     /// multiplying its factor); `z`: its sampler flags (with
     /// [`TEXEL_LINEAR`]); `w` = 0.
     pub model: UVec4,
+    /// Alpha cut-out (glTF `alphaMode` `MASK`): `x` = `alphaCutoff`, finite
+    /// and `>= 0` (0: opaque, nothing is cut); `y` = the base colour
+    /// factor's alpha in `[0, 1]`; `z`, `w` = 0. A point whose base colour
+    /// alpha (`y` times the base colour texture's alpha, linear) is below
+    /// `x` is a hole. Read only for triangles flagged [`CUT_OUT`].
+    pub alpha: Vec4,
     /// Coordinate transform of the base colour texture (read with
     /// [`UV_TRANSFORM`] in its flags, `textures.y`).
     pub base_color_uv: UvTransformGpu,
@@ -422,6 +436,7 @@ impl MaterialGpu {
             textures: UVec4::new(TEXTURE_NONE, 0, TEXTURE_NONE, 0),
             pbr: Vec4::ZERO,
             model: UVec4::new(MODEL_LAMBERT, TEXTURE_NONE, 0, 0),
+            alpha: Vec4::ZERO,
             base_color_uv: UvTransformGpu::IDENTITY,
             emission_uv: UvTransformGpu::IDENTITY,
             metal_rough_uv: UvTransformGpu::IDENTITY,
@@ -438,6 +453,7 @@ impl MaterialGpu {
             textures: UVec4::new(TEXTURE_NONE, 0, TEXTURE_NONE, 0),
             pbr: Vec4::new(metallic, roughness, 0.0, 0.0),
             model: UVec4::new(MODEL_METALLIC_ROUGHNESS, TEXTURE_NONE, 0, 0),
+            alpha: Vec4::ZERO,
             base_color_uv: UvTransformGpu::IDENTITY,
             emission_uv: UvTransformGpu::IDENTITY,
             metal_rough_uv: UvTransformGpu::IDENTITY,
@@ -525,5 +541,5 @@ const _: () = assert!(core::mem::size_of::<GBufferGpu>() == 64);
 const _: () = assert!(core::mem::size_of::<BvhNodeGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<TriangleGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<UvTransformGpu>() == 32);
-const _: () = assert!(core::mem::size_of::<MaterialGpu>() == 176);
+const _: () = assert!(core::mem::size_of::<MaterialGpu>() == 192);
 const _: () = assert!(core::mem::size_of::<EmitterGpu>() == 16);

@@ -3,7 +3,7 @@
 //! parameters after theirs.
 
 use crate::abi::{MaterialGpu, TriangleAttrGpu, UvTransformGpu, TEXEL_LINEAR, TEXTURE_NONE, UV_TRANSFORM};
-use crate::texture::sample_image;
+use crate::texture::{sample_alpha, sample_image};
 use glam::{Vec2, Vec3};
 
 /// Texture coordinates at barycentrics `(u, v)` of a triangle (the point
@@ -36,6 +36,22 @@ pub fn surface_emission(material: &MaterialGpu, images: &[u32], image_count: u32
     let t = material.textures;
     let uv = texture_uv(t.w, &material.emission_uv, uv);
     textured(material.emission.truncate(), images, image_count, t.z, t.w, uv)
+}
+
+/// Base colour alpha (linear, `>= 0`) of `material` at `uv`: the base
+/// colour factor's alpha ([`MaterialGpu::alpha`]`.y`) times the base
+/// colour texture's alpha at its transformed coordinates, or the factor
+/// alone without a texture. What an alpha cut-out compares with its cutoff.
+#[inline]
+pub fn surface_alpha(material: &MaterialGpu, images: &[u32], image_count: u32, uv: Vec2) -> f32 {
+    let t = material.textures;
+    let factor = material.alpha.y;
+    if t.x == TEXTURE_NONE {
+        factor
+    } else {
+        let uv = texture_uv(t.y, &material.base_color_uv, uv);
+        factor * sample_alpha(images, image_count, t.x, t.y, uv)
+    }
 }
 
 /// `(metallic, roughness)` of `material` at `uv`: [`MaterialGpu::pbr`]'s

@@ -184,7 +184,17 @@ pub(crate) fn trace_sample_with(
     while depth < max_depth {
         // f32::MAX, not INFINITY: naga rejects infinite literals in SPIR-V.
         *rays += 1;
-        let hit = match closest_hit(nodes, triangles, &ray, 0.0, f32::MAX) {
+        let hit = match closest_hit(
+            nodes,
+            triangles,
+            materials,
+            attrs,
+            images,
+            params.image_count,
+            &ray,
+            0.0,
+            f32::MAX,
+        ) {
             Some(h) => h,
             None => {
                 radiance += throughput * environment_radiance(params, ray.dir);
@@ -241,7 +251,17 @@ pub(crate) fn trace_sample_with(
                     let t_max = dist - 2.0 * surface_offset(q);
                     if t_max > 0.0 && {
                         *rays += 1;
-                        !any_hit(nodes, triangles, &Ray::new(origin, wi), 0.0, t_max)
+                        !any_hit(
+                            nodes,
+                            triangles,
+                            materials,
+                            attrs,
+                            images,
+                            params.image_count,
+                            &Ray::new(origin, wi),
+                            0.0,
+                            t_max,
+                        )
                     } {
                         let light_uv = triangle_uv(&attrs[e.triangle as usize], b.x, b.y);
                         let light_emission = surface_emission(

@@ -123,3 +123,98 @@ fn metallic_roughness_transform_and_tex_coord_override() {
     assert_eq!(element, "mesh 'checker_quad' primitive 0");
     assert!(reason.contains("no TEXCOORD_1"), "{reason}");
 }
+
+/// `textured_quad` with material 0 (the 2x2 quad, UVs 0..2) cut out:
+/// `alphaMode` `MASK`, default cutoff 0.5, base colour texture a 2x1 RGBA
+/// PNG (in a buffer view) whose left texel has alpha 0 and right texel
+/// alpha 255, NEAREST and REPEAT: holes where `x` is in `[-1, -0.5)` and
+/// `[0, 0.5)`. `edit` changes the material further.
+fn load_masked(edit: impl FnOnce(&mut Value)) -> crate::Result<super::GltfScene> {
+    load_patched(|doc, bin| {
+        let img = image::RgbaImage::from_fn(2, 1, |x, _| {
+            image::Rgba([200, 200, 200, if x == 0 { 0 } else { 255 }])
+        });
+        let mut png = std::io::Cursor::new(Vec::new());
+        img.write_to(&mut png, image::ImageFormat::Png).expect("PNG");
+        let png = png.into_inner();
+        bin.resize(bin.len().next_multiple_of(4), 0);
+        let offset = bin.len();
+        bin.extend_from_slice(&png);
+        let views = doc["bufferViews"].as_array_mut().expect("views");
+        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": png.len()}));
+        let view = views.len() - 1;
+        doc["images"]
+            .as_array_mut()
+            .expect("images")
+            .push(json!({"bufferView": view, "mimeType": "image/png", "name": "mask"}));
+        doc["textures"]
+            .as_array_mut()
+            .expect("textures")
+            .push(json!({"sampler": 0, "source": 1}));
+        let m = &mut doc["materials"][0];
+        m["alphaMode"] = json!("MASK");
+        m["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": 1});
+        edit(m);
+    })
+}
+
+/// A CPU render (32x32, camera rays only, a white sky) of the masked quad:
+/// the sky shows through the holes, the opaque part (not emissive) is black.
+#[test]
+fn mask_holes_let_the_sky_through_and_the_rest_blocks() {
+    use crate::scene::{Alpha, TraceSettings};
+    let g = load_masked(|_| {}).expect("loads");
+    assert!(g.notices.is_empty(), "{:?}", g.notices);
+    assert_eq!(
+        g.scene.materials[0].alpha,
+        Alpha::Mask {
+            cutoff: 0.5,
+            factor: 1.0
+        }
+    );
+    let gpu = SceneGpu::build(&g.scene).expect("builds");
+    let mut settings = TraceSettings::new(32, 32);
+    settings.spp = 4;
+    settings.max_depth = 1;
+    settings.environment = glam::Vec3::ONE;
+    let params = gpu.trace_params(&settings, 0).expect("params");
+    let seeds = crate::cpu::white_seeds(params.padded_width, 32, 1);
+    let mut color = vec![glam::Vec4::ZERO; 32 * 32];
+    crate::cpu::render_frame(&gpu, &params, &seeds, &mut color).expect("renders");
+    // Row 16 crosses the quad at y ~ 0; column 6 sees x ~ -0.74 (a hole),
+    // 12 sees x ~ -0.27 and 24 x ~ 0.66 (opaque), 18 x ~ 0.19 (a hole).
+    let at = |x: usize| color[16 * 32 + x].truncate();
+    assert_eq!(at(6), glam::Vec3::ONE, "hole");
+    assert_eq!(at(18), glam::Vec3::ONE, "hole");
+    assert_eq!(at(12), glam::Vec3::ZERO, "opaque");
+    assert_eq!(at(24), glam::Vec3::ZERO, "opaque");
+
+    // The same quad made opaque again blocks everywhere.
+    let mut opaque = g.scene.clone();
+    opaque.materials[0].alpha = Alpha::Opaque;
+    let gpu = SceneGpu::build(&opaque).expect("builds");
+    crate::cpu::render_frame(&gpu, &params, &seeds, &mut color).expect("renders");
+    assert_eq!(color[16 * 32 + 6].truncate(), glam::Vec3::ZERO);
+}
+
+/// Bad cutoffs are refused with the material named; `BLEND` renders opaque
+/// with a notice; a NaN cutoff (which JSON cannot hold) is refused when the
+/// GPU form is built.
+#[test]
+fn bad_alpha_cutoffs_are_errors_and_blend_is_noticed() {
+    for cutoff in [json!(-0.5), json!(1e39)] {
+        let (element, reason) = content_error(load_masked(|m| m["alphaCutoff"] = cutoff.clone()));
+        assert_eq!(element, "material 'checker'");
+        assert!(reason.contains("alphaCutoff"), "{reason}");
+    }
+    let g = load_masked(|m| m["alphaMode"] = json!("BLEND")).expect("loads");
+    assert_eq!(g.scene.materials[0].alpha, crate::scene::Alpha::Opaque);
+    assert!(g.notices.iter().any(|n| n.contains("BLEND")), "{:?}", g.notices);
+    let mut scene = load_masked(|_| {}).expect("loads").scene;
+    scene.materials[0].alpha = crate::scene::Alpha::Mask {
+        cutoff: f32::NAN,
+        factor: 1.0,
+    };
+    let err = SceneGpu::build(&scene).expect_err("NaN cutoff");
+    assert!(err.to_string().contains("alpha cutoff"), "{err}");
+}

@@ -17,8 +17,8 @@
 //!   authored one. Each (node, mesh) pair is one object
 //!   ([`Triangle::object`]), numbered in scene traversal order (depth first,
 //!   children in file order).
-//! - **Materials**: base colour factor (rgb; alpha ignored) is the albedo,
-//!   the base colour texture multiplies it; emissive factor times
+//! - **Materials**: base colour factor (rgb) is the albedo, the base colour
+//!   texture multiplies it; emissive factor times
 //!   `KHR_materials_emissive_strength` is the emission, the emissive texture
 //!   multiplies it. Textures keep their sampler's wrap modes and
 //!   magnification filter (`NEAREST` -> [`Filter::Nearest`], `LINEAR` or
@@ -30,7 +30,18 @@
 //!   metallic 1, roughness 1) and `metallicRoughnessTexture` (blue metallic,
 //!   green roughness, linear), or Lambertian for a non-metal with
 //!   `KHR_materials_specular` `specularFactor` 0 (the `material` module's
-//!   docs). Normal and occlusion maps and alpha are ignored with a notice. A
+//!   docs). `KHR_texture_transform` (offset, rotation, scale, `texCoord`
+//!   override) applies to each of the three textures on its own: the
+//!   transform travels with the texture to the kernels
+//!   (`kernels::abi::UvTransformGpu`), nothing is baked into the vertices,
+//!   so textures of one material may use different transforms (they must
+//!   still read one `TEXCOORD_n` set). `alphaMode` `MASK` cuts holes where
+//!   the base colour alpha (factor times texture alpha) is below
+//!   `alphaCutoff` (default 0.5; negative or infinite cutoffs are an error):
+//!   camera, bounce and shadow rays pass through them
+//!   ([`Alpha::Mask`](crate::scene::Alpha::Mask)); `BLEND` is rendered
+//!   opaque with a notice. Normal and occlusion maps are ignored with a
+//!   notice. A
 //!   primitive without material gets glTF's default material: base colour
 //!   1, metallic 1, roughness 1, no emission.
 //! - **Images**: whatever the `gltf` crate decodes (PNG, JPEG), converted to
@@ -54,9 +65,9 @@
 //!
 //! Extensions other than `KHR_materials_emissive_strength`,
 //! `KHR_materials_specular` (its `specularFactor` 0 only) and
-//! `KHR_mesh_quantization` are ignored with
-//! a notice when merely used (`KHR_texture_transform`, `KHR_lights_punctual`,
-//! ...) and rejected by the `gltf` crate when required.
+//! `KHR_mesh_quantization` and `KHR_texture_transform` are ignored with a
+//! notice when merely used (`KHR_lights_punctual`, ...) and rejected by the
+//! `gltf` crate when required.
 //!
 //! [`Filter::Nearest`]: crate::scene::Filter::Nearest
 //! [`Filter::Bilinear`]: crate::scene::Filter::Bilinear
@@ -75,7 +86,9 @@
 //! - `material`: materials, texture references and image conversion;
 //! - `camera`: the chosen camera node;
 //! - `animation`: the animation channels;
-//! - `tests`: tests of the whole loader on the fixtures.
+//! - `tests`: tests of the whole loader on the fixtures;
+//! - `extension_tests`: texture transforms and alpha cut-outs on patched
+//!   fixtures.
 
 mod animation;
 mod attribute;

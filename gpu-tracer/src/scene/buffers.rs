@@ -1,15 +1,15 @@
 //! The buffers of a scene for the kernels ([`SceneGpu`]): BVH, triangles in
 //! leaf order with their attributes, materials, images and the emitter list.
 
-use super::{Bsdf, Camera, CameraBasis, Filter, Image, Scene, TextureRef, Triangle, Wrap};
+use super::{Alpha, Bsdf, Camera, CameraBasis, Filter, Image, Scene, TextureRef, Triangle, Wrap};
 use crate::bvh::build_bvh;
 use crate::error::{Error, Result};
 use glam::{UVec4, Vec4};
 use glam::{Vec2, Vec3};
 use kernels::abi::{
-    BvhNodeGpu, EmitterGpu, MaterialGpu, TriangleAttrGpu, TriangleGpu, UvTransformGpu, FILTER_BILINEAR,
-    GBUFFER_NO_HIT, IMAGE_HEADER_WORDS, MODEL_LAMBERT, MODEL_METALLIC_ROUGHNESS, TEXTURE_NONE, UV_TRANSFORM,
-    WRAP_CLAMP, WRAP_MIRROR, WRAP_REPEAT,
+    BvhNodeGpu, EmitterGpu, MaterialGpu, TriangleAttrGpu, TriangleGpu, UvTransformGpu, CUT_OUT,
+    FILTER_BILINEAR, GBUFFER_NO_HIT, IMAGE_HEADER_WORDS, MODEL_LAMBERT, MODEL_METALLIC_ROUGHNESS,
+    TEXTURE_NONE, UV_TRANSFORM, WRAP_CLAMP, WRAP_MIRROR, WRAP_REPEAT,
 };
 use kernels::trace::normal_and_area;
 
@@ -57,15 +57,18 @@ pub struct SceneGpu {
 
 impl SceneGpu {
     /// Validates `scene` and builds its buffers: BVH (obvhs, medium
-    /// preset), triangles reordered to leaf order with material index and
-    /// emitter-selection probability in `w`, materials, and the emitter list
-    /// (every front-emitting triangle with positive area and emission,
-    /// picked with probability proportional to `area * mean(emission)`).
+    /// preset), triangles reordered to leaf order with material index,
+    /// emitter-selection probability and cut-out flag in `w`, materials, and
+    /// the emitter list (every front-emitting triangle with positive area
+    /// and emission, picked with probability proportional to `area *
+    /// mean(emission)`, except those of cut-out materials: BSDF sampling
+    /// alone finds them).
     ///
     /// # Errors
     /// [`Error::NoTriangles`] for an empty scene, [`Error::NonFiniteVertex`],
     /// [`Error::InvalidMaterial`], [`Error::InvalidMaterialParameter`]
-    /// (metallic or roughness NaN or outside `[0, 1]`), [`Error::InvalidTexture`] (an image
+    /// (metallic, roughness or alpha factor NaN or outside `[0, 1]`, alpha
+    /// cutoff NaN, infinite or negative), [`Error::InvalidTexture`] (an image
     /// index out of range, a non-finite texture transform), [`Error::MaterialIndex`],
     /// [`Error::SceneTooLarge`], [`Error::InvalidCamera`],
     /// [`Error::BvhTooDeep`].
@@ -150,12 +153,42 @@ impl SceneGpu {
                     )
                 }
             };
+            let alpha = match m.alpha {
+                Alpha::Opaque => Vec4::ZERO,
+                Alpha::Mask { cutoff, factor } => {
+                    for (parameter, value, ok, expected) in [
+                        (
+                            "alpha cutoff",
+                            cutoff,
+                            cutoff.is_finite() && cutoff >= 0.0,
+                            "a finite number >= 0",
+                        ),
+                        (
+                            "alpha factor",
+                            factor,
+                            (0.0..=1.0).contains(&factor),
+                            "a number in [0, 1]",
+                        ),
+                    ] {
+                        if !ok {
+                            return Err(Error::InvalidMaterialParameter {
+                                name: m.name.clone(),
+                                parameter,
+                                value,
+                                expected,
+                            });
+                        }
+                    }
+                    Vec4::new(cutoff, factor, 0.0, 0.0)
+                }
+            };
             materials.push(MaterialGpu {
                 albedo: m.albedo.clamp(Vec3::ZERO, Vec3::ONE).extend(0.0),
                 emission: m.emission.extend(0.0),
                 textures: UVec4::new(base, base_flags, emit, emit_flags),
                 pbr,
                 model,
+                alpha,
                 base_color_uv,
                 emission_uv,
                 metal_rough_uv,
@@ -314,8 +347,9 @@ struct Geometry {
 
 /// Builds the BVH of `triangles_in` (validated), reorders them into leaf
 /// order with their attributes, and builds the emitter list (every
-/// front-emitting triangle with positive area and emission, picked with
-/// probability proportional to `area * mean(emission)`).
+/// front-emitting triangle with positive area and emission and an opaque
+/// material, picked with probability proportional to `area *
+/// mean(emission)`).
 fn build_geometry(triangles_in: &[Triangle], materials: &[MaterialGpu]) -> Result<Geometry> {
     let vertices: Vec<[Vec3; 3]> = triangles_in.iter().map(|t| t.vertices).collect();
     let bvh = build_bvh(&vertices)?;
@@ -328,10 +362,11 @@ fn build_geometry(triangles_in: &[Triangle], materials: &[MaterialGpu]) -> Resul
     for (i, &orig) in bvh.primitive_indices.iter().enumerate() {
         let t = triangles_in[orig as usize];
         let [a, b, c] = t.vertices;
+        let cut_out = materials[t.material as usize].alpha.x > 0.0;
         triangles.push(TriangleGpu {
             v0: a.extend(t.material as f32),
             v1: b.extend(0.0),
-            v2: c.extend(0.0),
+            v2: c.extend(if cut_out { CUT_OUT } else { 0.0 }),
         });
         attrs.push(TriangleAttrGpu {
             uv01: Vec4::new(t.uvs[0].x, t.uvs[0].y, t.uvs[1].x, t.uvs[1].y),
@@ -341,7 +376,9 @@ fn build_geometry(triangles_in: &[Triangle], materials: &[MaterialGpu]) -> Resul
         let emission = materials[t.material as usize].emission.truncate();
         let (_, area) = normal_and_area(a, b, c);
         let power = area as f64 * (emission.x as f64 + emission.y as f64 + emission.z as f64) / 3.0;
-        if power > 0.0 {
+        // A cut-out emitter stays out of the list: next-event estimation
+        // would sample its holes. BSDF sampling finds it (weight 1).
+        if power > 0.0 && !cut_out {
             total_power += power;
             emitters.push(EmitterGpu {
                 triangle: i as u32,

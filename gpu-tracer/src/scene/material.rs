@@ -130,6 +130,30 @@ pub enum Bsdf {
     },
 }
 
+/// Where a material's surface exists (glTF `alphaMode`): everywhere, or
+/// only where its base colour alpha reaches a cutoff.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Alpha {
+    /// Opaque everywhere: glTF `OPAQUE`, and `BLEND`, which is rendered as
+    /// opaque (the glTF loader says so in a notice).
+    #[default]
+    Opaque,
+    /// A cut-out (glTF `MASK`): where the base colour alpha, `factor` times
+    /// the base colour texture's alpha (linear, `a / 255`; 1 without a
+    /// texture), is below `cutoff`, there is no surface: camera,
+    /// continuation and shadow rays pass through. Elsewhere the surface is
+    /// opaque.
+    Mask {
+        /// glTF `alphaCutoff` (default 0.5), finite and `>= 0` (0: nothing
+        /// is cut; above 1: everything is); anything else is refused when
+        /// the GPU form is built.
+        cutoff: f32,
+        /// The base colour factor's alpha, in `[0, 1]`; anything else is
+        /// refused.
+        factor: f32,
+    },
+}
+
 /// A Lambertian or metallic-roughness material with optional emission and
 /// textures.
 ///
@@ -152,6 +176,9 @@ pub struct Material {
     pub emission_texture: Option<TextureRef>,
     /// The reflectance model ([`Bsdf::Lambert`] by default).
     pub bsdf: Bsdf,
+    /// Opaque or cut out by the base colour alpha ([`Alpha::Opaque`] by
+    /// default).
+    pub alpha: Alpha,
 }
 
 impl Material {
@@ -164,6 +191,7 @@ impl Material {
             base_color_texture: None,
             emission_texture: None,
             bsdf: Bsdf::Lambert,
+            alpha: Alpha::Opaque,
         }
     }
 

@@ -26,7 +26,7 @@ mod settings;
 
 pub use buffers::{SceneGpu, MAX_IMAGE_WORDS, MAX_MATERIALS, MAX_TRIANGLES};
 pub use camera::{Camera, CameraBasis};
-pub use material::{Bsdf, Filter, Image, Material, TextureRef, UvTransform, Wrap};
+pub use material::{Alpha, Bsdf, Filter, Image, Material, TextureRef, UvTransform, Wrap};
 pub use settings::{screen_sobol_max_spp, TraceSettings, ZSOBOL_MAX_SPP};
 
 use glam::{Vec2, Vec3};
