@@ -18,13 +18,9 @@
 //! accessors are honoured (the `gltf` crate's accessor iterator, after
 //! [`Loader::check_accessor`] checked the ranges).
 
-use super::loader::Loader;
+use super::loader::{Loader, MESH_QUANTIZATION};
 use crate::error::Result;
 use gltf::accessor::{DataType, Dimensions, Item, Iter};
-
-/// The extension that allows integer positions and more integer texture
-/// coordinates (files that use it must list it in `extensionsUsed`).
-pub(super) const MESH_QUANTIZATION: &str = "KHR_mesh_quantization";
 
 /// Which vertex attribute is read (its component-type rules differ).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -10,9 +10,14 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::json::validation::Checked;
 use std::path::Path;
 
+/// The extension that allows integer positions and more integer texture
+/// coordinates (files that use it must list it in `extensionsUsed`; read
+/// by the `attribute` module).
+pub(super) const MESH_QUANTIZATION: &str = "KHR_mesh_quantization";
+
 /// Extensions implemented here rather than by the `gltf` crate (whose
 /// validation refuses files that require an extension it does not know).
-const LOADER_EXTENSIONS: &[&str] = &[super::attribute::MESH_QUANTIZATION];
+const LOADER_EXTENSIONS: &[&str] = &[MESH_QUANTIZATION];
 
 /// Largest element count of a sparse accessor without a base buffer view
 /// (its elements are materialised: 2^24 positions are 192 MiB).

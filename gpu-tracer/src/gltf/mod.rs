@@ -116,7 +116,7 @@ const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_emissive_strength",
     "KHR_materials_specular",
     "KHR_texture_transform",
-    attribute::MESH_QUANTIZATION,
+    loader::MESH_QUANTIZATION,
 ];
 
 /// A loaded glTF scene.
