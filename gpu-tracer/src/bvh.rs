@@ -315,7 +315,7 @@ mod tests {
                     }
                 }
             }
-            let fast = closest_hit(&bvh.nodes, &tris, &ray, 0.0, t_max);
+            let fast = closest_hit(&bvh.nodes, &tris, &[], &[], &[], 0, &ray, 0.0, t_max);
             match (brute, fast) {
                 (None, None) => {}
                 (Some((t, i)), Some(h)) => {
@@ -331,7 +331,10 @@ mod tests {
                 }
                 (b, f) => panic!("brute force {b:?} vs BVH {f:?}"),
             }
-            assert_eq!(any_hit(&bvh.nodes, &tris, &ray, 0.0, t_max), brute.is_some());
+            assert_eq!(
+                any_hit(&bvh.nodes, &tris, &[], &[], &[], 0, &ray, 0.0, t_max),
+                brute.is_some()
+            );
         }
         assert!(hits > 300, "too few hits to be a meaningful test: {hits}");
     }

@@ -81,7 +81,8 @@ pub enum Error {
     InvalidMaterialParameter {
         /// Name of the material.
         name: String,
-        /// `"metallic"`, `"roughness"` or `"shininess (Ns)"`.
+        /// `"metallic"`, `"roughness"`, `"shininess (Ns)"`, `"alpha cutoff"`
+        /// or `"alpha factor"`.
         parameter: &'static str,
         /// The value.
         value: f32,

@@ -353,6 +353,7 @@ fn textured_moving_scene_and_gbuffer_agree_with_the_cpu() {
         wrap_u: wrap,
         wrap_v: wrap,
         filter,
+        transform: None,
     };
     let quad = |c: [Vec3; 4], uv: f32, material: u32, object: u32| {
         let uvs = [

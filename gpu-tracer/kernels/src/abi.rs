@@ -56,7 +56,7 @@
 //! wgpu refuses empty buffers, so every storage buffer holds at least one
 //! element; the counts in [`TraceParams`] say how many are meaningful.
 
-use glam::{UVec4, Vec4};
+use glam::{UVec4, Vec2, Vec4};
 
 /// Name of the path-tracing entry point (rust-gpu qualifies it with its module path) (one invocation per visible pixel).
 pub const TRACE_ENTRY: &str = "entry::trace_cs";
@@ -80,7 +80,8 @@ pub const MAX_STORAGE_BUFFERS_PER_STAGE: u32 = 10;
 pub const TEXTURE_NONE: u32 = u32::MAX;
 /// Sampler flags of [`MaterialGpu::textures`]: wrap mode along `u` in bits
 /// 0-1, along `v` in bits 2-3 ([`WRAP_REPEAT`], [`WRAP_CLAMP`],
-/// [`WRAP_MIRROR`]), filter in bit 4 ([`FILTER_BILINEAR`] or nearest).
+/// [`WRAP_MIRROR`]), filter in bit 4 ([`FILTER_BILINEAR`] or nearest),
+/// [`TEXEL_LINEAR`] in bit 5, [`UV_TRANSFORM`] in bit 6.
 pub const WRAP_REPEAT: u32 = 0;
 /// Clamp to the edge texel.
 pub const WRAP_CLAMP: u32 = 1;
@@ -91,7 +92,7 @@ pub const FILTER_BILINEAR: u32 = 1 << 4;
 /// Images buffer layout: image `i`'s header is words `4 i .. 4 i + 4` =
 /// `(first texel word, width, height, 0)`; texels follow all headers, one
 /// `u32` each, row-major from the top row, `r | g << 8 | b << 16 | a << 24`
-/// with sRGB-encoded colour (alpha unused).
+/// with sRGB-encoded colour and linear alpha (read by alpha cut-outs).
 pub const IMAGE_HEADER_WORDS: u32 = 4;
 
 /// [`GBufferGpu::ids`]`.x` of a pixel whose centre ray hits nothing.
@@ -322,7 +323,8 @@ pub struct TriangleGpu {
     /// picks this triangle (its [`EmitterGpu::pdf`]), 0 when it is not in the
     /// emitter list. Needed to weight emitters hit by BSDF sampling (MIS).
     pub v1: Vec4,
-    /// Third vertex in `xyz`; `w` = 0.
+    /// Third vertex in `xyz`; `w` = [`CUT_OUT`] when the material can cut
+    /// holes (alpha test at every candidate hit), 0 otherwise.
     pub v2: Vec4,
 }
 
@@ -341,8 +343,55 @@ pub const MODEL_METALLIC_ROUGHNESS: u32 = 1;
 /// channel `c` reads as `c / 255`.
 pub const TEXEL_LINEAR: u32 = 1 << 5;
 
-/// A possibly emissive, possibly textured material, 80 bytes: Lambertian
-/// or glTF metallic-roughness ([`Self::model`]).
+/// Flag of a texture's sampler flags (bit 6): the texture coordinates go
+/// through the texture's [`UvTransformGpu`] (in [`MaterialGpu`]) before the
+/// lookup (glTF `KHR_texture_transform`). Clear: the coordinates are used as
+/// they are (bit for bit, no arithmetic).
+pub const UV_TRANSFORM: u32 = 1 << 6;
+
+/// An affine map of texture coordinates, 32 bytes: `uv' = (u . (uv, 1),
+/// v . (uv, 1))` with the dot products over `xyz`, i.e. the first two rows
+/// of glTF `KHR_texture_transform`'s 3x3 matrix `translation * rotation *
+/// scale` (the host computes them). Read only when the texture's sampler
+/// flags carry [`UV_TRANSFORM`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct UvTransformGpu {
+    /// First row `(m00, m01, m02)`: `u' = m00 u + m01 v + m02`; `w` = 0.
+    pub u: Vec4,
+    /// Second row `(m10, m11, m12)`: `v' = m10 u + m11 v + m12`; `w` = 0.
+    pub v: Vec4,
+}
+
+impl UvTransformGpu {
+    /// The identity map.
+    pub const IDENTITY: UvTransformGpu = UvTransformGpu {
+        u: Vec4::new(1.0, 0.0, 0.0, 0.0),
+        v: Vec4::new(0.0, 1.0, 0.0, 0.0),
+    };
+
+    /// `uv` mapped: `(u . (uv, 1), v . (uv, 1))`, evaluated as
+    /// `m0 * u + m1 * v + m2` per row (the same f32 operations on the CPU
+    /// and the GPU).
+    #[inline]
+    pub fn apply(&self, uv: Vec2) -> Vec2 {
+        Vec2::new(
+            self.u.x * uv.x + self.u.y * uv.y + self.u.z,
+            self.v.x * uv.x + self.v.y * uv.y + self.v.z,
+        )
+    }
+}
+
+/// [`TriangleGpu::v2`]`.w` of a triangle whose material can cut holes
+/// ([`MaterialGpu::alpha`]`.x > 0`, glTF `alphaMode` `MASK`): the
+/// traversals (`crate::bvh`) test the base colour alpha at each candidate
+/// hit and skip it in a hole. Any other value (0) is opaque: no test, no
+/// cost.
+pub const CUT_OUT: f32 = 1.0;
+
+/// A possibly emissive, possibly textured, possibly cut-out material, 192
+/// bytes: Lambertian or glTF metallic-roughness ([`Self::model`]), each
+/// texture with its own coordinate transform.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct MaterialGpu {
@@ -370,6 +419,21 @@ pub struct MaterialGpu {
     /// multiplying its factor); `z`: its sampler flags (with
     /// [`TEXEL_LINEAR`]); `w` = 0.
     pub model: UVec4,
+    /// Alpha cut-out (glTF `alphaMode` `MASK`): `x` = `alphaCutoff`, finite
+    /// and `>= 0` (0: opaque, nothing is cut); `y` = the base colour
+    /// factor's alpha in `[0, 1]`; `z`, `w` = 0. A point whose base colour
+    /// alpha (`y` times the base colour texture's alpha, linear) is below
+    /// `x` is a hole. Read only for triangles flagged [`CUT_OUT`].
+    pub alpha: Vec4,
+    /// Coordinate transform of the base colour texture (read with
+    /// [`UV_TRANSFORM`] in its flags, `textures.y`).
+    pub base_color_uv: UvTransformGpu,
+    /// Coordinate transform of the emission texture (read with
+    /// [`UV_TRANSFORM`] in `textures.w`).
+    pub emission_uv: UvTransformGpu,
+    /// Coordinate transform of the metallic-roughness texture (read with
+    /// [`UV_TRANSFORM`] in `model.z`).
+    pub metal_rough_uv: UvTransformGpu,
 }
 
 impl MaterialGpu {
@@ -381,6 +445,10 @@ impl MaterialGpu {
             textures: UVec4::new(TEXTURE_NONE, 0, TEXTURE_NONE, 0),
             pbr: Vec4::ZERO,
             model: UVec4::new(MODEL_LAMBERT, TEXTURE_NONE, 0, 0),
+            alpha: Vec4::ZERO,
+            base_color_uv: UvTransformGpu::IDENTITY,
+            emission_uv: UvTransformGpu::IDENTITY,
+            metal_rough_uv: UvTransformGpu::IDENTITY,
         }
     }
 
@@ -394,6 +462,10 @@ impl MaterialGpu {
             textures: UVec4::new(TEXTURE_NONE, 0, TEXTURE_NONE, 0),
             pbr: Vec4::new(metallic, roughness, 0.0, 0.0),
             model: UVec4::new(MODEL_METALLIC_ROUGHNESS, TEXTURE_NONE, 0, 0),
+            alpha: Vec4::ZERO,
+            base_color_uv: UvTransformGpu::IDENTITY,
+            emission_uv: UvTransformGpu::IDENTITY,
+            metal_rough_uv: UvTransformGpu::IDENTITY,
         }
     }
 }
@@ -538,5 +610,6 @@ const _: () = assert!(core::mem::size_of::<TriangleAttrGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<GBufferGpu>() == 64);
 const _: () = assert!(core::mem::size_of::<BvhNodeGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<TriangleGpu>() == 48);
-const _: () = assert!(core::mem::size_of::<MaterialGpu>() == 80);
+const _: () = assert!(core::mem::size_of::<UvTransformGpu>() == 32);
+const _: () = assert!(core::mem::size_of::<MaterialGpu>() == 192);
 const _: () = assert!(core::mem::size_of::<EmitterGpu>() == 80);

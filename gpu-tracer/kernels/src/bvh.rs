@@ -9,9 +9,22 @@
 //! `<= STACK_SIZE` (root at depth 0): at most one entry per level is pushed
 //! along the current root-to-node path, so such trees never overflow.
 //! `gpu-tracer`'s BVH builder checks this.
+//!
+//! # Alpha cut-outs
+//!
+//! A triangle flagged [`CUT_OUT`] (its material has an alpha cutoff, glTF
+//! `MASK`) is tested at every candidate hit: where the base colour alpha
+//! (`crate::surface::surface_alpha`) is below the cutoff there is no
+//! surface, and the traversal goes on as if the triangle had been missed.
+//! Both queries do this, so holes let camera, continuation and shadow rays
+//! through alike. Unflagged (opaque) triangles cost one comparison of a word
+//! already loaded. The queries take the material, attribute and image
+//! buffers for this; a scene without cut-outs never reads them (empty
+//! slices are fine then).
 
-use crate::abi::{BvhNodeGpu, TriangleGpu};
+use crate::abi::{BvhNodeGpu, MaterialGpu, TriangleAttrGpu, TriangleGpu, CUT_OUT};
 use crate::intersect::{intersect_aabb, intersect_triangle, Ray};
+use crate::surface::{surface_alpha, triangle_uv};
 
 /// Entries of the traversal stack, and the largest leaf depth (root = 0)
 /// a tree may have.
@@ -33,32 +46,97 @@ pub struct Hit {
     pub v: f32,
 }
 
-/// Closest triangle the ray meets at a distance in `(t_min, t_max)`, or
-/// `None`. Ties in distance go to the triangle tested first.
+/// Closest surface the ray meets at a distance in `(t_min, t_max)`, or
+/// `None`: the closest triangle, holes of cut-out triangles excepted
+/// (module docs). Ties in distance go to the triangle tested first.
+#[allow(clippy::too_many_arguments)]
 #[inline]
 pub fn closest_hit(
     nodes: &[BvhNodeGpu],
     triangles: &[TriangleGpu],
+    materials: &[MaterialGpu],
+    attrs: &[TriangleAttrGpu],
+    images: &[u32],
+    image_count: u32,
     ray: &Ray,
     t_min: f32,
     t_max: f32,
 ) -> Option<Hit> {
-    traverse(nodes, triangles, ray, t_min, t_max, false)
+    traverse(
+        nodes,
+        triangles,
+        materials,
+        attrs,
+        images,
+        image_count,
+        ray,
+        t_min,
+        t_max,
+        false,
+    )
 }
 
-/// Whether any triangle meets the ray at a distance in `(t_min, t_max)`
-/// (shadow-ray visibility test; stops at the first hit found).
+/// Whether any surface meets the ray at a distance in `(t_min, t_max)`
+/// (shadow-ray visibility test; stops at the first hit found; holes of
+/// cut-out triangles let the ray through).
+#[allow(clippy::too_many_arguments)]
 #[inline]
-pub fn any_hit(nodes: &[BvhNodeGpu], triangles: &[TriangleGpu], ray: &Ray, t_min: f32, t_max: f32) -> bool {
-    traverse(nodes, triangles, ray, t_min, t_max, true).is_some()
+pub fn any_hit(
+    nodes: &[BvhNodeGpu],
+    triangles: &[TriangleGpu],
+    materials: &[MaterialGpu],
+    attrs: &[TriangleAttrGpu],
+    images: &[u32],
+    image_count: u32,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> bool {
+    traverse(
+        nodes,
+        triangles,
+        materials,
+        attrs,
+        images,
+        image_count,
+        ray,
+        t_min,
+        t_max,
+        true,
+    )
+    .is_some()
+}
+
+/// Whether barycentrics `(u, v)` of triangle `index` (flagged [`CUT_OUT`])
+/// fall in a hole: base colour alpha below the material's cutoff.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn in_hole(
+    tri: &TriangleGpu,
+    index: u32,
+    materials: &[MaterialGpu],
+    attrs: &[TriangleAttrGpu],
+    images: &[u32],
+    image_count: u32,
+    u: f32,
+    v: f32,
+) -> bool {
+    let material = materials[tri.v0.w as u32 as usize];
+    let uv = triangle_uv(&attrs[index as usize], u, v);
+    surface_alpha(&material, images, image_count, uv) < material.alpha.x
 }
 
 /// Shared traversal: with `stop_at_first` the first hit found is returned,
 /// otherwise the closest.
+#[allow(clippy::too_many_arguments)]
 #[inline]
 fn traverse(
     nodes: &[BvhNodeGpu],
     triangles: &[TriangleGpu],
+    materials: &[MaterialGpu],
+    attrs: &[TriangleAttrGpu],
+    images: &[u32],
+    image_count: u32,
     ray: &Ray,
     t_min: f32,
     t_max: f32,
@@ -155,6 +233,12 @@ fn traverse(
                     t_min,
                     best_t,
                 ) {
+                    if tri.v2.w == CUT_OUT
+                        && in_hole(&tri, index, materials, attrs, images, image_count, h.u, h.v)
+                    {
+                        i += 1;
+                        continue;
+                    }
                     best_t = h.t;
                     best = Hit {
                         t: h.t,
@@ -226,22 +310,78 @@ mod tests {
     fn closest_hit_picks_the_nearer_leaf_from_both_sides() {
         let (nodes, tris) = two_planes();
         let down = Ray::new(Vec3::new(0.3, 0.6, 5.0), -Vec3::Z);
-        let hit = closest_hit(&nodes, &tris, &down, 0.0, f32::INFINITY).expect("hit");
+        let hit = closest_hit(&nodes, &tris, &[], &[], &[], 0, &down, 0.0, f32::INFINITY).expect("hit");
         assert!((hit.t - 5.0).abs() < 1e-5);
         assert!(hit.triangle >= 2);
         let up = Ray::new(Vec3::new(0.3, 0.6, -5.0), Vec3::Z);
-        let hit = closest_hit(&nodes, &tris, &up, 0.0, f32::INFINITY).expect("hit");
+        let hit = closest_hit(&nodes, &tris, &[], &[], &[], 0, &up, 0.0, f32::INFINITY).expect("hit");
         assert!((hit.t - 3.0).abs() < 1e-5);
         assert!(hit.triangle < 2);
         // Between the planes going down: only the lower one, and t_max can exclude it.
         let mid = Ray::new(Vec3::new(0.3, 0.6, -1.0), -Vec3::Z);
-        assert!((closest_hit(&nodes, &tris, &mid, 0.0, 10.0).expect("hit").t - 1.0).abs() < 1e-5);
-        assert_eq!(closest_hit(&nodes, &tris, &mid, 0.0, 0.9), None);
-        assert!(!any_hit(&nodes, &tris, &mid, 0.0, 0.9));
-        assert!(any_hit(&nodes, &tris, &mid, 0.0, 1.1));
+        assert!(
+            (closest_hit(&nodes, &tris, &[], &[], &[], 0, &mid, 0.0, 10.0)
+                .expect("hit")
+                .t
+                - 1.0)
+                .abs()
+                < 1e-5
+        );
+        assert_eq!(closest_hit(&nodes, &tris, &[], &[], &[], 0, &mid, 0.0, 0.9), None);
+        assert!(!any_hit(&nodes, &tris, &[], &[], &[], 0, &mid, 0.0, 0.9));
+        assert!(any_hit(&nodes, &tris, &[], &[], &[], 0, &mid, 0.0, 1.1));
         // Missing the root box.
         let away = Ray::new(Vec3::new(3.0, 0.5, 5.0), -Vec3::Z);
-        assert_eq!(closest_hit(&nodes, &tris, &away, 0.0, f32::INFINITY), None);
+        assert_eq!(
+            closest_hit(&nodes, &tris, &[], &[], &[], 0, &away, 0.0, f32::INFINITY),
+            None
+        );
+    }
+
+    /// The near square of [`two_planes`] cut out by material 1 (cutoff
+    /// 0.5), its base colour texture a 2x1 image whose left texel has alpha
+    /// 0 and right texel alpha 255 (UVs = `xy`): rays through the left half
+    /// reach the far square, rays through the right half stop; shadow rays
+    /// likewise. With the alpha factor at 0.25 the whole square is a hole;
+    /// unflagged, the same triangles are opaque.
+    #[test]
+    fn cut_out_holes_let_both_queries_through() {
+        use crate::abi::{MaterialGpu, TEXTURE_NONE};
+        use glam::Vec4;
+        let (nodes, mut tris) = two_planes();
+        for t in &mut tris[2..] {
+            t.v0.w = 1.0;
+            t.v2.w = CUT_OUT;
+        }
+        let attrs: Vec<TriangleAttrGpu> = tris
+            .iter()
+            .map(|t| TriangleAttrGpu {
+                uv01: Vec4::new(t.v0.x, t.v0.y, t.v1.x, t.v1.y),
+                uv2: Vec4::new(t.v2.x, t.v2.y, 0.0, 0.0),
+                ids: UVec4::ZERO,
+            })
+            .collect();
+        let images = [4u32, 2, 1, 0, 0x00FF_FFFF, 0xFFFF_FFFF];
+        let mut mask = MaterialGpu::untextured(Vec4::ONE, Vec4::ZERO);
+        mask.textures = UVec4::new(0, 0, TEXTURE_NONE, 0);
+        mask.alpha = Vec4::new(0.5, 1.0, 0.0, 0.0);
+        let mut materials = [MaterialGpu::untextured(Vec4::ONE, Vec4::ZERO), mask];
+        let down = |x: f32| Ray::new(Vec3::new(x, 0.5, 5.0), -Vec3::Z);
+        let closest = |m: &[MaterialGpu], t: &[TriangleGpu], x: f32| {
+            closest_hit(&nodes, t, m, &attrs, &images, 1, &down(x), 0.0, f32::INFINITY).map(|h| h.t)
+        };
+        let blocked =
+            |m: &[MaterialGpu], x: f32| any_hit(&nodes, &tris, m, &attrs, &images, 1, &down(x), 0.0, 6.0);
+        assert_eq!(closest(&materials, &tris, 0.25), Some(7.0), "through the hole");
+        assert_eq!(closest(&materials, &tris, 0.75), Some(5.0), "on the opaque half");
+        assert!(!blocked(&materials, 0.25) && blocked(&materials, 0.75));
+        // Alpha factor 0.25: everything is below the cutoff.
+        materials[1].alpha.y = 0.25;
+        assert_eq!(closest(&materials, &tris, 0.75), Some(7.0));
+        assert!(!blocked(&materials, 0.75));
+        // Unflagged triangles are not tested (opaque).
+        let (_, opaque) = two_planes();
+        assert_eq!(closest(&materials, &opaque, 0.25), Some(5.0));
     }
 
     #[test]
@@ -249,7 +389,7 @@ mod tests {
         let (_, tris) = two_planes();
         let nodes = vec![node(Vec3::new(0.0, 0.0, -2.0), Vec3::new(1.0, 1.0, 0.0), 4, 0)];
         let ray = Ray::new(Vec3::new(0.7, 0.2, 1.0), -Vec3::Z);
-        let hit = closest_hit(&nodes, &tris, &ray, 0.0, f32::INFINITY).expect("hit");
+        let hit = closest_hit(&nodes, &tris, &[], &[], &[], 0, &ray, 0.0, f32::INFINITY).expect("hit");
         assert!((hit.t - 1.0).abs() < 1e-6 && hit.triangle >= 2);
     }
 }

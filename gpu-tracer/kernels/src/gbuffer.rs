@@ -44,7 +44,17 @@ pub fn gbuffer_pixel(
     let ray = primary_ray(params, pixel.x, pixel.y, Vec2::splat(0.5));
     let current = CameraView::current(params);
     let prev = CameraView::previous(params);
-    let hit = match closest_hit(nodes, triangles, &ray, 0.0, f32::MAX) {
+    let hit = match closest_hit(
+        nodes,
+        triangles,
+        materials,
+        attrs,
+        images,
+        params.image_count,
+        &ray,
+        0.0,
+        f32::MAX,
+    ) {
         Some(hit) => hit,
         None => {
             let mut motion = Vec4::ZERO;

@@ -2,8 +2,8 @@
 //! emission after the material's textures, and the metallic-roughness
 //! parameters after theirs.
 
-use crate::abi::{MaterialGpu, TriangleAttrGpu, TEXEL_LINEAR, TEXTURE_NONE};
-use crate::texture::sample_image;
+use crate::abi::{MaterialGpu, TriangleAttrGpu, UvTransformGpu, TEXEL_LINEAR, TEXTURE_NONE, UV_TRANSFORM};
+use crate::texture::{sample_alpha, sample_image};
 use glam::{Vec2, Vec3};
 
 /// Texture coordinates at barycentrics `(u, v)` of a triangle (the point
@@ -17,11 +17,14 @@ pub fn triangle_uv(attr: &TriangleAttrGpu, u: f32, v: f32) -> Vec2 {
 }
 
 /// Albedo (linear RGB, each in `[0, 1]`) of `material` at texture
-/// coordinates `uv`: the material's albedo times its base colour texture,
+/// coordinates `uv` (the surface's, before any texture transform): the
+/// material's albedo times its base colour texture (at its transformed
+/// coordinates, [`texture_uv`]),
 /// or the albedo alone (bit for bit) without a texture.
 #[inline]
 pub fn surface_albedo(material: &MaterialGpu, images: &[u32], image_count: u32, uv: Vec2) -> Vec3 {
     let t = material.textures;
+    let uv = texture_uv(t.y, &material.base_color_uv, uv);
     textured(material.albedo.truncate(), images, image_count, t.x, t.y, uv)
 }
 
@@ -31,7 +34,24 @@ pub fn surface_albedo(material: &MaterialGpu, images: &[u32], image_count: u32, 
 #[inline]
 pub fn surface_emission(material: &MaterialGpu, images: &[u32], image_count: u32, uv: Vec2) -> Vec3 {
     let t = material.textures;
+    let uv = texture_uv(t.w, &material.emission_uv, uv);
     textured(material.emission.truncate(), images, image_count, t.z, t.w, uv)
+}
+
+/// Base colour alpha (linear, `>= 0`) of `material` at `uv`: the base
+/// colour factor's alpha ([`MaterialGpu::alpha`]`.y`) times the base
+/// colour texture's alpha at its transformed coordinates, or the factor
+/// alone without a texture. What an alpha cut-out compares with its cutoff.
+#[inline]
+pub fn surface_alpha(material: &MaterialGpu, images: &[u32], image_count: u32, uv: Vec2) -> f32 {
+    let t = material.textures;
+    let factor = material.alpha.y;
+    if t.x == TEXTURE_NONE {
+        factor
+    } else {
+        let uv = texture_uv(t.y, &material.base_color_uv, uv);
+        factor * sample_alpha(images, image_count, t.x, t.y, uv)
+    }
 }
 
 /// `(metallic, roughness)` of `material` at `uv`: [`MaterialGpu::pbr`]'s
@@ -51,8 +71,21 @@ pub fn surface_metallic_roughness(
     if m.y == TEXTURE_NONE {
         factors
     } else {
+        let uv = texture_uv(m.z, &material.metal_rough_uv, uv);
         let t = sample_image(images, image_count, m.y, m.z | TEXEL_LINEAR, uv);
         factors * Vec2::new(t.z, t.y)
+    }
+}
+
+/// The coordinates a texture with sampler flags `flags` reads at the
+/// surface's `uv`: `transform` applied when `flags` carry [`UV_TRANSFORM`]
+/// (glTF `KHR_texture_transform`), `uv` itself (bit for bit) otherwise.
+#[inline]
+pub fn texture_uv(flags: u32, transform: &UvTransformGpu, uv: Vec2) -> Vec2 {
+    if flags & UV_TRANSFORM != 0 {
+        transform.apply(uv)
+    } else {
+        uv
     }
 }
 

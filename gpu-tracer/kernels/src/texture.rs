@@ -95,6 +95,47 @@ pub fn sample_image(images: &[u32], image_count: u32, image: u32, flags: u32, uv
     if image >= image_count {
         return Vec3::ONE;
     }
+    let (image, x, y) = locate(images, image, flags, uv);
+    if flags & FILTER_BILINEAR == 0 {
+        image.fetch(images, libm::floorf(x) as i32, libm::floorf(y) as i32)
+    } else {
+        let (fx, fy) = (x - 0.5, y - 0.5);
+        let (x0, y0) = (libm::floorf(fx), libm::floorf(fy));
+        let (tx, ty) = (fx - x0, fy - y0);
+        let (i, j) = (x0 as i32, y0 as i32);
+        let top = image.fetch(images, i, j) * (1.0 - tx) + image.fetch(images, i + 1, j) * tx;
+        let bottom = image.fetch(images, i, j + 1) * (1.0 - tx) + image.fetch(images, i + 1, j + 1) * tx;
+        top * (1.0 - ty) + bottom * ty
+    }
+}
+
+/// Alpha (linear, `a / 255`, in `[0, 1]`) of image `image` of `images` at
+/// `uv`, sampled with `flags` like [`sample_image`] (same texels, same
+/// bilinear weights). An image index at or beyond `image_count` returns 1.
+#[inline]
+pub fn sample_alpha(images: &[u32], image_count: u32, image: u32, flags: u32, uv: Vec2) -> f32 {
+    if image >= image_count {
+        return 1.0;
+    }
+    let (image, x, y) = locate(images, image, flags, uv);
+    if flags & FILTER_BILINEAR == 0 {
+        image.fetch_alpha(images, libm::floorf(x) as i32, libm::floorf(y) as i32)
+    } else {
+        let (fx, fy) = (x - 0.5, y - 0.5);
+        let (x0, y0) = (libm::floorf(fx), libm::floorf(fy));
+        let (tx, ty) = (fx - x0, fy - y0);
+        let (i, j) = (x0 as i32, y0 as i32);
+        let top = image.fetch_alpha(images, i, j) * (1.0 - tx) + image.fetch_alpha(images, i + 1, j) * tx;
+        let bottom =
+            image.fetch_alpha(images, i, j + 1) * (1.0 - tx) + image.fetch_alpha(images, i + 1, j + 1) * tx;
+        top * (1.0 - ty) + bottom * ty
+    }
+}
+
+/// Image `image`'s header (`image < image_count`) and `uv` in texel units
+/// after the wrap modes' reduction (before filtering).
+#[inline]
+fn locate(images: &[u32], image: u32, flags: u32, uv: Vec2) -> (ImageRef, f32, f32) {
     let h = (image.wrapping_mul(IMAGE_HEADER_WORDS)) as usize;
     let offset = images[h];
     let width = images[h + 1].max(1) as i32;
@@ -110,17 +151,7 @@ pub fn sample_image(images: &[u32], image_count: u32, image: u32, flags: u32, uv
         wrap_v,
         linear: flags & TEXEL_LINEAR != 0,
     };
-    if flags & FILTER_BILINEAR == 0 {
-        image.fetch(images, libm::floorf(x) as i32, libm::floorf(y) as i32)
-    } else {
-        let (fx, fy) = (x - 0.5, y - 0.5);
-        let (x0, y0) = (libm::floorf(fx), libm::floorf(fy));
-        let (tx, ty) = (fx - x0, fy - y0);
-        let (i, j) = (x0 as i32, y0 as i32);
-        let top = image.fetch(images, i, j) * (1.0 - tx) + image.fetch(images, i + 1, j) * tx;
-        let bottom = image.fetch(images, i, j + 1) * (1.0 - tx) + image.fetch(images, i + 1, j + 1) * tx;
-        top * (1.0 - ty) + bottom * ty
-    }
+    (image, x, y)
 }
 
 /// One image's header and wrap modes.
@@ -136,13 +167,25 @@ struct ImageRef {
 }
 
 impl ImageRef {
-    /// Linear RGB (or data) of texel `(i, j)` after wrapping.
+    /// The packed texel `(i, j)` after wrapping.
     #[inline]
-    fn fetch(&self, images: &[u32], i: i32, j: i32) -> Vec3 {
+    fn texel(&self, images: &[u32], i: i32, j: i32) -> u32 {
         let i = wrap_index(i, self.width, self.wrap_u);
         let j = wrap_index(j, self.height, self.wrap_v);
         let k = self.offset.wrapping_add((j * self.width + i) as u32);
-        let texel = images[k as usize];
+        images[k as usize]
+    }
+
+    /// Alpha of texel `(i, j)` after wrapping: `a / 255`.
+    #[inline]
+    fn fetch_alpha(&self, images: &[u32], i: i32, j: i32) -> f32 {
+        (self.texel(images, i, j) >> 24) as f32 * (1.0 / 255.0)
+    }
+
+    /// Linear RGB (or data) of texel `(i, j)` after wrapping.
+    #[inline]
+    fn fetch(&self, images: &[u32], i: i32, j: i32) -> Vec3 {
+        let texel = self.texel(images, i, j);
         if self.linear {
             decode_texel_linear(texel)
         } else {
@@ -211,6 +254,20 @@ mod tests {
         );
         // Bad image index: white.
         assert_eq!(sample_image(&img, 1, 1, 0, Vec2::ZERO), Vec3::ONE);
+    }
+
+    /// Alpha reads the top byte as `a / 255`, at the texels and with the
+    /// weights of the colour lookup.
+    #[test]
+    fn alpha_lookup_reads_the_alpha_byte() {
+        let mut img = images();
+        img[4] = 0x0000_0000; // top left: alpha 0
+        let at = |u: f32, v: f32, flags: u32| sample_alpha(&img, 1, 0, flags, Vec2::new(u, v));
+        assert_eq!(at(0.25, 0.25, WRAP_REPEAT), 0.0);
+        assert_eq!(at(0.75, 0.25, WRAP_REPEAT), 1.0);
+        let clamp = WRAP_CLAMP | WRAP_CLAMP << 2 | FILTER_BILINEAR;
+        assert!((at(0.5, 0.25, clamp) - 0.5).abs() < 1e-6);
+        assert_eq!(sample_alpha(&img, 1, 3, 0, Vec2::ZERO), 1.0);
     }
 
     #[test]

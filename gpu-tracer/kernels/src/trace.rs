@@ -209,7 +209,17 @@ pub(crate) fn trace_sample_with(
     while depth < max_depth {
         // f32::MAX, not INFINITY: naga rejects infinite literals in SPIR-V.
         *rays += 1;
-        let hit = match closest_hit(nodes, triangles, &ray, 0.0, f32::MAX) {
+        let hit = match closest_hit(
+            nodes,
+            triangles,
+            materials,
+            attrs,
+            images,
+            params.image_count,
+            &ray,
+            0.0,
+            f32::MAX,
+        ) {
             Some(h) => h,
             None => {
                 let weight = environment_mis_weight(params, environment, ray.dir, bsdf_pdf);
@@ -268,7 +278,19 @@ pub(crate) fn trace_sample_with(
                         1.0
                     };
                     *rays += 1;
-                    if !any_hit(nodes, triangles, &Ray::new(origin, light.wi), 0.0, light.t_max) {
+                    let shadow = Ray::new(origin, light.wi);
+                    let blocked = any_hit(
+                        nodes,
+                        triangles,
+                        materials,
+                        attrs,
+                        images,
+                        params.image_count,
+                        &shadow,
+                        0.0,
+                        light.t_max,
+                    );
+                    if !blocked {
                         radiance += throughput * brdf_cos * light.radiance * (weight / light.pdf);
                     }
                 }

@@ -10,6 +10,15 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::json::validation::Checked;
 use std::path::Path;
 
+/// The extension that allows integer positions and more integer texture
+/// coordinates (files that use it must list it in `extensionsUsed`; read
+/// by the `attribute` module).
+pub(super) const MESH_QUANTIZATION: &str = "KHR_mesh_quantization";
+
+/// Extensions implemented here rather than by the `gltf` crate (whose
+/// validation refuses files that require an extension it does not know).
+const LOADER_EXTENSIONS: &[&str] = &[MESH_QUANTIZATION];
+
 /// Largest element count of a sparse accessor without a base buffer view
 /// (its elements are materialised: 2^24 positions are 192 MiB).
 const MAX_SPARSE_ONLY_COUNT: usize = 1 << 24;
@@ -52,8 +61,12 @@ impl<'p> Loader<'p> {
         // The gltf crate indexes some arrays without bounds checks (in its
         // validation and accessors): check those first.
         precheck_json(path, document.as_json())?;
-        let document =
-            gltf::Document::from_json(document.into_json()).map_err(|e| load("JSON validation", e))?;
+        let mut json = document.into_json();
+        // Extensions this loader implements but the `gltf` crate's validation
+        // does not know: accepted when required.
+        json.extensions_required
+            .retain(|e| !LOADER_EXTENSIONS.contains(&e.as_str()));
+        let document = gltf::Document::from_json(json).map_err(|e| load("JSON validation", e))?;
         check_buffer_views(path, &document)?;
         let base = path.parent().unwrap_or(Path::new("."));
 

@@ -19,7 +19,7 @@
 
 use super::loader::{check_uri, label, short_uri, Loader};
 use crate::error::{Error, Result};
-use crate::scene::{Bsdf, Filter, Image, Material, TextureRef, Wrap};
+use crate::scene::{Alpha, Bsdf, Filter, Image, Material, TextureRef, UvTransform, Wrap};
 use glam::{Vec3, Vec4};
 
 /// Base colour of primitives without a material (glTF's default material:
@@ -33,7 +33,7 @@ impl<'p> Loader<'p> {
     pub(super) fn materials(&mut self) -> Result<(Vec<Material>, Vec<Option<u32>>)> {
         let mut materials = Vec::new();
         let mut sets = Vec::new();
-        let (mut specular, mut normal, mut occlusion, mut alpha) = (false, false, false, false);
+        let (mut specular, mut normal, mut occlusion, mut blend) = (false, false, false, false);
         for m in self.document.materials() {
             let index = m.index().unwrap_or(materials.len());
             let name = m
@@ -43,8 +43,32 @@ impl<'p> Loader<'p> {
             let pbr = m.pbr_metallic_roughness();
             normal |= m.normal_texture().is_some();
             occlusion |= m.occlusion_texture().is_some();
-            alpha |= m.alpha_mode() != gltf::material::AlphaMode::Opaque;
-            let albedo = Vec4::from(pbr.base_color_factor()).truncate();
+            let base_factor = Vec4::from(pbr.base_color_factor());
+            let albedo = base_factor.truncate();
+            let alpha = match m.alpha_mode() {
+                gltf::material::AlphaMode::Opaque => Alpha::Opaque,
+                gltf::material::AlphaMode::Blend => {
+                    blend = true;
+                    Alpha::Opaque
+                }
+                gltf::material::AlphaMode::Mask => {
+                    let cutoff = m.alpha_cutoff().unwrap_or(0.5);
+                    if !(cutoff.is_finite() && cutoff >= 0.0) {
+                        return Err(self.content(
+                            element(),
+                            format!("alphaCutoff {cutoff} is negative or not finite"),
+                        ));
+                    }
+                    let factor = base_factor.w;
+                    if !(0.0..=1.0).contains(&factor) {
+                        return Err(self.content(
+                            element(),
+                            format!("base colour factor alpha {factor} is not in [0, 1]"),
+                        ));
+                    }
+                    Alpha::Mask { cutoff, factor }
+                }
+            };
             let strength = m.emissive_strength().unwrap_or(1.0);
             let emission = Vec3::from(m.emissive_factor()) * strength;
             for (what, c) in [("base colour factor", albedo), ("emission", emission)] {
@@ -57,9 +81,9 @@ impl<'p> Loader<'p> {
             let metal_rough = pbr.metallic_roughness_texture();
             let mut set: Option<(&str, u32)> = None;
             for (what, t) in [
-                ("base colour", base.as_ref().map(|t| t.tex_coord())),
-                ("emissive", emissive.as_ref().map(|t| t.tex_coord())),
-                ("metallic-roughness", metal_rough.as_ref().map(|t| t.tex_coord())),
+                ("base colour", base.as_ref().map(tex_coord)),
+                ("emissive", emissive.as_ref().map(tex_coord)),
+                ("metallic-roughness", metal_rough.as_ref().map(tex_coord)),
             ] {
                 match (set, t) {
                     (Some((first, a)), Some(b)) if a != b => {
@@ -83,16 +107,17 @@ impl<'p> Loader<'p> {
                 Bsdf::MetallicRoughness {
                     metallic,
                     roughness,
-                    texture: metal_rough.map(|t| texture_ref(&t.texture())),
+                    texture: metal_rough.as_ref().map(texture_ref),
                 }
             };
             materials.push(Material {
                 name,
                 albedo,
                 emission,
-                base_color_texture: base.map(|t| texture_ref(&t.texture())),
-                emission_texture: emissive.map(|t| texture_ref(&t.texture())),
+                base_color_texture: base.as_ref().map(texture_ref),
+                emission_texture: emissive.as_ref().map(texture_ref),
                 bsdf,
+                alpha,
             });
             sets.push(set.map(|(_, s)| s));
         }
@@ -106,9 +131,9 @@ impl<'p> Loader<'p> {
             self.notices
                 .push("normal and occlusion textures are ignored".into());
         }
-        if alpha {
+        if blend {
             self.notices
-                .push("alpha (BLEND and MASK alpha modes) is ignored: surfaces are opaque".into());
+                .push("alphaMode BLEND is not supported: those materials are rendered opaque".into());
         }
         Ok((materials, sets))
     }
@@ -159,10 +184,20 @@ impl<'p> Loader<'p> {
     }
 }
 
-/// A [`TextureRef`] with the texture's sampler settings; `image` holds the
-/// glTF image index until remapped.
-fn texture_ref(texture: &gltf::Texture) -> TextureRef {
+/// The texture coordinate set a texture reads: `KHR_texture_transform`'s
+/// `texCoord` when it has one, the texture info's otherwise.
+fn tex_coord(info: &gltf::texture::Info) -> u32 {
+    info.texture_transform()
+        .and_then(|t| t.tex_coord())
+        .unwrap_or(info.tex_coord())
+}
+
+/// A [`TextureRef`] with the texture's sampler settings and its
+/// `KHR_texture_transform` (offset, rotation, scale); `image` holds the glTF
+/// image index until remapped.
+fn texture_ref(info: &gltf::texture::Info) -> TextureRef {
     use gltf::texture::{MagFilter, WrappingMode};
+    let texture = info.texture();
     let sampler = texture.sampler();
     let wrap = |m| match m {
         WrappingMode::Repeat => Wrap::Repeat,
@@ -177,6 +212,9 @@ fn texture_ref(texture: &gltf::Texture) -> TextureRef {
             Some(MagFilter::Nearest) => Filter::Nearest,
             Some(MagFilter::Linear) | None => Filter::Bilinear,
         },
+        transform: info
+            .texture_transform()
+            .map(|t| UvTransform::from_offset_rotation_scale(t.offset(), t.rotation(), t.scale())),
     }
 }
 

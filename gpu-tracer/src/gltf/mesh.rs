@@ -2,6 +2,7 @@
 //! with their texture coordinates (triangles, strips and fans, indexed or
 //! not, sparse accessors included).
 
+use super::attribute::Attribute;
 use super::loader::Loader;
 use crate::error::{Error, Result};
 use glam::{Vec2, Vec3};
@@ -30,21 +31,12 @@ impl<'p> Loader<'p> {
         let Some(positions) = primitive.get(&gltf::Semantic::Positions) else {
             return Err(self.content(element, "has no POSITION attribute"));
         };
-        self.check_accessor(
-            &positions,
-            element,
-            "POSITION",
-            &[(DataType::F32, Dimensions::Vec3)],
-            false,
-        )?;
         let reader = primitive.reader(|b| self.buffers.get(b.index()).map(|d| d.0.as_slice()));
-        let points: Vec<Vec3> = reader
-            .read_positions()
-            .map(|it| it.map(Vec3::from).collect())
-            .unwrap_or_default();
-        if points.len() != positions.count() {
-            return Err(self.content(element, "POSITION data cannot be read"));
-        }
+        let points: Vec<Vec3> = self
+            .read_attribute::<3>(&positions, element, "POSITION", Attribute::Position)?
+            .into_iter()
+            .map(Vec3::from)
+            .collect();
         if let Some(vertex) = points.iter().position(|p| !p.is_finite()) {
             return Err(Error::NonFiniteVertex {
                 path: self.path.to_path_buf(),
@@ -63,21 +55,11 @@ impl<'p> Loader<'p> {
                         format!("its material is textured but the primitive has no {what}"),
                     ));
                 };
-                self.check_accessor(
-                    &acc,
-                    element,
-                    &what,
-                    &[
-                        (DataType::F32, Dimensions::Vec2),
-                        (DataType::U8, Dimensions::Vec2),
-                        (DataType::U16, Dimensions::Vec2),
-                    ],
-                    true,
-                )?;
-                let uvs: Vec<Vec2> = reader
-                    .read_tex_coords(set)
-                    .map(|it| it.into_f32().map(Vec2::from).collect())
-                    .unwrap_or_default();
+                let uvs: Vec<Vec2> = self
+                    .read_attribute::<2>(&acc, element, &what, Attribute::TexCoord)?
+                    .into_iter()
+                    .map(Vec2::from)
+                    .collect();
                 if uvs.len() != points.len() {
                     return Err(self.content(
                         element,

@@ -8,24 +8,40 @@
 //!   `TRIANGLES`, `TRIANGLE_STRIP` and `TRIANGLE_FAN` primitives, indexed or
 //!   not (strips and fans are converted to triangles, dropping the
 //!   degenerate ones that repeat a vertex); `POINTS` and `LINE*` primitives
-//!   are an error. Positions must be `VEC3` floats. A mirroring node
+//!   are an error. Positions are `VEC3` floats, or 8/16-bit integers
+//!   (normalised or not) in files that declare `KHR_mesh_quantization`
+//!   (the dequantising scale and offset live in the node transforms, as
+//!   the extension intends). A mirroring node
 //!   transform (negative determinant) swaps two vertices of each triangle
 //!   so that the front side (counter-clockwise, the emitting side) stays the
 //!   authored one. Each (node, mesh) pair is one object
 //!   ([`Triangle::object`]), numbered in scene traversal order (depth first,
 //!   children in file order).
-//! - **Materials**: base colour factor (rgb; alpha ignored) is the albedo,
-//!   the base colour texture multiplies it; emissive factor times
+//! - **Materials**: base colour factor (rgb) is the albedo, the base colour
+//!   texture multiplies it; emissive factor times
 //!   `KHR_materials_emissive_strength` is the emission, the emissive texture
 //!   multiplies it. Textures keep their sampler's wrap modes and
 //!   magnification filter (`NEAREST` -> [`Filter::Nearest`], `LINEAR` or
 //!   none -> [`Filter::Bilinear`]) and read the `TEXCOORD_n` set the
-//!   material names (float or normalised 8/16-bit). Reflection is the
+//!   material names (float or normalised unsigned 8/16-bit; with
+//!   `KHR_mesh_quantization` also signed and not-normalised 8/16-bit
+//!   integers: the `attribute` module's table). Reflection is the
 //!   specification's metallic-roughness BRDF with its factors (defaults
 //!   metallic 1, roughness 1) and `metallicRoughnessTexture` (blue metallic,
 //!   green roughness, linear), or Lambertian for a non-metal with
 //!   `KHR_materials_specular` `specularFactor` 0 (the `material` module's
-//!   docs). Normal and occlusion maps and alpha are ignored with a notice. A
+//!   docs). `KHR_texture_transform` (offset, rotation, scale, `texCoord`
+//!   override) applies to each of the three textures on its own: the
+//!   transform travels with the texture to the kernels
+//!   (`kernels::abi::UvTransformGpu`), nothing is baked into the vertices,
+//!   so textures of one material may use different transforms (they must
+//!   still read one `TEXCOORD_n` set). `alphaMode` `MASK` cuts holes where
+//!   the base colour alpha (factor times texture alpha) is below
+//!   `alphaCutoff` (default 0.5; negative or infinite cutoffs are an error):
+//!   camera, bounce and shadow rays pass through them
+//!   ([`Alpha::Mask`](crate::scene::Alpha::Mask)); `BLEND` is rendered
+//!   opaque with a notice. Normal and occlusion maps are ignored with a
+//!   notice. A
 //!   primitive without material gets glTF's default material: base colour
 //!   1, metallic 1, roughness 1, no emission.
 //! - **Images**: whatever the `gltf` crate decodes (PNG, JPEG), converted to
@@ -53,10 +69,11 @@
 //! [`Rig::pose`] gives the animated triangles and camera at any time.
 //!
 //! Extensions other than `KHR_materials_emissive_strength`,
-//! `KHR_lights_punctual` and `KHR_materials_specular` (its
-//! `specularFactor` 0 only) are ignored with a notice when merely used
-//! (`KHR_texture_transform`, ...) and rejected by the `gltf` crate when
-//! required.
+//! `KHR_materials_specular` (its `specularFactor` 0 only),
+//! `KHR_lights_punctual`, `KHR_mesh_quantization` and
+//! `KHR_texture_transform` are ignored with a notice when merely used (for
+//! example `KHR_materials_transmission`) and rejected by the `gltf` crate
+//! when required (for example `KHR_texture_basisu`).
 //!
 //! [`Filter::Nearest`]: crate::scene::Filter::Nearest
 //! [`Filter::Bilinear`]: crate::scene::Filter::Bilinear
@@ -70,13 +87,20 @@
 //!   buffer views, URIs, accessors);
 //! - `nodes`: the scene's node hierarchy and rest transforms;
 //! - `mesh`: the triangles of each mesh primitive;
+//! - `attribute`: vertex attributes of every component type (floats and
+//!   `KHR_mesh_quantization`'s integers) as `f32`;
 //! - `material`: materials, texture references and image conversion;
 //! - `camera`: the chosen camera node;
 //! - `animation`: the animation channels;
-//! - `tests`: tests of the whole loader on the fixtures.
+//! - `tests`: tests of the whole loader on the fixtures;
+//! - `extension_tests`: texture transforms and alpha cut-outs on patched
+//!   fixtures.
 
 mod animation;
+mod attribute;
 mod camera;
+#[cfg(test)]
+mod extension_tests;
 mod lights;
 mod loader;
 mod material;
@@ -99,6 +123,8 @@ const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_emissive_strength",
     "KHR_materials_specular",
     "KHR_lights_punctual",
+    "KHR_texture_transform",
+    loader::MESH_QUANTIZATION,
 ];
 
 /// A loaded glTF scene.

@@ -117,7 +117,8 @@ fn textured_quad_loads_geometry_materials_texture_and_camera() {
             image: 0,
             wrap_u: Wrap::Repeat,
             wrap_v: Wrap::Repeat,
-            filter: Filter::Nearest
+            filter: Filter::Nearest,
+            transform: None
         })
     );
     assert!(s.materials[1]
@@ -389,9 +390,8 @@ fn ignored_features_give_notices() {
             .expect("pbr")
             .remove("metallicFactor"); // glTF's default: 1
         doc["materials"][1]["normalTexture"] = json!({"index": 0});
-        doc["extensionsUsed"] = json!(["KHR_materials_emissive_strength", "KHR_texture_transform"]);
-        doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] =
-            json!({"KHR_texture_transform": {"scale": [2, 2]}});
+        doc["extensionsUsed"] = json!(["KHR_materials_emissive_strength", "KHR_materials_sheen"]);
+        doc["materials"][0]["extensions"]["KHR_materials_sheen"] = json!({"sheenColorFactor": [1, 1, 1]});
     })
     .expect("loads");
     let n = &g.notices;
@@ -410,11 +410,11 @@ fn ignored_features_give_notices() {
         1,
         "{n:?}"
     );
-    assert!(n.iter().any(|l| l.contains("KHR_texture_transform")), "{n:?}");
+    assert!(n.iter().any(|l| l.contains("KHR_materials_sheen")), "{n:?}");
     assert!(n.iter().any(|l| l.contains("normal and occlusion")), "{n:?}");
     assert!(!n.iter().any(|l| l.contains("emissive_strength")), "{n:?}");
     // A required extension that is not supported is an error.
-    let err = load_patched(|doc, _| doc["extensionsRequired"] = json!(["KHR_texture_transform"]))
+    let err = load_patched(|doc, _| doc["extensionsRequired"] = json!(["KHR_materials_sheen"]))
         .expect_err("required");
     assert!(matches!(err, Error::GltfLoad { .. }), "{err}");
 }
@@ -436,6 +436,7 @@ fn metallic_roughness_factors_and_texture_are_read() {
         wrap_u: Wrap::Repeat,
         wrap_v: Wrap::Repeat,
         filter: Filter::Nearest,
+        transform: None,
     };
     assert_eq!(
         m[0].bsdf,

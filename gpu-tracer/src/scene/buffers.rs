@@ -2,15 +2,15 @@
 //! leaf order with their attributes, materials, images and the emitter list.
 
 use super::emitters::{emitter_list, scene_radius};
-use super::{Bsdf, Camera, CameraBasis, Filter, Image, Light, Scene, TextureRef, Triangle, Wrap};
+use super::{Alpha, Bsdf, Camera, CameraBasis, Filter, Image, Light, Scene, TextureRef, Triangle, Wrap};
 use crate::bvh::build_bvh;
 use crate::error::{Error, Result};
 use glam::{UVec4, Vec4};
 use glam::{Vec2, Vec3};
 use kernels::abi::{
-    BvhNodeGpu, EmitterGpu, MaterialGpu, TriangleAttrGpu, TriangleGpu, EMITTER_TRIANGLE, FILTER_BILINEAR,
-    GBUFFER_NO_HIT, IMAGE_HEADER_WORDS, MODEL_LAMBERT, MODEL_METALLIC_ROUGHNESS, TEXTURE_NONE, WRAP_CLAMP,
-    WRAP_MIRROR, WRAP_REPEAT,
+    BvhNodeGpu, EmitterGpu, MaterialGpu, TriangleAttrGpu, TriangleGpu, UvTransformGpu, CUT_OUT,
+    EMITTER_TRIANGLE, FILTER_BILINEAR, GBUFFER_NO_HIT, IMAGE_HEADER_WORDS, MODEL_LAMBERT,
+    MODEL_METALLIC_ROUGHNESS, TEXTURE_NONE, UV_TRANSFORM, WRAP_CLAMP, WRAP_MIRROR, WRAP_REPEAT,
 };
 
 /// Largest material count: indices are stored as exact `f32` integers.
@@ -70,16 +70,19 @@ pub struct SceneGpu {
 
 impl SceneGpu {
     /// Validates `scene` and builds its buffers: BVH (obvhs, medium
-    /// preset), triangles reordered to leaf order with material index and
-    /// emitter-selection probability in `w`, materials, and the emitter list
-    /// (every front-emitting triangle with positive area and emission, then
-    /// every light, picked with probability proportional to power: the
+    /// preset), triangles reordered to leaf order with material index,
+    /// emitter-selection probability and cut-out flag in `w`, materials, and
+    /// the emitter list (every front-emitting triangle with positive area
+    /// and emission and an opaque material, then every light and the
+    /// environment map, picked with probability proportional to power: the
     /// `emitters` module).
     ///
     /// # Errors
     /// [`Error::NoTriangles`] for an empty scene, [`Error::NonFiniteVertex`],
     /// [`Error::InvalidMaterial`], [`Error::InvalidMaterialParameter`]
-    /// (metallic or roughness NaN or outside `[0, 1]`), [`Error::MaterialIndex`],
+    /// (metallic, roughness or alpha factor NaN or outside `[0, 1]`, alpha
+    /// cutoff NaN, infinite or negative), [`Error::InvalidTexture`] (an image
+    /// index out of range, a non-finite texture transform), [`Error::MaterialIndex`],
     /// [`Error::SceneTooLarge`], [`Error::InvalidCamera`],
     /// [`Error::InvalidLight`], [`Error::InvalidEnvironmentMap`],
     /// [`Error::BvhTooDeep`].
@@ -124,18 +127,32 @@ impl SceneGpu {
             if !ok {
                 return Err(Error::InvalidMaterial { name: m.name.clone() });
             }
-            let texture = |t: &Option<TextureRef>| -> Result<(u32, u32)> {
+            // (image, sampler flags, coordinate transform) of a texture.
+            let texture = |t: &Option<TextureRef>| -> Result<(u32, u32, UvTransformGpu)> {
                 match t {
-                    None => Ok((TEXTURE_NONE, 0)),
-                    Some(t) if (t.image as usize) < scene.images.len() => Ok((t.image, sampler_flags(t))),
-                    Some(t) => Err(Error::InvalidTexture {
+                    None => Ok((TEXTURE_NONE, 0, UvTransformGpu::IDENTITY)),
+                    Some(t) if (t.image as usize) >= scene.images.len() => Err(Error::InvalidTexture {
                         material: m.name.clone(),
                         reason: format!("image {} of {}", t.image, scene.images.len()),
                     }),
+                    Some(t) => match t.transform {
+                        None => Ok((t.image, sampler_flags(t), UvTransformGpu::IDENTITY)),
+                        Some(x) if x.rows.iter().flatten().all(|v| v.is_finite()) => {
+                            let [a, b] = x.rows;
+                            let row = |r: [f32; 3]| Vec3::from(r).extend(0.0);
+                            let gpu = UvTransformGpu { u: row(a), v: row(b) };
+                            Ok((t.image, sampler_flags(t) | UV_TRANSFORM, gpu))
+                        }
+                        Some(x) => Err(Error::InvalidTexture {
+                            material: m.name.clone(),
+                            reason: format!("texture transform {:?} is not finite", x.rows),
+                        }),
+                    },
                 }
             };
-            let (base, base_flags) = texture(&m.base_color_texture)?;
-            let (emit, emit_flags) = texture(&m.emission_texture)?;
+            let (base, base_flags, base_color_uv) = texture(&m.base_color_texture)?;
+            let (emit, emit_flags, emission_uv) = texture(&m.emission_texture)?;
+            let mut metal_rough_uv = UvTransformGpu::IDENTITY;
             let (pbr, model) = match m.bsdf {
                 Bsdf::Lambert => (Vec4::ZERO, UVec4::new(MODEL_LAMBERT, TEXTURE_NONE, 0, 0)),
                 Bsdf::MetallicRoughness {
@@ -153,11 +170,41 @@ impl SceneGpu {
                             });
                         }
                     }
-                    let (image, flags) = texture(&t)?;
+                    let (image, flags, uv) = texture(&t)?;
+                    metal_rough_uv = uv;
                     (
                         Vec4::new(metallic, roughness, 0.0, 0.0),
                         UVec4::new(MODEL_METALLIC_ROUGHNESS, image, flags, 0),
                     )
+                }
+            };
+            let alpha = match m.alpha {
+                Alpha::Opaque => Vec4::ZERO,
+                Alpha::Mask { cutoff, factor } => {
+                    for (parameter, value, ok, expected) in [
+                        (
+                            "alpha cutoff",
+                            cutoff,
+                            cutoff.is_finite() && cutoff >= 0.0,
+                            "a finite number >= 0",
+                        ),
+                        (
+                            "alpha factor",
+                            factor,
+                            (0.0..=1.0).contains(&factor),
+                            "a number in [0, 1]",
+                        ),
+                    ] {
+                        if !ok {
+                            return Err(Error::InvalidMaterialParameter {
+                                name: m.name.clone(),
+                                parameter,
+                                value,
+                                expected,
+                            });
+                        }
+                    }
+                    Vec4::new(cutoff, factor, 0.0, 0.0)
                 }
             };
             materials.push(MaterialGpu {
@@ -166,6 +213,10 @@ impl SceneGpu {
                 textures: UVec4::new(base, base_flags, emit, emit_flags),
                 pbr,
                 model,
+                alpha,
+                base_color_uv,
+                emission_uv,
+                metal_rough_uv,
             });
         }
         let (images, image_count) = pack_images(&scene.images)?;
@@ -357,10 +408,11 @@ fn build_geometry(
     for &orig in &bvh.primitive_indices {
         let t = triangles_in[orig as usize];
         let [a, b, c] = t.vertices;
+        let cut_out = materials[t.material as usize].alpha.x > 0.0;
         triangles.push(TriangleGpu {
             v0: a.extend(t.material as f32),
             v1: b.extend(0.0),
-            v2: c.extend(0.0),
+            v2: c.extend(if cut_out { CUT_OUT } else { 0.0 }),
         });
         attrs.push(TriangleAttrGpu {
             uv01: Vec4::new(t.uvs[0].x, t.uvs[0].y, t.uvs[1].x, t.uvs[1].y),
@@ -665,6 +717,7 @@ pub(super) mod tests {
             wrap_u: Wrap::Clamp,
             wrap_v: Wrap::Mirror,
             filter: Filter::Bilinear,
+            transform: None,
         });
         let gpu = SceneGpu::build(&scene).expect("valid");
         assert_eq!(gpu.image_count, 2);

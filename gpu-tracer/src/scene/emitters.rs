@@ -1,6 +1,8 @@
 //! The emitter list next-event estimation picks from
 //! ([`kernels::abi::EmitterGpu`]): every front-emitting triangle with
-//! positive area and emission, then every punctual light with positive
+//! positive area and emission whose material cuts no holes (a cut-out
+//! emitter stays out: light samples would land in its holes; BSDF sampling
+//! finds it, weight 1), then every punctual light with positive
 //! power, then the environment map if it is not black, each picked with
 //! probability proportional to its power.
 //!
@@ -14,7 +16,7 @@
 
 use super::Light;
 use glam::Vec3;
-use kernels::abi::{EmitterGpu, MaterialGpu, TriangleGpu, EMITTER_ENVIRONMENT, EMITTER_TRIANGLE};
+use kernels::abi::{EmitterGpu, MaterialGpu, TriangleGpu, CUT_OUT, EMITTER_ENVIRONMENT, EMITTER_TRIANGLE};
 use kernels::trace::normal_and_area;
 
 /// The emitter list of `triangles` (leaf order, material index in
@@ -36,7 +38,7 @@ pub(super) fn emitter_list(
         let emission = materials[t.v0.w as usize].emission.truncate();
         let (_, area) = normal_and_area(t.v0.truncate(), t.v1.truncate(), t.v2.truncate());
         let power = area as f64 * (emission.x as f64 + emission.y as f64 + emission.z as f64) / 3.0;
-        if power > 0.0 {
+        if power > 0.0 && t.v2.w != CUT_OUT {
             emitters.push(EmitterGpu {
                 kind: EMITTER_TRIANGLE,
                 triangle: i as u32,

@@ -38,13 +38,54 @@ pub struct Image {
     /// Height in texels, `>= 1`.
     pub height: u32,
     /// `width * height` texels, row-major from the top row, `[r, g, b, a]`
-    /// sRGB-encoded (alpha is ignored).
+    /// with sRGB-encoded colour and linear alpha.
     pub texels: Vec<[u8; 4]>,
+}
+
+/// An affine map of texture coordinates, `uv' = rows * (u, v, 1)`: glTF
+/// `KHR_texture_transform` (the GPU form is `kernels::abi::UvTransformGpu`,
+/// applied by `kernels::surface::texture_uv`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UvTransform {
+    /// The first two rows of the 3x3 matrix: `u' = rows[0] . (u, v, 1)`,
+    /// `v' = rows[1] . (u, v, 1)`. Finite (the GPU form refuses others).
+    pub rows: [[f32; 3]; 2],
+}
+
+impl UvTransform {
+    /// The identity map.
+    pub const IDENTITY: UvTransform = UvTransform {
+        rows: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+    };
+
+    /// `KHR_texture_transform`'s `translation * rotation * scale`: scale by
+    /// `scale`, rotate by `rotation` radians (counter-clockwise as the
+    /// image is seen, `v` pointing down: `(1, 0)` turns towards `(0, -1)`),
+    /// then add `offset` (in texture widths and heights). Computed in f64,
+    /// rounded once per entry. The extension's example (offset `(0, 1)`,
+    /// rotation `pi / 2`, scale `0.5`) maps the unit square onto the lower
+    /// left quadrant of the image.
+    pub fn from_offset_rotation_scale(offset: [f32; 2], rotation: f32, scale: [f32; 2]) -> Self {
+        let (sin, cos) = f64::from(rotation).sin_cos();
+        let (sx, sy) = (f64::from(scale[0]), f64::from(scale[1]));
+        UvTransform {
+            rows: [
+                [(sx * cos) as f32, (sy * sin) as f32, offset[0]],
+                [(-sx * sin) as f32, (sy * cos) as f32, offset[1]],
+            ],
+        }
+    }
+
+    /// `uv` mapped (in f32, the kernels' arithmetic).
+    pub fn apply(&self, uv: glam::Vec2) -> glam::Vec2 {
+        let [a, b] = self.rows;
+        glam::Vec2::new(a[0] * uv.x + a[1] * uv.y + a[2], b[0] * uv.x + b[1] * uv.y + b[2])
+    }
 }
 
 /// A texture: an image of [`Scene::images`](super::Scene::images) and how to
 /// sample it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TextureRef {
     /// Index into [`Scene::images`](super::Scene::images).
     pub image: u32,
@@ -54,6 +95,9 @@ pub struct TextureRef {
     pub wrap_v: Wrap,
     /// Filter.
     pub filter: Filter,
+    /// Transform of the surface's texture coordinates before the lookup
+    /// (glTF `KHR_texture_transform`); `None` reads them as they are.
+    pub transform: Option<UvTransform>,
 }
 
 /// How a [`Material`] reflects light.
@@ -86,6 +130,30 @@ pub enum Bsdf {
     },
 }
 
+/// Where a material's surface exists (glTF `alphaMode`): everywhere, or
+/// only where its base colour alpha reaches a cutoff.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Alpha {
+    /// Opaque everywhere: glTF `OPAQUE`, and `BLEND`, which is rendered as
+    /// opaque (the glTF loader says so in a notice).
+    #[default]
+    Opaque,
+    /// A cut-out (glTF `MASK`): where the base colour alpha, `factor` times
+    /// the base colour texture's alpha (linear, `a / 255`; 1 without a
+    /// texture), is below `cutoff`, there is no surface: camera,
+    /// continuation and shadow rays pass through. Elsewhere the surface is
+    /// opaque.
+    Mask {
+        /// glTF `alphaCutoff` (default 0.5), finite and `>= 0` (0: nothing
+        /// is cut; above 1: everything is); anything else is refused when
+        /// the GPU form is built.
+        cutoff: f32,
+        /// The base colour factor's alpha, in `[0, 1]`; anything else is
+        /// refused.
+        factor: f32,
+    },
+}
+
 /// A Lambertian or metallic-roughness material with optional emission and
 /// textures.
 ///
@@ -108,6 +176,9 @@ pub struct Material {
     pub emission_texture: Option<TextureRef>,
     /// The reflectance model ([`Bsdf::Lambert`] by default).
     pub bsdf: Bsdf,
+    /// Opaque or cut out by the base colour alpha ([`Alpha::Opaque`] by
+    /// default).
+    pub alpha: Alpha,
 }
 
 impl Material {
@@ -120,6 +191,7 @@ impl Material {
             base_color_texture: None,
             emission_texture: None,
             bsdf: Bsdf::Lambert,
+            alpha: Alpha::Opaque,
         }
     }
 

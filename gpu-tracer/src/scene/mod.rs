@@ -35,7 +35,7 @@ pub use buffers::{SceneGpu, MAX_IMAGE_WORDS, MAX_MATERIALS, MAX_TRIANGLES};
 pub use camera::{Camera, CameraBasis};
 pub use environment::EnvironmentMap;
 pub use light::{Light, LightKind};
-pub use material::{Bsdf, Filter, Image, Material, TextureRef, Wrap};
+pub use material::{Alpha, Bsdf, Filter, Image, Material, TextureRef, UvTransform, Wrap};
 pub use settings::{screen_sobol_max_spp, TraceSettings, ZSOBOL_MAX_SPP};
 
 use glam::{Vec2, Vec3};
