@@ -90,7 +90,9 @@ pub const WRAP_MIRROR: u32 = 2;
 /// Bit 4 of the sampler flags: bilinear filtering (clear: nearest texel).
 pub const FILTER_BILINEAR: u32 = 1 << 4;
 /// Images buffer layout: image `i`'s header is words `4 i .. 4 i + 4` =
-/// `(first texel word, width, height, 0)`; texels follow all headers, one
+/// `(first texel word, width, height, mip levels)` (levels `>= 1`, 0 reads
+/// as 1; the levels after the first follow the image's texels, each half
+/// the size of the one before: `crate::texture_filter`); texels follow all headers, one
 /// `u32` each, row-major from the top row, `r | g << 8 | b << 16 | a << 24`
 /// with sRGB-encoded colour and linear alpha (read by alpha cut-outs).
 pub const IMAGE_HEADER_WORDS: u32 = 4;

@@ -12,7 +12,8 @@ use crate::abi::{
 };
 use crate::bvh::closest_hit;
 use crate::camera::{primary_ray, CameraView};
-use crate::surface::{surface_albedo, surface_emission, triangle_uv};
+use crate::footprint::primary_footprint;
+use crate::surface::{has_textures, surface_albedo, surface_albedo_filtered, surface_emission, triangle_uv};
 use crate::trace::normal_and_area;
 use glam::{UVec2, UVec4, Vec2, Vec4};
 
@@ -83,7 +84,14 @@ pub fn gbuffer_pixel(
     let uv = triangle_uv(&attr, hit.u, hit.v);
     let cos_out = -ray.dir.dot(geo_normal);
     let normal = if cos_out > 0.0 { geo_normal } else { -geo_normal };
-    let albedo = surface_albedo(&material, images, params.image_count, uv);
+    // The albedo the camera ray's first hit shades with: filtered over the
+    // pixel's footprint (`crate::footprint`), as the trace pass reads it.
+    let albedo = if has_textures(&material) {
+        let (uv_centre, width) = primary_footprint(params, pixel, (v0, v1, v2), &attr, uv, hit.t);
+        surface_albedo_filtered(&material, images, params.image_count, uv_centre, width)
+    } else {
+        surface_albedo(&material, images, params.image_count, uv)
+    };
     let mut flags = GBUFFER_HIT;
     if cos_out > 0.0 && surface_emission(&material, images, params.image_count, uv).max_element() > 0.0 {
         flags |= GBUFFER_EMITTER;

@@ -13,7 +13,8 @@
 //!   [`lights`] next-event estimation's emitter choice and light samples
 //!   (emissive triangles, point, spot and directional lights),
 //!   [`geometry`] triangle normals and ray offsets,
-//!   [`environment`] what rays leaving the scene see, [`accumulate`] the running mean, [`texture`] image lookup and
+//!   [`environment`] what rays leaving the scene see, [`accumulate`] the running mean, [`texture`] image lookup, [`texture_filter`] lookups filtered over a
+//!   pixel's footprint (mip maps), [`footprint`] that footprint at a camera ray's first hit, and
 //!   [`surface`] textured albedo and emission, [`bsdf`] the reflectance
 //!   models (GGX microfacets and the glTF metallic-roughness BRDF, not yet
 //!   used by [`trace`]), [`gbuffer`] the G-buffer and
@@ -65,6 +66,7 @@ pub mod entry;
 pub mod environment;
 pub mod filter_entry;
 pub mod filters;
+pub mod footprint;
 pub mod gbuffer;
 pub mod geometry;
 pub mod intersect;
@@ -79,6 +81,7 @@ pub mod shading;
 pub mod surface;
 pub mod surface_features;
 pub mod texture;
+pub mod texture_filter;
 pub mod trace;
 
 pub use accumulate::accumulate_pixel;

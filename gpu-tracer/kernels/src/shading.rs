@@ -10,7 +10,7 @@
 //!   scenes render bit for bit as they did.
 //! - [`MODEL_METALLIC_ROUGHNESS`]: [`MetallicRoughness`] with base colour =
 //!   the albedo after the base colour texture, metallic and roughness after
-//!   the metallic-roughness texture ([`surface_metallic_roughness`]).
+//!   the metallic-roughness texture ([`crate::surface::surface_metallic_roughness`]).
 //!
 //! Surfaces are two-sided: the shading normal is the geometric normal
 //! flipped towards the outgoing direction `wo` (the caller passes it so), so
@@ -31,7 +31,7 @@
 use crate::abi::{MaterialGpu, MODEL_METALLIC_ROUGHNESS};
 use crate::bsdf::{to_local, BsdfSample, MetallicRoughness};
 use crate::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere, Frame};
-use crate::surface::{surface_albedo, surface_metallic_roughness};
+use crate::surface::{surface_albedo_filtered, surface_metallic_roughness_filtered};
 use core::f32::consts::FRAC_1_PI;
 use glam::{Vec2, Vec3};
 
@@ -63,12 +63,29 @@ impl Shading {
         normal: Vec3,
         wo: Vec3,
     ) -> Self {
-        let albedo = surface_albedo(material, images, image_count, uv);
+        Self::at_filtered(material, images, image_count, uv, 0.0, normal, wo)
+    }
+
+    /// [`Shading::at`] with the material's textures filtered over a
+    /// footprint of side `width` in texture coordinates
+    /// ([`crate::footprint`]; 0: point lookups, exactly [`Shading::at`]).
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    pub fn at_filtered(
+        material: &MaterialGpu,
+        images: &[u32],
+        image_count: u32,
+        uv: Vec2,
+        width: f32,
+        normal: Vec3,
+        wo: Vec3,
+    ) -> Self {
+        let albedo = surface_albedo_filtered(material, images, image_count, uv, width);
         let glossy = material.model.x == MODEL_METALLIC_ROUGHNESS;
         let frame = Frame::from_normal(normal);
         let (mut bsdf, mut wo_local) = (MetallicRoughness::new(albedo, 0.0, 1.0), Vec3::Z);
         if glossy {
-            let mr = surface_metallic_roughness(material, images, image_count, uv);
+            let mr = surface_metallic_roughness_filtered(material, images, image_count, uv, width);
             bsdf = MetallicRoughness::new(albedo, mr.x, mr.y);
             wo_local = to_local(&frame, wo);
         }

@@ -3,7 +3,8 @@
 //! parameters after theirs.
 
 use crate::abi::{MaterialGpu, TriangleAttrGpu, UvTransformGpu, TEXEL_LINEAR, TEXTURE_NONE, UV_TRANSFORM};
-use crate::texture::{sample_alpha, sample_image};
+use crate::texture::sample_alpha;
+use crate::texture_filter::sample_image_filtered;
 use glam::{Vec2, Vec3};
 
 /// Texture coordinates at barycentrics `(u, v)` of a triangle (the point
@@ -23,9 +24,25 @@ pub fn triangle_uv(attr: &TriangleAttrGpu, u: f32, v: f32) -> Vec2 {
 /// or the albedo alone (bit for bit) without a texture.
 #[inline]
 pub fn surface_albedo(material: &MaterialGpu, images: &[u32], image_count: u32, uv: Vec2) -> Vec3 {
+    surface_albedo_filtered(material, images, image_count, uv, 0.0)
+}
+
+/// [`surface_albedo`] with the texture filtered over a footprint of side
+/// `width` in the surface's texture coordinates
+/// ([`crate::texture_filter`]; 0: a point lookup, exactly
+/// [`surface_albedo`]).
+#[inline]
+pub fn surface_albedo_filtered(
+    material: &MaterialGpu,
+    images: &[u32],
+    image_count: u32,
+    uv: Vec2,
+    width: f32,
+) -> Vec3 {
     let t = material.textures;
+    let w = texture_width(t.y, &material.base_color_uv, width);
     let uv = texture_uv(t.y, &material.base_color_uv, uv);
-    textured(material.albedo.truncate(), images, image_count, t.x, t.y, uv)
+    textured(material.albedo.truncate(), images, image_count, t.x, t.y, uv, w)
 }
 
 /// Emitted radiance (linear RGB, `>= 0`) of `material` at `uv`: the
@@ -33,9 +50,23 @@ pub fn surface_albedo(material: &MaterialGpu, images: &[u32], image_count: u32, 
 /// without a texture.
 #[inline]
 pub fn surface_emission(material: &MaterialGpu, images: &[u32], image_count: u32, uv: Vec2) -> Vec3 {
+    surface_emission_filtered(material, images, image_count, uv, 0.0)
+}
+
+/// [`surface_emission`] with the texture filtered over a footprint of side
+/// `width` (as [`surface_albedo_filtered`]).
+#[inline]
+pub fn surface_emission_filtered(
+    material: &MaterialGpu,
+    images: &[u32],
+    image_count: u32,
+    uv: Vec2,
+    width: f32,
+) -> Vec3 {
     let t = material.textures;
+    let w = texture_width(t.w, &material.emission_uv, width);
     let uv = texture_uv(t.w, &material.emission_uv, uv);
-    textured(material.emission.truncate(), images, image_count, t.z, t.w, uv)
+    textured(material.emission.truncate(), images, image_count, t.z, t.w, uv, w)
 }
 
 /// Base colour alpha (linear, `>= 0`) of `material` at `uv`: the base
@@ -66,14 +97,50 @@ pub fn surface_metallic_roughness(
     image_count: u32,
     uv: Vec2,
 ) -> Vec2 {
+    surface_metallic_roughness_filtered(material, images, image_count, uv, 0.0)
+}
+
+/// [`surface_metallic_roughness`] with the texture filtered over a
+/// footprint of side `width` (as [`surface_albedo_filtered`]).
+#[inline]
+pub fn surface_metallic_roughness_filtered(
+    material: &MaterialGpu,
+    images: &[u32],
+    image_count: u32,
+    uv: Vec2,
+    width: f32,
+) -> Vec2 {
     let factors = Vec2::new(material.pbr.x, material.pbr.y);
     let m = material.model;
     if m.y == TEXTURE_NONE {
         factors
     } else {
+        let w = texture_width(m.z, &material.metal_rough_uv, width);
         let uv = texture_uv(m.z, &material.metal_rough_uv, uv);
-        let t = sample_image(images, image_count, m.y, m.z | TEXEL_LINEAR, uv);
+        let t = sample_image_filtered(images, image_count, m.y, m.z | TEXEL_LINEAR, uv, w);
         factors * Vec2::new(t.z, t.y)
+    }
+}
+
+/// Whether `material` reads any colour texture (base colour, emission,
+/// metallic-roughness): only then does a footprint matter.
+#[inline]
+pub fn has_textures(material: &MaterialGpu) -> bool {
+    material.textures.x != TEXTURE_NONE
+        || material.textures.z != TEXTURE_NONE
+        || material.model.y != TEXTURE_NONE
+}
+
+/// A footprint side `width` in the surface's texture coordinates, in the
+/// texture's own coordinates: scaled by `sqrt(|det|)` of the transform's
+/// linear part when `flags` carry [`UV_TRANSFORM`].
+#[inline]
+fn texture_width(flags: u32, transform: &UvTransformGpu, width: f32) -> f32 {
+    if flags & UV_TRANSFORM != 0 {
+        let det = transform.u.x * transform.v.y - transform.u.y * transform.v.x;
+        width * libm::sqrtf(libm::fabsf(det))
+    } else {
+        width
     }
 }
 
@@ -89,13 +156,22 @@ pub fn texture_uv(flags: u32, transform: &UvTransformGpu, uv: Vec2) -> Vec2 {
     }
 }
 
-/// `factor` times image `image` sampled with `flags` at `uv`, or `factor`
-/// itself when `image` is [`TEXTURE_NONE`].
+/// `factor` times image `image` sampled with `flags` at `uv` over a
+/// footprint of side `width` (0: a point lookup), or `factor` itself when
+/// `image` is [`TEXTURE_NONE`].
 #[inline]
-fn textured(factor: Vec3, images: &[u32], image_count: u32, image: u32, flags: u32, uv: Vec2) -> Vec3 {
+fn textured(
+    factor: Vec3,
+    images: &[u32],
+    image_count: u32,
+    image: u32,
+    flags: u32,
+    uv: Vec2,
+    width: f32,
+) -> Vec3 {
     if image == TEXTURE_NONE {
         factor
     } else {
-        factor * sample_image(images, image_count, image, flags, uv)
+        factor * sample_image_filtered(images, image_count, image, flags, uv, width)
     }
 }

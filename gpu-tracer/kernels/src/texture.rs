@@ -52,7 +52,7 @@ pub fn decode_texel_linear(texel: u32) -> Vec3 {
 /// for clamp. NaN and values beyond `±2^24` (where f32 has no fraction)
 /// become 0, so the texel index below never overflows.
 #[inline]
-fn reduce(u: f32, wrap: u32) -> f32 {
+pub(crate) fn reduce(u: f32, wrap: u32) -> f32 {
     // `!(|u| <= 2^24)` is true for NaN and infinities too.
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
     let u = if !(libm::fabsf(u) <= 16_777_216.0) { 0.0 } else { u };
@@ -99,13 +99,7 @@ pub fn sample_image(images: &[u32], image_count: u32, image: u32, flags: u32, uv
     if flags & FILTER_BILINEAR == 0 {
         image.fetch(images, libm::floorf(x) as i32, libm::floorf(y) as i32)
     } else {
-        let (fx, fy) = (x - 0.5, y - 0.5);
-        let (x0, y0) = (libm::floorf(fx), libm::floorf(fy));
-        let (tx, ty) = (fx - x0, fy - y0);
-        let (i, j) = (x0 as i32, y0 as i32);
-        let top = image.fetch(images, i, j) * (1.0 - tx) + image.fetch(images, i + 1, j) * tx;
-        let bottom = image.fetch(images, i, j + 1) * (1.0 - tx) + image.fetch(images, i + 1, j + 1) * tx;
-        top * (1.0 - ty) + bottom * ty
+        image.bilinear(images, x, y)
     }
 }
 
@@ -135,7 +129,7 @@ pub fn sample_alpha(images: &[u32], image_count: u32, image: u32, flags: u32, uv
 /// Image `image`'s header (`image < image_count`) and `uv` in texel units
 /// after the wrap modes' reduction (before filtering).
 #[inline]
-fn locate(images: &[u32], image: u32, flags: u32, uv: Vec2) -> (ImageRef, f32, f32) {
+pub(crate) fn locate(images: &[u32], image: u32, flags: u32, uv: Vec2) -> (ImageRef, f32, f32) {
     let h = (image.wrapping_mul(IMAGE_HEADER_WORDS)) as usize;
     let offset = images[h];
     let width = images[h + 1].max(1) as i32;
@@ -154,12 +148,13 @@ fn locate(images: &[u32], image: u32, flags: u32, uv: Vec2) -> (ImageRef, f32, f
     (image, x, y)
 }
 
-/// One image's header and wrap modes.
+/// One image's header and wrap modes (of one mip level: the texels of
+/// level `l` start at `offset` and are `width x height`).
 #[derive(Clone, Copy)]
-struct ImageRef {
-    offset: u32,
-    width: i32,
-    height: i32,
+pub(crate) struct ImageRef {
+    pub(crate) offset: u32,
+    pub(crate) width: i32,
+    pub(crate) height: i32,
     wrap_u: u32,
     wrap_v: u32,
     /// [`TEXEL_LINEAR`]: texels are data, not sRGB.
@@ -169,7 +164,7 @@ struct ImageRef {
 impl ImageRef {
     /// The packed texel `(i, j)` after wrapping.
     #[inline]
-    fn texel(&self, images: &[u32], i: i32, j: i32) -> u32 {
+    pub(crate) fn texel(&self, images: &[u32], i: i32, j: i32) -> u32 {
         let i = wrap_index(i, self.width, self.wrap_u);
         let j = wrap_index(j, self.height, self.wrap_v);
         let k = self.offset.wrapping_add((j * self.width + i) as u32);
@@ -182,9 +177,39 @@ impl ImageRef {
         (self.texel(images, i, j) >> 24) as f32 * (1.0 / 255.0)
     }
 
+    /// Bilinear interpolation between the four texel centres around `(x,
+    /// y)` (texel units of this level, after the wrap modes' reduction).
+    #[inline]
+    pub(crate) fn bilinear(&self, images: &[u32], x: f32, y: f32) -> Vec3 {
+        let (fx, fy) = (x - 0.5, y - 0.5);
+        let (x0, y0) = (libm::floorf(fx), libm::floorf(fy));
+        let (tx, ty) = (fx - x0, fy - y0);
+        let (i, j) = (x0 as i32, y0 as i32);
+        let top = self.fetch(images, i, j) * (1.0 - tx) + self.fetch(images, i + 1, j) * tx;
+        let bottom = self.fetch(images, i, j + 1) * (1.0 - tx) + self.fetch(images, i + 1, j + 1) * tx;
+        top * (1.0 - ty) + bottom * ty
+    }
+
+    /// Mip level `level` of this image (level 0 is the image itself): the
+    /// levels follow each other in the buffer, each half the size of the
+    /// one before, rounded down, at least 1 (`crate::texture_filter` has
+    /// the layout).
+    #[inline]
+    pub(crate) fn level(&self, level: u32) -> ImageRef {
+        let mut r = *self;
+        let mut l = 0u32;
+        while l < level {
+            r.offset = r.offset.wrapping_add((r.width * r.height) as u32);
+            r.width = (r.width / 2).max(1);
+            r.height = (r.height / 2).max(1);
+            l += 1;
+        }
+        r
+    }
+
     /// Linear RGB (or data) of texel `(i, j)` after wrapping.
     #[inline]
-    fn fetch(&self, images: &[u32], i: i32, j: i32) -> Vec3 {
+    pub(crate) fn fetch(&self, images: &[u32], i: i32, j: i32) -> Vec3 {
         let texel = self.texel(images, i, j);
         if self.linear {
             decode_texel_linear(texel)

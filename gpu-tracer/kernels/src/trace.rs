@@ -51,11 +51,12 @@ use crate::abi::{
 use crate::bvh::{any_hit, closest_hit};
 use crate::camera::primary_ray;
 use crate::environment::{environment_mis_weight, environment_radiance};
+use crate::footprint::primary_footprint;
 use crate::geometry::offset_point;
 use crate::intersect::Ray;
 use crate::lights::sample_emitter;
 use crate::shading::Shading;
-use crate::surface::{surface_emission, triangle_uv};
+use crate::surface::{has_textures, surface_emission_filtered, triangle_uv};
 use glam::{UVec2, Vec3, Vec4};
 use sampler_core::RandomStream;
 
@@ -232,11 +233,19 @@ pub(crate) fn trace_sample_with(
         let (geo_normal, area) = normal_and_area(v0, v1, v2);
         let point = v0 + (v1 - v0) * hit.u + (v2 - v0) * hit.v;
         let material = materials[tri.v0.w as u32 as usize];
-        let uv = triangle_uv(&attrs[hit.triangle as usize], hit.u, hit.v);
+        let attr = &attrs[hit.triangle as usize];
+        let hit_uv = triangle_uv(attr, hit.u, hit.v);
+        // Textures at the camera ray's first hit: read at the pixel centre,
+        // filtered over the pixel's footprint (`crate::footprint`).
+        let (uv, footprint) = if depth == 0 && has_textures(&material) {
+            primary_footprint(params, pixel, (v0, v1, v2), attr, hit_uv, hit.t)
+        } else {
+            (hit_uv, 0.0)
+        };
         let cos_out = -ray.dir.dot(geo_normal);
 
         // Emission found by the BSDF sample (or seen from the camera).
-        let emission = surface_emission(&material, images, params.image_count, uv);
+        let emission = surface_emission_filtered(&material, images, params.image_count, uv, footprint);
         if cos_out > 0.0 && emission.max_element() > 0.0 {
             let select_pdf = tri.v1.w;
             let weight = if bsdf_pdf > 0.0 && select_pdf > 0.0 && params.emitter_count > 0 {
@@ -250,7 +259,15 @@ pub(crate) fn trace_sample_with(
 
         // Shading frame faces the incoming ray (two-sided materials).
         let normal = if cos_out > 0.0 { geo_normal } else { -geo_normal };
-        let shading = Shading::at(&material, images, params.image_count, uv, normal, -ray.dir);
+        let shading = Shading::at_filtered(
+            &material,
+            images,
+            params.image_count,
+            uv,
+            footprint,
+            normal,
+            -ray.dir,
+        );
         let u_light = numbers.light(params, keys, depth);
         let origin = offset_point(point, normal);
 

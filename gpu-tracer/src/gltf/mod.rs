@@ -22,7 +22,9 @@
 //!   `KHR_materials_emissive_strength` is the emission, the emissive texture
 //!   multiplies it. Textures keep their sampler's wrap modes and
 //!   magnification filter (`NEAREST` -> [`Filter::Nearest`], `LINEAR` or
-//!   none -> [`Filter::Bilinear`]) and read the `TEXCOORD_n` set the
+//!   none -> [`Filter::Bilinear`]; the minification filter is the tracer's
+//!   own: mip maps built at load, trilinear over the pixel's footprint at a
+//!   camera ray's first hit, `kernels::texture_filter`) and read the `TEXCOORD_n` set the
 //!   material names (float or normalised unsigned 8/16-bit; with
 //!   `KHR_mesh_quantization` also signed and not-normalised 8/16-bit
 //!   integers: the `attribute` module's table). Reflection is the

@@ -2,6 +2,7 @@
 //! leaf order with their attributes, materials, images and the emitter list.
 
 use super::emitters::{emitter_list, scene_radius};
+use super::mips::mip_levels;
 use super::{Alpha, Bsdf, Camera, CameraBasis, Filter, Image, Light, Scene, TextureRef, Triangle, Wrap};
 use crate::bvh::build_bvh;
 use crate::error::{Error, Result};
@@ -219,7 +220,17 @@ impl SceneGpu {
                 metal_rough_uv,
             });
         }
-        let (images, image_count) = pack_images(&scene.images)?;
+        // Images read as colour (base colour, emission) get their mip levels
+        // averaged in linear light; the others (data) as stored.
+        let mut colour = vec![false; scene.images.len()];
+        for m in &scene.materials {
+            for t in [&m.base_color_texture, &m.emission_texture].into_iter().flatten() {
+                if let Some(c) = colour.get_mut(t.image as usize) {
+                    *c = true;
+                }
+            }
+        }
+        let (images, image_count) = pack_images(&scene.images, &colour)?;
         for (i, t) in scene.triangles.iter().enumerate() {
             if t.object == GBUFFER_NO_HIT {
                 return Err(Error::InvalidParameter {
@@ -483,8 +494,10 @@ pub const MAX_IMAGE_WORDS: usize = 1 << 29;
 
 /// The images buffer of `images` (`kernels::abi::IMAGE_HEADER_WORDS`) and
 /// the image count.
-fn pack_images(images: &[Image]) -> Result<(Vec<u32>, u32)> {
+fn pack_images(images: &[Image], colour: &[bool]) -> Result<(Vec<u32>, u32)> {
     let header = images.len() * IMAGE_HEADER_WORDS as usize;
+    // Level 0 and the mip chain (at most 1/3 more for square images, 1/2
+    // more for a long strip; the check below counts what is stored).
     let texels: usize = images.iter().map(|i| i.texels.len()).sum();
     if header + texels > MAX_IMAGE_WORDS {
         return Err(Error::SceneTooLarge {
@@ -504,11 +517,23 @@ fn pack_images(images: &[Image]) -> Result<(Vec<u32>, u32)> {
                 texels: image.texels.len(),
             });
         }
+        let levels = mip_levels(image, colour.get(i).copied().unwrap_or(true));
         let h = i * IMAGE_HEADER_WORDS as usize;
         out[h] = out.len() as u32;
         out[h + 1] = image.width;
         out[h + 2] = image.height;
+        out[h + 3] = 1 + levels.len() as u32;
         out.extend(image.texels.iter().map(|t| u32::from_le_bytes(*t)));
+        for (_, _, texels) in &levels {
+            out.extend(texels.iter().map(|t| u32::from_le_bytes(*t)));
+        }
+        if out.len() > MAX_IMAGE_WORDS {
+            return Err(Error::SceneTooLarge {
+                what: "texels with their mip levels",
+                count: out.len(),
+                limit: MAX_IMAGE_WORDS,
+            });
+        }
     }
     if out.is_empty() {
         out.push(0);
@@ -721,9 +746,13 @@ pub(super) mod tests {
         });
         let gpu = SceneGpu::build(&scene).expect("valid");
         assert_eq!(gpu.image_count, 2);
-        assert_eq!(&gpu.images[..8], &[8, 2, 1, 0, 10, 1, 1, 0]);
+        // Headers (first word, width, height, mip levels); image a's level 1
+        // (its 2x1 texels averaged as data: it is no colour texture) follows
+        // its level 0.
+        assert_eq!(&gpu.images[..8], &[8, 2, 1, 2, 11, 1, 1, 1]);
         assert_eq!(gpu.images[8], 0x0403_0201);
-        assert_eq!(gpu.images[10], 0x0909_0909);
+        assert_eq!(gpu.images[10], 0x0605_0403);
+        assert_eq!(gpu.images[11], 0x0909_0909);
         let m = gpu.materials[0].textures;
         assert_eq!(
             (m.x, m.y, m.z),

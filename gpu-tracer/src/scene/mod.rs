@@ -20,6 +20,7 @@
 //!   and the [`Image`]s they name;
 //! - `buffers`: [`SceneGpu`], the buffers the kernels read, and the limits
 //!   on their sizes;
+//! - `mips`: the images' mip chains (for footprint-filtered lookups);
 //! - `settings`: [`TraceSettings`], the per-frame settings of the trace
 //!   pass, and [`SceneGpu::trace_params`].
 
@@ -29,6 +30,7 @@ mod emitters;
 mod environment;
 mod light;
 mod material;
+mod mips;
 mod settings;
 
 pub use buffers::{SceneGpu, MAX_IMAGE_WORDS, MAX_MATERIALS, MAX_TRIANGLES};
