@@ -10,9 +10,18 @@
 //! average: the texture's detail stops adding noise to the pixel's
 //! estimate (a pixel straddling a texel edge no longer flickers between
 //! the texels as its jitter moves), and the image is the texture filtered
-//! by the pixel, as a rasteriser's mip-mapped lookup would give. Later
-//! vertices of a path keep point lookups at their hit (a coarser rule the
-//! issue allows; their footprints are much wider and decorrelated anyway).
+//! by the pixel, as a rasteriser's mip-mapped lookup would give.
+//!
+//! Later vertices use a coarser rule ([`cone_footprint`]): the path carries
+//! a ray cone whose spread grows at every bounce by the BSDF's
+//! [`bounce_spread`] (a wide cone after a diffuse bounce, a narrow one
+//! after a sharp glossy one), and a hit reads its textures, at its own
+//! point, filtered over the cone's width there. So indirect light sees
+//! textures filtered as wide as the bounce that found them spreads (a
+//! diffusely reflected checker reads about its mean), which removes the
+//! noise of texel edges from indirect light at the cost of a small bias
+//! (detail of textures seen only through diffuse bounces is blurred);
+//! mirror-like reflections keep their detail.
 //!
 //! # The cone
 //!
@@ -32,6 +41,66 @@ use glam::{UVec2, Vec2, Vec3};
 /// Smallest `|cos theta|` the footprint divides by: at grazing angles the
 /// footprint is capped at 20 times the cone's width.
 pub const MIN_FOOTPRINT_COS: f32 = 0.05;
+
+/// Spread (radians, full angle) a diffuse bounce adds to a path's ray cone:
+/// 0.5, a cone of about 29 degrees, much narrower than the cosine lobe
+/// (whose directions spread over the hemisphere) and wide enough that a
+/// texture seen through a diffuse bounce reads a level a few octaves
+/// coarser than its texels at room scale.
+pub const DIFFUSE_CONE_SPREAD: f32 = 0.5;
+
+/// Spread a bounce adds to the ray cone: [`DIFFUSE_CONE_SPREAD`] for a
+/// Lambertian surface; for a metallic-roughness one `2 alpha` (alpha =
+/// roughness^2, the GGX lobe's width), at most [`DIFFUSE_CONE_SPREAD`].
+#[inline]
+pub fn bounce_spread(glossy: bool, alpha: f32) -> f32 {
+    if glossy {
+        (2.0 * alpha).min(DIFFUSE_CONE_SPREAD)
+    } else {
+        DIFFUSE_CONE_SPREAD
+    }
+}
+
+/// The footprint's side in texture coordinates of a ray cone `width` world
+/// units wide at a hit on the triangle `(v0, v1, v2)` with texture
+/// coordinates `attr`, seen along the unit direction `dir`: `width / |cos|
+/// times sqrt(A_uv / A_world)` (module docs); 0 for a triangle without
+/// texture or world area.
+#[inline]
+pub fn cone_footprint(
+    width: f32,
+    dir: Vec3,
+    (v0, v1, v2): (Vec3, Vec3, Vec3),
+    attr: &TriangleAttrGpu,
+) -> f32 {
+    let n = (v1 - v0).cross(v2 - v0);
+    let world_area2 = n.length();
+    let uv_area2 = uv_area2(attr);
+    if world_area2 <= 0.0 || uv_area2 <= 0.0 || uv_area2.is_nan() {
+        return 0.0;
+    }
+    let cos = (libm::fabsf(n.dot(dir)) / world_area2).max(MIN_FOOTPRINT_COS);
+    width / cos * libm::sqrtf(uv_area2 / world_area2)
+}
+
+/// Twice the triangle's area in texture space.
+#[inline]
+fn uv_area2(attr: &TriangleAttrGpu) -> f32 {
+    let (uv0, uv1, uv2) = (
+        triangle_uv(attr, 0.0, 0.0),
+        triangle_uv(attr, 1.0, 0.0),
+        triangle_uv(attr, 0.0, 1.0),
+    );
+    let (a, b) = (uv1 - uv0, uv2 - uv0);
+    libm::fabsf(a.x * b.y - a.y * b.x)
+}
+
+/// The spread (radians) of a camera pixel's ray cone: `2 tan(fov_y / 2) /
+/// height`.
+#[inline]
+pub fn pixel_spread(params: &TraceParams) -> f32 {
+    2.0 * params.tan_half_fov_y / params.height.max(1) as f32
+}
 
 /// Texture coordinates of pixel `pixel`'s centre ray on the plane of the
 /// triangle `(v0, v1, v2)` (world units) with texture coordinates `attr`,
@@ -132,5 +201,34 @@ mod tests {
             primary_footprint(&params, UVec2::new(50, 50), tri, &attr, Vec2::splat(0.3), 20.0),
             (Vec2::splat(0.3), 0.0)
         );
+    }
+
+    /// Later hits: the cone's width over the cosine, scaled to texture
+    /// space; the spread a bounce adds follows the BSDF's lobe width.
+    #[test]
+    fn cones_widen_with_rough_bounces() {
+        let tri = (
+            Vec3::new(-2.0, -2.0, 0.0),
+            Vec3::new(2.0, -2.0, 0.0),
+            Vec3::new(-2.0, 2.0, 0.0),
+        );
+        let attr = TriangleAttrGpu {
+            uv01: Vec4::new(0.0, 1.0, 1.0, 1.0),
+            uv2: Vec4::new(0.0, 0.0, 0.0, 0.0),
+            ..Default::default()
+        };
+        assert!((cone_footprint(0.04, -Vec3::Z, tri, &attr) - 0.01).abs() < 1e-7);
+        // At 60 degrees the footprint doubles; at grazing angles it is capped.
+        let oblique = Vec3::new(0.0, 3f32.sqrt() / 2.0, -0.5);
+        assert!((cone_footprint(0.04, oblique, tri, &attr) - 0.02).abs() < 1e-6);
+        assert!((cone_footprint(0.04, Vec3::X, tri, &attr) - 0.01 / MIN_FOOTPRINT_COS).abs() < 1e-6);
+        // No texture area: no filtering.
+        assert_eq!(
+            cone_footprint(0.04, -Vec3::Z, tri, &TriangleAttrGpu::default()),
+            0.0
+        );
+        assert_eq!(bounce_spread(false, 0.0), DIFFUSE_CONE_SPREAD);
+        assert!((bounce_spread(true, 0.01) - 0.02).abs() < 1e-7);
+        assert_eq!(bounce_spread(true, 0.9), DIFFUSE_CONE_SPREAD);
     }
 }

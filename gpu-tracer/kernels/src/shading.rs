@@ -98,6 +98,13 @@ impl Shading {
         }
     }
 
+    /// The spread (radians) a bounce off this surface adds to the path's
+    /// ray cone ([`crate::footprint::bounce_spread`]).
+    #[inline]
+    pub fn cone_spread(&self) -> f32 {
+        crate::footprint::bounce_spread(self.glossy, self.bsdf.alpha())
+    }
+
     /// Whether the surface can reflect at all (next-event estimation is
     /// skipped otherwise): a non-black albedo for Lambertian surfaces,
     /// always for metallic-roughness ones (their specular lobe never

@@ -51,7 +51,7 @@ use crate::abi::{
 use crate::bvh::{any_hit, closest_hit};
 use crate::camera::primary_ray;
 use crate::environment::{environment_mis_weight, environment_radiance};
-use crate::footprint::primary_footprint;
+use crate::footprint::{cone_footprint, pixel_spread, primary_footprint};
 use crate::geometry::offset_point;
 use crate::intersect::Ray;
 use crate::lights::sample_emitter;
@@ -205,6 +205,9 @@ pub(crate) fn trace_sample_with(
     let mut radiance = Vec3::ZERO;
     // Solid-angle density of the BSDF sample that produced `ray`; 0 for the camera ray.
     let mut bsdf_pdf = 0.0f32;
+    // The path's ray cone (`crate::footprint`): width (world units) at the
+    // last hit and spread (radians) of the current ray.
+    let (mut cone_width, mut cone_spread) = (0.0f32, pixel_spread(params));
 
     let mut depth = 0u32;
     while depth < max_depth {
@@ -237,10 +240,14 @@ pub(crate) fn trace_sample_with(
         let hit_uv = triangle_uv(attr, hit.u, hit.v);
         // Textures at the camera ray's first hit: read at the pixel centre,
         // filtered over the pixel's footprint (`crate::footprint`).
-        let (uv, footprint) = if depth == 0 && has_textures(&material) {
+        // Later hits: filtered over the path's ray cone there.
+        cone_width += hit.t * cone_spread;
+        let (uv, footprint) = if !has_textures(&material) {
+            (hit_uv, 0.0)
+        } else if depth == 0 {
             primary_footprint(params, pixel, (v0, v1, v2), attr, hit_uv, hit.t)
         } else {
-            (hit_uv, 0.0)
+            (hit_uv, cone_footprint(cone_width, ray.dir, (v0, v1, v2), attr))
         };
         let cos_out = -ray.dir.dot(geo_normal);
 
@@ -327,6 +334,7 @@ pub(crate) fn trace_sample_with(
         let wi = sample.wi;
         throughput *= sample.weight;
         bsdf_pdf = sample.pdf;
+        cone_spread += shading.cone_spread();
 
         if depth >= params.rr_depth {
             let survive = throughput.max_element().min(RR_MAX_SURVIVAL);
