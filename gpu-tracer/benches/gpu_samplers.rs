@@ -20,7 +20,6 @@ use gpu_tracer::gpu::{Gpu, PassTimer, PermutePipelines, SeedPermuter, TracePipel
 use gpu_tracer::{SceneGpu, TraceSettings};
 use kernels::abi::{SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS, SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL};
 use sampler_core::FrameLayout;
-use std::time::Instant;
 
 const WIDTH: u32 = 1280;
 const HEIGHT: u32 = 720;
@@ -33,22 +32,10 @@ const SAMPLERS: [(&str, u32); 4] = [
     ("spatiotemporal", SAMPLER_SPATIOTEMPORAL),
 ];
 
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(|a, b| a.total_cmp(b));
-    v[v.len() / 2]
-}
+mod common;
 
 fn main() {
-    let quick = std::env::args().any(|a| a == "--test");
-    let rounds = if quick {
-        1
-    } else {
-        std::env::var("ROUNDS")
-            .ok()
-            .and_then(|r| r.parse().ok())
-            .unwrap_or(9usize)
-            .max(1)
-    };
+    let rounds = common::rounds(9);
     let gpu = match Gpu::new() {
         Ok(g) => g,
         Err(e) => {
@@ -93,19 +80,7 @@ fn main() {
     for round in 0..=rounds {
         for (k, &(_, sampler)) in samplers.iter().enumerate() {
             tracer.set_params(&gpu, &params(sampler));
-            let mut e = gpu.device.create_command_encoder(&Default::default());
-            tracer.encode_trace(&mut e, &tp, timer.as_ref().map(|t| (t, 0)));
-            if let Some(t) = &timer {
-                t.resolve(&mut e);
-            }
-            let start = Instant::now();
-            gpu.queue.submit([e.finish()]);
-            gpu.wait().expect("wait");
-            let wall = start.elapsed().as_secs_f64() * 1e3;
-            let t = match &timer {
-                Some(t) => t.read_ms(&gpu).expect("timestamps")[0],
-                None => wall,
-            };
+            let t = common::time_trace(&gpu, &tracer, &tp, timer.as_ref());
             if round > 0 {
                 ms[k].push(t);
             }
@@ -115,19 +90,12 @@ fn main() {
         "gpu_samplers: {WIDTH}x{HEIGHT}, Cornell box 1 spp, depth 8, {rounds} rounds, on {}",
         gpu.describe()
     );
-    println!(
-        "timing: {}",
-        if timer.is_some() {
-            "timestamp queries"
-        } else {
-            "wall clock per submission"
-        }
-    );
+    println!("timing: {}", common::timing_name(timer.as_ref()));
     println!(
         "{:<16} {:>10} {:>10} {:>10} {:>22}",
         "sampler", "median ms", "min ms", "max ms", "excess, % of seed frame"
     );
-    let medians: Vec<f64> = ms.iter_mut().map(|v| median(v)).collect();
+    let medians: Vec<f64> = ms.iter_mut().map(|v| common::median(v)).collect();
     for ((name, _), (v, m)) in samplers.iter().zip(ms.iter().zip(&medians)) {
         let (lo, hi) = (v[0], v[v.len() - 1]);
         println!(

@@ -23,27 +23,14 @@ use gpu_tracer::gpu::{Gpu, PassTimer, PermutePipelines, SeedPermuter, TracePipel
 use gpu_tracer::outdoor::{sun_and_sky, SKY};
 use gpu_tracer::{cpu, SceneGpu, TraceSettings};
 use sampler_core::FrameLayout;
-use std::time::Instant;
 
 const WIDTH: u32 = 1280;
 const HEIGHT: u32 = 720;
 
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(|a, b| a.total_cmp(b));
-    v[v.len() / 2]
-}
+mod common;
 
 fn main() {
-    let quick = std::env::args().any(|a| a == "--test");
-    let rounds = if quick {
-        1
-    } else {
-        std::env::var("ROUNDS")
-            .ok()
-            .and_then(|r| r.parse().ok())
-            .unwrap_or(5usize)
-            .max(1)
-    };
+    let rounds = common::rounds(5);
     let gpu = match Gpu::new() {
         Ok(g) => g,
         Err(e) => {
@@ -87,19 +74,7 @@ fn main() {
     // Round 0 warms every pipeline up and is not counted.
     for round in 0..=rounds {
         for (_, _, tracer, ms) in rows.iter_mut() {
-            let mut e = gpu.device.create_command_encoder(&Default::default());
-            tracer.encode_trace(&mut e, &tp, timer.as_ref().map(|t| (t, 0)));
-            if let Some(t) = &timer {
-                t.resolve(&mut e);
-            }
-            let start = Instant::now();
-            gpu.queue.submit([e.finish()]);
-            gpu.wait().expect("wait");
-            let wall = start.elapsed().as_secs_f64() * 1e3;
-            let t = match &timer {
-                Some(t) => t.read_ms(&gpu).expect("timestamps")[0],
-                None => wall,
-            };
+            let t = common::time_trace(&gpu, tracer, &tp, timer.as_ref());
             if round > 0 {
                 ms.push(t);
             }
@@ -109,26 +84,19 @@ fn main() {
         "gpu_scenes: {WIDTH}x{HEIGHT}, 1 spp, depth 8, seed stream, {rounds} rounds, on {}",
         gpu.describe()
     );
-    println!(
-        "timing: {}",
-        if timer.is_some() {
-            "timestamp queries"
-        } else {
-            "wall clock per submission"
-        }
-    );
+    println!("timing: {}", common::timing_name(timer.as_ref()));
     println!(
         "{:<16} {:>10} {:>12} {:>10} {:>22}",
         "scene", "median ms", "rays/frame", "ns/ray", "per ray, x cornell"
     );
     let per_ray: Vec<f64> = rows
         .iter_mut()
-        .map(|(_, rays, _, ms)| median(ms) * 1e6 / *rays as f64)
+        .map(|(_, rays, _, ms)| common::median(ms) * 1e6 / *rays as f64)
         .collect();
     for ((name, rays, _, ms), ns) in rows.iter_mut().zip(&per_ray) {
         println!(
             "{name:<16} {:>10.3} {rays:>12} {ns:>10.3} {:>21.3}x",
-            median(ms),
+            common::median(ms),
             ns / per_ray[0]
         );
     }

@@ -6,34 +6,16 @@
 
 use glam::{Vec2, Vec3, Vec4};
 use gpu_tracer::cpu::{render_frame, white_seeds};
-use gpu_tracer::scene::{Camera, EnvironmentMap, Material, Scene, SceneGpu, Triangle};
+use gpu_tracer::scene::{EnvironmentMap, SceneGpu};
 use gpu_tracer::TraceSettings;
 use sampler_core::distributions::environment::uv_to_direction;
 use std::f64::consts::PI;
 
-/// A floor (y = 0, 40 units wide) of albedo `albedo` under `map`, seen
-/// straight down from 1 unit above the origin through a 2-degree view.
+mod common;
+
+/// The shared floor of albedo `albedo` under `map`.
 fn floor(albedo: f32, map: EnvironmentMap) -> SceneGpu {
-    let (a, b, c, d) = (
-        Vec3::new(-20.0, 0.0, 20.0),
-        Vec3::new(20.0, 0.0, 20.0),
-        Vec3::new(20.0, 0.0, -20.0),
-        Vec3::new(-20.0, 0.0, -20.0),
-    );
-    let scene = Scene {
-        triangles: vec![Triangle::new([a, b, c], 0), Triangle::new([a, c, d], 0)],
-        materials: vec![Material::new("floor", Vec3::splat(albedo), Vec3::ZERO)],
-        images: Vec::new(),
-        lights: Vec::new(),
-        environment_map: Some(map),
-        camera: Camera {
-            origin: Vec3::new(0.0, 1.0, 0.0),
-            target: Vec3::ZERO,
-            up: Vec3::Z,
-            fov_y_degrees: 2.0,
-        },
-    };
-    SceneGpu::build(&scene).expect("scene")
+    SceneGpu::build(&common::floor_scene(albedo, Vec::new(), Some(map))).expect("scene")
 }
 
 /// Mean and standard error of the red channel over 16x16 pixels x `spp`.

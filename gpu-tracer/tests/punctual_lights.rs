@@ -5,35 +5,17 @@
 
 use glam::{Vec3, Vec4};
 use gpu_tracer::cpu::{render_frame, white_seeds};
-use gpu_tracer::scene::{Camera, Light, LightKind, Material, Scene, SceneGpu, Triangle};
+use gpu_tracer::scene::{Light, LightKind, Scene, SceneGpu};
 use gpu_tracer::TraceSettings;
 use std::f32::consts::PI;
 
+mod common;
+
 const ALBEDO: f32 = 0.5;
 
-/// A grey floor (y = 0, 40 units wide) under `lights`, seen straight down
-/// from 1 unit above the origin through a 2-degree field of view.
+/// The shared floor of albedo [`ALBEDO`] under `lights`.
 fn floor(lights: Vec<Light>) -> SceneGpu {
-    let (a, b, c, d) = (
-        Vec3::new(-20.0, 0.0, 20.0),
-        Vec3::new(20.0, 0.0, 20.0),
-        Vec3::new(20.0, 0.0, -20.0),
-        Vec3::new(-20.0, 0.0, -20.0),
-    );
-    let scene = Scene {
-        triangles: vec![Triangle::new([a, b, c], 0), Triangle::new([a, c, d], 0)],
-        materials: vec![Material::new("floor", Vec3::splat(ALBEDO), Vec3::ZERO)],
-        images: Vec::new(),
-        lights,
-        environment_map: None,
-        camera: Camera {
-            origin: Vec3::new(0.0, 1.0, 0.0),
-            target: Vec3::ZERO,
-            up: Vec3::Z,
-            fov_y_degrees: 2.0,
-        },
-    };
-    SceneGpu::build(&scene).expect("scene")
+    SceneGpu::build(&common::floor_scene(ALBEDO, lights, None)).expect("scene")
 }
 
 /// Mean and standard error of the red channel over an 8x8 frame of `spp`

@@ -161,6 +161,21 @@ mod tests {
     use super::*;
     use glam::Vec4;
 
+    /// Half of a 4 x 4 square at z = 0 facing +z, its texture 0..1 over it.
+    fn square() -> ((Vec3, Vec3, Vec3), TriangleAttrGpu) {
+        let tri = (
+            Vec3::new(-2.0, -2.0, 0.0),
+            Vec3::new(2.0, -2.0, 0.0),
+            Vec3::new(-2.0, 2.0, 0.0),
+        );
+        let attr = TriangleAttrGpu {
+            uv01: Vec4::new(0.0, 1.0, 1.0, 1.0),
+            uv2: Vec4::new(0.0, 0.0, 0.0, 0.0),
+            ..Default::default()
+        };
+        (tri, attr)
+    }
+
     /// A camera 2 units in front of a square (texture 0..1 over 4 world
     /// units), 100 pixels high with a 90-degree field of view: the centre
     /// pixel's footprint is 2 * 2 / 100 = 0.04 world units, 0.01 in uv.
@@ -176,16 +191,7 @@ mod tests {
             camera_up: Vec4::Y,
             ..Default::default()
         };
-        let tri = (
-            Vec3::new(-2.0, -2.0, 0.0),
-            Vec3::new(2.0, -2.0, 0.0),
-            Vec3::new(-2.0, 2.0, 0.0),
-        );
-        let attr = TriangleAttrGpu {
-            uv01: Vec4::new(0.0, 1.0, 1.0, 1.0),
-            uv2: Vec4::new(0.0, 0.0, 0.0, 0.0),
-            ..Default::default()
-        };
+        let (tri, attr) = square();
         // Pixel (50, 50)'s centre looks at (0.02, -0.02): uv (0.505, 0.505).
         let (uv, w) = primary_footprint(&params, UVec2::new(50, 50), tri, &attr, Vec2::ZERO, 2.0);
         assert!((uv - Vec2::new(0.505, 0.505)).abs().max_element() < 1e-5, "{uv}");
@@ -207,16 +213,7 @@ mod tests {
     /// space; the spread a bounce adds follows the BSDF's lobe width.
     #[test]
     fn cones_widen_with_rough_bounces() {
-        let tri = (
-            Vec3::new(-2.0, -2.0, 0.0),
-            Vec3::new(2.0, -2.0, 0.0),
-            Vec3::new(-2.0, 2.0, 0.0),
-        );
-        let attr = TriangleAttrGpu {
-            uv01: Vec4::new(0.0, 1.0, 1.0, 1.0),
-            uv2: Vec4::new(0.0, 0.0, 0.0, 0.0),
-            ..Default::default()
-        };
+        let (tri, attr) = square();
         assert!((cone_footprint(0.04, -Vec3::Z, tri, &attr) - 0.01).abs() < 1e-7);
         // At 60 degrees the footprint doubles; at grazing angles it is capped.
         let oblique = Vec3::new(0.0, 3f32.sqrt() / 2.0, -0.5);
