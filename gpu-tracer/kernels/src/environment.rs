@@ -20,7 +20,7 @@
 //! density are the same piecewise-constant function of direction.
 
 use crate::abi::TraceParams;
-use crate::trace::power_heuristic;
+use crate::mis::power_heuristic;
 use glam::{Vec2, Vec3};
 use sampler_core::distributions::environment::{direction_to_uv, pdf_environment};
 use sampler_core::EnvironmentParams;

@@ -12,7 +12,7 @@
 //!   ([`trace_pixel`] is what the trace entry point runs per pixel),
 //!   [`lights`] next-event estimation's emitter choice and light samples
 //!   (emissive triangles, point, spot and directional lights),
-//!   [`geometry`] triangle normals and ray offsets,
+//!   [`geometry`] triangle normals and ray offsets, [`mis`] the power heuristic,
 //!   [`environment`] what rays leaving the scene see, [`accumulate`] the running mean, [`texture`] image lookup, [`texture_filter`] lookups filtered over a
 //!   pixel's footprint (mip maps), [`footprint`] that footprint at a camera ray's first hit, and
 //!   [`surface`] textured albedo and emission, [`bsdf`] the reflectance
@@ -71,6 +71,7 @@ pub mod gbuffer;
 pub mod geometry;
 pub mod intersect;
 pub mod lights;
+pub mod mis;
 pub mod motion;
 pub mod numbers;
 pub mod permute_entry;
