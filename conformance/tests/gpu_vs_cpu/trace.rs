@@ -368,12 +368,14 @@ fn textured_moving_scene_and_gbuffer_agree_with_the_cpu() {
                 uvs: [uvs[0], uvs[1], uvs[2]],
                 material,
                 object,
+                tangent: None,
             },
             Triangle {
                 vertices: [c[0], c[2], c[3]],
                 uvs: [uvs[0], uvs[2], uvs[3]],
                 material,
                 object,
+                tangent: None,
             },
         ]
     };

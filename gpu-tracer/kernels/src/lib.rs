@@ -14,7 +14,8 @@
 //!   (emissive triangles, point, spot and directional lights),
 //!   [`geometry`] triangle normals and ray offsets,
 //!   [`environment`] what rays leaving the scene see, [`accumulate`] the running mean, [`texture`] image lookup and
-//!   [`surface`] textured albedo and emission, [`bsdf`] the reflectance
+//!   [`surface`] textured albedo and emission, [`normal_map`] tangent
+//!   frames and normal-mapped shading normals, [`bsdf`] the reflectance
 //!   models (GGX microfacets and the glTF metallic-roughness BRDF, not yet
 //!   used by [`trace`]), [`gbuffer`] the G-buffer and
 //!   motion vectors ([`gbuffer::gbuffer_pixel`]), [`motion`] the motion vectors
@@ -70,6 +71,7 @@ pub mod geometry;
 pub mod intersect;
 pub mod lights;
 pub mod motion;
+pub mod normal_map;
 pub mod numbers;
 pub mod permute_entry;
 pub mod reproject_entry;

@@ -118,6 +118,7 @@ impl<'p> Loader<'p> {
                 emission_texture: emissive.as_ref().map(texture_ref),
                 bsdf,
                 alpha,
+                normal_texture: None,
             });
             sets.push(set.map(|(_, s)| s));
         }

@@ -290,6 +290,7 @@ impl<'p> Loader<'p> {
                         uvs,
                         material,
                         object,
+                        tangent: None,
                     });
                 }
             }

@@ -2,6 +2,7 @@
 //! leaf order with their attributes, materials, images and the emitter list.
 
 use super::emitters::{emitter_list, scene_radius};
+use super::tangent::tangent_gpu;
 use super::{Alpha, Bsdf, Camera, CameraBasis, Filter, Image, Light, Scene, TextureRef, Triangle, Wrap};
 use crate::bvh::build_bvh;
 use crate::error::{Error, Result};
@@ -10,7 +11,7 @@ use glam::{Vec2, Vec3};
 use kernels::abi::{
     BvhNodeGpu, EmitterGpu, MaterialGpu, TriangleAttrGpu, TriangleGpu, UvTransformGpu, CUT_OUT,
     EMITTER_TRIANGLE, FILTER_BILINEAR, GBUFFER_NO_HIT, IMAGE_HEADER_WORDS, MODEL_LAMBERT,
-    MODEL_METALLIC_ROUGHNESS, TEXTURE_NONE, UV_TRANSFORM, WRAP_CLAMP, WRAP_MIRROR, WRAP_REPEAT,
+    MODEL_METALLIC_ROUGHNESS, TEXEL_LINEAR, TEXTURE_NONE, UV_TRANSFORM, WRAP_CLAMP, WRAP_MIRROR, WRAP_REPEAT,
 };
 
 /// Largest material count: indices are stored as exact `f32` integers.
@@ -153,7 +154,7 @@ impl SceneGpu {
             let (base, base_flags, base_color_uv) = texture(&m.base_color_texture)?;
             let (emit, emit_flags, emission_uv) = texture(&m.emission_texture)?;
             let mut metal_rough_uv = UvTransformGpu::IDENTITY;
-            let (pbr, model) = match m.bsdf {
+            let (mut pbr, model) = match m.bsdf {
                 Bsdf::Lambert => (Vec4::ZERO, UVec4::new(MODEL_LAMBERT, TEXTURE_NONE, 0, 0)),
                 Bsdf::MetallicRoughness {
                     metallic,
@@ -178,6 +179,22 @@ impl SceneGpu {
                     )
                 }
             };
+            let (normal, normal_uv, normal_scale) = match m.normal_texture {
+                None => (UVec4::new(TEXTURE_NONE, 0, 0, 0), UvTransformGpu::IDENTITY, 0.0),
+                Some(n) if !n.scale.is_finite() => {
+                    return Err(Error::InvalidMaterialParameter {
+                        name: m.name.clone(),
+                        parameter: "normal texture scale",
+                        value: n.scale,
+                        expected: "a finite number",
+                    })
+                }
+                Some(n) => {
+                    let (image, flags, uv) = texture(&Some(n.texture))?;
+                    (UVec4::new(image, flags | TEXEL_LINEAR, 0, 0), uv, n.scale)
+                }
+            };
+            pbr.z = normal_scale;
             let alpha = match m.alpha {
                 Alpha::Opaque => Vec4::ZERO,
                 Alpha::Mask { cutoff, factor } => {
@@ -217,6 +234,8 @@ impl SceneGpu {
                 base_color_uv,
                 emission_uv,
                 metal_rough_uv,
+                normal,
+                normal_uv,
             });
         }
         let (images, image_count) = pack_images(&scene.images)?;
@@ -293,9 +312,18 @@ impl SceneGpu {
                 ],
                 material: t.v0.w as u32,
                 object: a.ids.x,
+                tangent: None,
             };
         }
-        let g = build_geometry(&scene_order, &self.materials, &self.lights, self.environment_mean)?;
+        // Tangents are edge coefficients: they hold for the moved vertices.
+        let mut tangents = vec![Vec4::ZERO; positions.len()];
+        for (a, &orig) in self.attrs.iter().zip(&self.original_index) {
+            tangents[orig as usize] = a.tangent;
+        }
+        let mut g = build_geometry(&scene_order, &self.materials, &self.lights, self.environment_mean)?;
+        for a in &mut g.attrs {
+            a.tangent = tangents[a.ids.y as usize];
+        }
         self.previous = g.triangles.iter().map(positions_only).collect();
         self.nodes = g.nodes;
         self.triangles = g.triangles;
@@ -418,6 +446,7 @@ fn build_geometry(
             uv01: Vec4::new(t.uvs[0].x, t.uvs[0].y, t.uvs[1].x, t.uvs[1].y),
             uv2: Vec4::new(t.uvs[2].x, t.uvs[2].y, 0.0, 0.0),
             ids: UVec4::new(t.object, orig, 0, 0),
+            tangent: tangent_gpu(&t),
         });
     }
     let (emitters, emitter_count) = emitter_list(&mut triangles, materials, lights, environment_mean);
