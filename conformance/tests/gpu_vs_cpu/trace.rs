@@ -71,10 +71,47 @@ fn glossy_frames_agree_with_the_cpu_renderer() {
     );
 }
 
+/// `scene` with an 8x8 bilinear, repeating normal map of varied tilts
+/// (scale 0.8) on every material, and planar texture coordinates `((x + z)
+/// / 140, (y + z) / 140)` on every triangle (none is degenerate for the
+/// axis-aligned walls of a Cornell box).
+fn with_normal_maps(mut scene: gpu_tracer::scene::Scene) -> gpu_tracer::scene::Scene {
+    use gpu_tracer::scene::{Filter, Image, NormalTexture, TextureRef, Wrap};
+    let image = scene.images.len() as u32;
+    scene.images.push(Image {
+        name: "bumps".into(),
+        width: 8,
+        height: 8,
+        texels: (0..64)
+            .map(|i| {
+                let (x, y) = ((i % 8) as f32, (i / 8) as f32);
+                let r = 128.0 + 110.0 * (x * 0.9).sin();
+                let g = 128.0 + 110.0 * (y * 1.3 + x).cos();
+                [r as u8, g as u8, 230, 255]
+            })
+            .collect(),
+    });
+    let texture = TextureRef {
+        image,
+        wrap_u: Wrap::Repeat,
+        wrap_v: Wrap::Repeat,
+        filter: Filter::Bilinear,
+        transform: None,
+    };
+    for m in &mut scene.materials {
+        m.normal_texture = Some(NormalTexture { texture, scale: 0.8 });
+    }
+    for t in &mut scene.triangles {
+        t.uvs = t.vertices.map(|p| glam::Vec2::new(p.x + p.z, p.y + p.z) / 140.0);
+    }
+    scene
+}
+
 /// Punctual lights (point, spot, a directional sun with a disk) and an
 /// environment map on the GPU against the CPU: the outdoor scene (with and
-/// without a sky map), and the Cornell box with a point and a spot light
-/// beside its area light (selection by power across kinds).
+/// without a sky map), the Cornell box with a point and a spot light
+/// beside its area light (selection by power across kinds), and the glossy
+/// Cornell box with normal maps under a point light.
 /// Per-pixel means agree statistically, and with the same seeds the frames
 /// agree pixel for pixel up to float rounding.
 #[test]
@@ -119,10 +156,17 @@ fn lit_frames_agree_with_the_cpu_renderer() {
             .collect(),
         rotation_degrees: 75.0,
     });
+    // The glossy Cornell box with normal maps on every material (Lambertian
+    // and metallic-roughness shading in a tilted frame) and a point light.
+    let mut bumpy = with_normal_maps(gpu_tracer::cornell::cornell_glossy());
+    bumpy
+        .lights
+        .push(Light::point("bulb", glam::Vec3::new(400.0, 400.0, 200.0), 4.0e4));
     for (scene, name) in [
         (gpu_tracer::outdoor::sun_and_sky(), "sun-sky"),
         (room, "cornell + point + spot"),
         (mapped, "sun-sky under a sky map"),
+        (bumpy, "glossy cornell, normal-mapped, + point"),
     ] {
         let scene = gpu_tracer::SceneGpu::build(&scene).unwrap();
         compare_trace_statistics(&gpu, &scene, kernels::abi::SAMPLER_SEEDS, name);
@@ -368,12 +412,14 @@ fn textured_moving_scene_and_gbuffer_agree_with_the_cpu() {
                 uvs: [uvs[0], uvs[1], uvs[2]],
                 material,
                 object,
+                tangent: None,
             },
             Triangle {
                 vertices: [c[0], c[2], c[3]],
                 uvs: [uvs[0], uvs[2], uvs[3]],
                 material,
                 object,
+                tangent: None,
             },
         ]
     };

@@ -391,9 +391,9 @@ impl UvTransformGpu {
 /// cost.
 pub const CUT_OUT: f32 = 1.0;
 
-/// A possibly emissive, possibly textured, possibly cut-out material, 192
-/// bytes: Lambertian or glTF metallic-roughness ([`Self::model`]), each
-/// texture with its own coordinate transform.
+/// A possibly emissive, possibly textured, possibly cut-out, possibly
+/// normal-mapped material, 240 bytes: Lambertian or glTF metallic-roughness
+/// ([`Self::model`]), each texture with its own coordinate transform.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct MaterialGpu {
@@ -409,10 +409,13 @@ pub struct MaterialGpu {
     /// `y`: its sampler flags ([`WRAP_REPEAT`] ...); `z`, `w`: the same for
     /// the emission texture.
     pub textures: UVec4,
-    /// Metallic-roughness factors, read only with
-    /// [`MODEL_METALLIC_ROUGHNESS`]: `x` = glTF `metallicFactor`, `y` =
-    /// `roughnessFactor` (perceptual; GGX `alpha = roughness^2`), both in
-    /// `[0, 1]` (the host refuses anything else); `z`, `w` = 0.
+    /// Factors. `x`, `y`, read only with [`MODEL_METALLIC_ROUGHNESS`]: `x`
+    /// = glTF `metallicFactor`, `y` = `roughnessFactor` (perceptual; GGX
+    /// `alpha = roughness^2`), both in `[0, 1]` (the host refuses anything
+    /// else). `z`, read only with a normal texture ([`Self::normal`], any
+    /// model): the normal texture's `scale` (multiplies the tangent-plane
+    /// components of the texel's normal; finite, 1 by default in glTF).
+    /// `w` = 0.
     pub pbr: Vec4,
     /// `x`: [`MODEL_LAMBERT`] or [`MODEL_METALLIC_ROUGHNESS`] (any other
     /// value shades as Lambertian); `y`: image index of the
@@ -436,6 +439,15 @@ pub struct MaterialGpu {
     /// Coordinate transform of the metallic-roughness texture (read with
     /// [`UV_TRANSFORM`] in `model.z`).
     pub metal_rough_uv: UvTransformGpu,
+    /// Normal map (glTF `normalTexture`, `crate::normal_map`): `x` = image
+    /// index or [`TEXTURE_NONE`] (no normal map: the surface shades with its
+    /// geometric normal, bit for bit as without this field); `y` = its
+    /// sampler flags (read with [`TEXEL_LINEAR`] whether set or not: the
+    /// texels are data); `z`, `w` = 0. Its scale is `pbr.z`.
+    pub normal: UVec4,
+    /// Coordinate transform of the normal texture (read with
+    /// [`UV_TRANSFORM`] in `normal.y`).
+    pub normal_uv: UvTransformGpu,
 }
 
 impl MaterialGpu {
@@ -451,6 +463,8 @@ impl MaterialGpu {
             base_color_uv: UvTransformGpu::IDENTITY,
             emission_uv: UvTransformGpu::IDENTITY,
             metal_rough_uv: UvTransformGpu::IDENTITY,
+            normal: UVec4::new(TEXTURE_NONE, 0, 0, 0),
+            normal_uv: UvTransformGpu::IDENTITY,
         }
     }
 
@@ -468,11 +482,13 @@ impl MaterialGpu {
             base_color_uv: UvTransformGpu::IDENTITY,
             emission_uv: UvTransformGpu::IDENTITY,
             metal_rough_uv: UvTransformGpu::IDENTITY,
+            normal: UVec4::new(TEXTURE_NONE, 0, 0, 0),
+            normal_uv: UvTransformGpu::IDENTITY,
         }
     }
 }
 
-/// Per-triangle attributes the BVH traversal does not need, 48 bytes,
+/// Per-triangle attributes the BVH traversal does not need, 64 bytes,
 /// parallel to the triangle buffer (BVH leaf order).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -484,6 +500,16 @@ pub struct TriangleAttrGpu {
     /// `x`: object id (below [`GBUFFER_NO_HIT`]); `y`: index of the triangle
     /// in the host's scene order (before BVH reordering); `z`, `w` = 0.
     pub ids: UVec4,
+    /// The tangent frame of the normal map (read only for materials with a
+    /// normal texture, [`MaterialGpu::normal`]): `x`, `y` = the tangent as a
+    /// combination `x (v1 - v0) + y (v2 - v0)` of the triangle's edges (any
+    /// length; the kernel projects it onto the plane and normalises it, so
+    /// it follows the triangle when animation moves its vertices); `z` =
+    /// bitangent sign (glTF `TANGENT.w`: the bitangent is `z * (n x t)`
+    /// with `n` the front normal; negative means -1, anything else +1);
+    /// `w` = 0. All zero (the default): any tangent, sign +1
+    /// (`crate::normal_map::tangent_frame`).
+    pub tangent: Vec4,
 }
 
 /// One pixel of the G-buffer, 64 bytes: what the ray through the pixel
@@ -493,8 +519,10 @@ pub struct TriangleAttrGpu {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct GBufferGpu {
-    /// `xyz`: unit shading normal in world space, facing the camera (the
-    /// tracer shades with the geometric normal, so this is it); `w`: linear
+    /// `xyz`: unit geometric normal in world space, facing the camera (not
+    /// the normal map's shading normal: the feature-aware permutation wants
+    /// the surface's orientation, and normal maps would add texture detail
+    /// to it); `w`: linear
     /// depth, the hit point's distance along the camera's forward axis in
     /// world units, `> 0`.
     pub normal_depth: Vec4,
@@ -608,10 +636,10 @@ impl EmitterGpu {
 }
 
 const _: () = assert!(core::mem::size_of::<TraceParams>() == 240);
-const _: () = assert!(core::mem::size_of::<TriangleAttrGpu>() == 48);
+const _: () = assert!(core::mem::size_of::<TriangleAttrGpu>() == 64);
 const _: () = assert!(core::mem::size_of::<GBufferGpu>() == 64);
 const _: () = assert!(core::mem::size_of::<BvhNodeGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<TriangleGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<UvTransformGpu>() == 32);
-const _: () = assert!(core::mem::size_of::<MaterialGpu>() == 192);
+const _: () = assert!(core::mem::size_of::<MaterialGpu>() == 240);
 const _: () = assert!(core::mem::size_of::<EmitterGpu>() == 80);

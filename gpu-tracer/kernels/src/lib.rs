@@ -14,8 +14,9 @@
 //!   (emissive triangles, point, spot and directional lights),
 //!   [`geometry`] triangle normals and ray offsets, [`mis`] the power heuristic,
 //!   [`environment`] what rays leaving the scene see, [`accumulate`] the running mean, [`texture`] image lookup, [`texture_filter`] lookups filtered over a
-//!   pixel's footprint (mip maps), [`footprint`] that footprint at a camera ray's first hit, and
-//!   [`surface`] textured albedo and emission, [`bsdf`] the reflectance
+//!   pixel's footprint (mip maps), [`footprint`] that footprint at a camera ray's first hit,
+//!   [`surface`] textured albedo and emission, [`normal_map`] tangent
+//!   frames and normal-mapped shading normals, [`bsdf`] the reflectance
 //!   models (GGX microfacets and the glTF metallic-roughness BRDF, not yet
 //!   used by [`trace`]), [`gbuffer`] the G-buffer and
 //!   motion vectors ([`gbuffer::gbuffer_pixel`]), [`motion`] the motion vectors
@@ -73,6 +74,7 @@ pub mod intersect;
 pub mod lights;
 pub mod mis;
 pub mod motion;
+pub mod normal_map;
 pub mod numbers;
 pub mod permute_entry;
 pub mod reproject_entry;

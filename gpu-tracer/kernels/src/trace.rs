@@ -5,7 +5,8 @@
 //!
 //! Materials are Lambertian (albedo `a`, BRDF `a / pi`, two-sided) or the
 //! glTF metallic-roughness BRDF (two-sided too: the shading normal is the
-//! geometric normal flipped towards the outgoing direction), plus emission
+//! geometric normal flipped towards the outgoing direction, tilted by the
+//! material's normal map where it has one, [`crate::normal_map`]), plus emission
 //! from the front side of a triangle (see [`TriangleGpu`]); [`crate::shading`]
 //! evaluates and samples them. Rays leaving the scene see the environment
 //! ([`crate::environment`], found by BSDF sampling only, weight 1). At every
@@ -56,6 +57,7 @@ use crate::footprint::{cone_footprint, pixel_spread, primary_footprint};
 use crate::geometry::offset_point;
 use crate::intersect::Ray;
 use crate::lights::sample_emitter;
+use crate::normal_map::shading_normal;
 use crate::shading::Shading;
 use crate::surface::{has_textures, surface_emission_filtered, triangle_uv};
 use glam::{UVec2, Vec3, Vec4};
@@ -265,15 +267,28 @@ pub(crate) fn trace_sample_with(
             radiance += throughput * emission * weight;
         }
 
-        // Shading frame faces the incoming ray (two-sided materials).
+        // Shading frame faces the incoming ray (two-sided materials); a
+        // normal map tilts it (`crate::normal_map`), the geometric `normal`
+        // stays for offsets and for what lies below the surface.
         let normal = if cos_out > 0.0 { geo_normal } else { -geo_normal };
+        let shading_normal = shading_normal(
+            &material,
+            images,
+            params.image_count,
+            uv,
+            attr,
+            (v1 - v0, v2 - v0),
+            geo_normal,
+            normal,
+            -ray.dir,
+        );
         let shading = Shading::at_filtered(
             &material,
             images,
             params.image_count,
             uv,
             footprint,
-            normal,
+            shading_normal,
             -ray.dir,
         );
         let u_light = numbers.light(params, keys, depth);
@@ -294,9 +309,12 @@ pub(crate) fn trace_sample_with(
                 environment,
             );
             if light.is_some() {
+                // Above the geometric surface, and the BSDF's cosine against
+                // the shading normal (the same number without a normal map).
                 let cos_surface = light.wi.dot(normal);
-                if cos_surface > 0.0 && light.t_max > 0.0 {
-                    let (brdf_cos, brdf_pdf) = shading.eval_cos(light.wi, cos_surface);
+                let cos_shading = light.wi.dot(shading_normal);
+                if cos_surface > 0.0 && cos_shading > 0.0 && light.t_max > 0.0 {
+                    let (brdf_cos, brdf_pdf) = shading.eval_cos(light.wi, cos_shading);
                     let weight = if light.mis {
                         power_heuristic(light.pdf, brdf_pdf)
                     } else {
@@ -328,8 +346,10 @@ pub(crate) fn trace_sample_with(
 
         // BSDF sampling: throughput times f cos / pdf (the albedo for a
         // cosine-weighted Lambertian direction).
+        // Directions below the geometric surface (possible with a normal
+        // map's tilted frame) end the path rather than leak through it.
         let sample = shading.sample(numbers.bsdf(params, keys, depth));
-        if sample.pdf <= 0.0 {
+        if sample.pdf <= 0.0 || sample.wi.dot(normal) <= 0.0 {
             break;
         }
         let wi = sample.wi;

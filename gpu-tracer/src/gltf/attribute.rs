@@ -1,4 +1,4 @@
-//! Vertex attributes (`POSITION`, `TEXCOORD_n`) read as `f32` vectors from
+//! Vertex attributes (`POSITION`, `TEXCOORD_n`, `TANGENT`) read as `f32` vectors from
 //! accessors of every component type the specification allows, including
 //! the integer types of `KHR_mesh_quantization`.
 //!
@@ -8,6 +8,7 @@
 //! |---|---|---|
 //! | `POSITION` (`VEC3`) | float | also byte, unsigned byte, short, unsigned short, normalised or not |
 //! | `TEXCOORD_n` (`VEC2`) | float, unsigned byte and unsigned short normalised | also byte and short (normalised or not), unsigned byte and unsigned short not normalised |
+//! | `TANGENT` (`VEC4`) | float | also byte and short normalised |
 //!
 //! Normalised integers map to `[0, 1]` (unsigned) or `[-1, 1]` (signed) as
 //! the specification's "Accessor data types" section says: `c / 255`,
@@ -29,6 +30,8 @@ pub(super) enum Attribute {
     Position,
     /// `TEXCOORD_n`, `VEC2`.
     TexCoord,
+    /// `TANGENT`, `VEC4` (`w` = bitangent sign).
+    Tangent,
 }
 
 impl Attribute {
@@ -41,12 +44,21 @@ impl Attribute {
             (Attribute::TexCoord, false) => {
                 "F32, or normalized U8 or U16 (other integer types need KHR_mesh_quantization in extensionsUsed)"
             }
+            (Attribute::Tangent, false) => "F32 (normalized integers need KHR_mesh_quantization in extensionsUsed)",
+            (Attribute::Tangent, true) => "F32, or normalized I8 or I16",
             (_, true) => "F32, or I8, U8, I16 or U16 (normalized or not)",
         }
     }
 
     /// Whether `(data_type, normalized)` is accepted.
     fn accepts(self, data_type: DataType, normalized: bool, quantized: bool) -> bool {
+        if self == Attribute::Tangent {
+            return match data_type {
+                DataType::F32 => !normalized,
+                DataType::I8 | DataType::I16 => quantized && normalized,
+                _ => false,
+            };
+        }
         match data_type {
             DataType::F32 => !normalized,
             DataType::U32 => false,
@@ -63,7 +75,8 @@ impl<'p> Loader<'p> {
     }
 
     /// The values of vertex attribute `acc` (`N` = 3 for
-    /// [`Attribute::Position`], 2 for [`Attribute::TexCoord`]) as `f32`
+    /// [`Attribute::Position`], 2 for [`Attribute::TexCoord`], 4 for
+    /// [`Attribute::Tangent`]) as `f32`
     /// vectors, one per element (module docs for the conversion).
     ///
     /// # Errors
@@ -87,6 +100,7 @@ impl<'p> Loader<'p> {
     {
         let dimensions = match N {
             2 => Dimensions::Vec2,
+            4 => Dimensions::Vec4,
             _ => Dimensions::Vec3,
         };
         let (data_type, normalized) = (acc.data_type(), acc.normalized());

@@ -16,10 +16,19 @@
 //! [`Bsdf::Lambert`]. The project's fixture generator writes that for its
 //! diffuse scenes. Other `KHR_materials_specular` values are ignored (with a
 //! notice).
+//!
+//! # Normal maps
+//!
+//! `normalTexture` becomes a [`NormalTexture`] with its `scale` (finite;
+//! default 1) and sampler, read as linear data. The `gltf` crate does not
+//! parse `KHR_texture_transform` on it (it does on the other textures), so
+//! [`normal_transform`] reads the extension's JSON itself, with the same
+//! defaults and the same `texCoord` override. Occlusion textures are still
+//! ignored, with a notice.
 
 use super::loader::{check_uri, label, short_uri, Loader};
 use crate::error::{Error, Result};
-use crate::scene::{Alpha, Bsdf, Filter, Image, Material, TextureRef, UvTransform, Wrap};
+use crate::scene::{Alpha, Bsdf, Filter, Image, Material, NormalTexture, TextureRef, UvTransform, Wrap};
 use glam::{Vec3, Vec4};
 
 /// Base colour of primitives without a material (glTF's default material:
@@ -33,7 +42,7 @@ impl<'p> Loader<'p> {
     pub(super) fn materials(&mut self) -> Result<(Vec<Material>, Vec<Option<u32>>)> {
         let mut materials = Vec::new();
         let mut sets = Vec::new();
-        let (mut specular, mut normal, mut occlusion, mut blend) = (false, false, false, false);
+        let (mut specular, mut occlusion, mut blend) = (false, false, false);
         for m in self.document.materials() {
             let index = m.index().unwrap_or(materials.len());
             let name = m
@@ -41,7 +50,6 @@ impl<'p> Loader<'p> {
                 .map_or_else(|| format!("material {index}"), str::to_string);
             let element = || label("material", index, m.name());
             let pbr = m.pbr_metallic_roughness();
-            normal |= m.normal_texture().is_some();
             occlusion |= m.occlusion_texture().is_some();
             let base_factor = Vec4::from(pbr.base_color_factor());
             let albedo = base_factor.truncate();
@@ -79,11 +87,33 @@ impl<'p> Loader<'p> {
             let base = pbr.base_color_texture();
             let emissive = m.emissive_texture();
             let metal_rough = pbr.metallic_roughness_texture();
+            let normal_texture = match m.normal_texture() {
+                None => None,
+                Some(n) => {
+                    let scale = n.scale();
+                    if !scale.is_finite() {
+                        return Err(
+                            self.content(element(), format!("normalTexture scale {scale} is not finite"))
+                        );
+                    }
+                    let (transform, tex_coord) =
+                        normal_transform(&n).map_err(|reason| self.content(element(), reason))?;
+                    let texture = TextureRef {
+                        transform,
+                        ..sampled(&n.texture())
+                    };
+                    Some((
+                        NormalTexture { texture, scale },
+                        tex_coord.unwrap_or(n.tex_coord()),
+                    ))
+                }
+            };
             let mut set: Option<(&str, u32)> = None;
             for (what, t) in [
                 ("base colour", base.as_ref().map(tex_coord)),
                 ("emissive", emissive.as_ref().map(tex_coord)),
                 ("metallic-roughness", metal_rough.as_ref().map(tex_coord)),
+                ("normal", normal_texture.map(|(_, set)| set)),
             ] {
                 match (set, t) {
                     (Some((first, a)), Some(b)) if a != b => {
@@ -118,6 +148,7 @@ impl<'p> Loader<'p> {
                 emission_texture: emissive.as_ref().map(texture_ref),
                 bsdf,
                 alpha,
+                normal_texture: normal_texture.map(|(n, _)| n),
             });
             sets.push(set.map(|(_, s)| s));
         }
@@ -127,9 +158,8 @@ impl<'p> Loader<'p> {
                     .into(),
             );
         }
-        if normal || occlusion {
-            self.notices
-                .push("normal and occlusion textures are ignored".into());
+        if occlusion {
+            self.notices.push("occlusion textures are ignored".into());
         }
         if blend {
             self.notices
@@ -150,7 +180,12 @@ impl<'p> Loader<'p> {
                     Bsdf::MetallicRoughness { texture, .. } => texture,
                     Bsdf::Lambert => None,
                 };
-                [m.base_color_texture, m.emission_texture, metal_rough]
+                [
+                    m.base_color_texture,
+                    m.emission_texture,
+                    metal_rough,
+                    m.normal_texture.map(|n| n.texture),
+                ]
             })
             .flatten()
             .map(|t| t.image as usize);
@@ -196,8 +231,58 @@ fn tex_coord(info: &gltf::texture::Info) -> u32 {
 /// `KHR_texture_transform` (offset, rotation, scale); `image` holds the glTF
 /// image index until remapped.
 fn texture_ref(info: &gltf::texture::Info) -> TextureRef {
+    TextureRef {
+        transform: info
+            .texture_transform()
+            .map(|t| UvTransform::from_offset_rotation_scale(t.offset(), t.rotation(), t.scale())),
+        ..sampled(&info.texture())
+    }
+}
+
+/// `KHR_texture_transform` on a normal texture, read from its JSON (module
+/// docs): the transform (`None` without the extension) and its `texCoord`
+/// override. Missing properties take the extension's defaults (offset `[0,
+/// 0]`, rotation 0, scale `[1, 1]`).
+///
+/// # Errors
+/// A message when a property has the wrong type or a non-finite value.
+pub(super) fn normal_transform(
+    n: &gltf::material::NormalTexture,
+) -> std::result::Result<(Option<UvTransform>, Option<u32>), String> {
+    use gltf::json::Value;
+    let Some(ext) = n.extension_value("KHR_texture_transform") else {
+        return Ok((None, None));
+    };
+    let what = |p: &str| format!("normalTexture KHR_texture_transform {p}");
+    let number = |v: &Value, p: &str| match v.as_f64().map(|x| x as f32) {
+        Some(x) if x.is_finite() => Ok(x),
+        _ => Err(format!("{} is {v}, expected a finite number", what(p))),
+    };
+    let pair = |p: &str, default: [f32; 2]| match ext.get(p) {
+        None => Ok(default),
+        Some(Value::Array(a)) if a.len() == 2 => Ok([number(&a[0], p)?, number(&a[1], p)?]),
+        Some(v) => Err(format!("{} is {v}, expected two numbers", what(p))),
+    };
+    let offset = pair("offset", [0.0, 0.0])?;
+    let scale = pair("scale", [1.0, 1.0])?;
+    let rotation = ext.get("rotation").map_or(Ok(0.0), |v| number(v, "rotation"))?;
+    let tex_coord = match ext.get("texCoord") {
+        None => None,
+        Some(v) => match v.as_u64().and_then(|s| u32::try_from(s).ok()) {
+            Some(s) => Some(s),
+            None => return Err(format!("{} is {v}, expected a set index", what("texCoord"))),
+        },
+    };
+    Ok((
+        Some(UvTransform::from_offset_rotation_scale(offset, rotation, scale)),
+        tex_coord,
+    ))
+}
+
+/// A [`TextureRef`] with `texture`'s image and sampler settings and no
+/// coordinate transform; `image` holds the glTF image index until remapped.
+fn sampled(texture: &gltf::Texture) -> TextureRef {
     use gltf::texture::{MagFilter, WrappingMode};
-    let texture = info.texture();
     let sampler = texture.sampler();
     let wrap = |m| match m {
         WrappingMode::Repeat => Wrap::Repeat,
@@ -212,9 +297,7 @@ fn texture_ref(info: &gltf::texture::Info) -> TextureRef {
             Some(MagFilter::Nearest) => Filter::Nearest,
             Some(MagFilter::Linear) | None => Filter::Bilinear,
         },
-        transform: info
-            .texture_transform()
-            .map(|t| UvTransform::from_offset_rotation_scale(t.offset(), t.rotation(), t.scale())),
+        transform: None,
     }
 }
 

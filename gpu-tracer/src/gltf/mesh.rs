@@ -5,18 +5,21 @@
 use super::attribute::Attribute;
 use super::loader::Loader;
 use crate::error::{Error, Result};
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
 
 impl<'p> Loader<'p> {
-    /// The triangles of a primitive in its node's space: corners and their
-    /// texture coordinates (zero when `set` is `None`).
+    /// The triangles of a primitive in its node's space: corners, their
+    /// texture coordinates (zero when `set` is `None`) and, when `tangents`
+    /// is set and the primitive has a `TANGENT` attribute, the corners'
+    /// tangents (node space, `w` = bitangent sign).
     pub(super) fn primitive(
         &self,
         primitive: &gltf::Primitive,
         element: &str,
         set: Option<u32>,
-    ) -> Result<Vec<([Vec3; 3], [Vec2; 3])>> {
+        tangents: bool,
+    ) -> Result<Vec<PrimitiveTriangle>> {
         use gltf::mesh::Mode;
         let strip_or_fan = match primitive.mode() {
             Mode::Triangles => false,
@@ -73,6 +76,31 @@ impl<'p> Loader<'p> {
             }
         };
 
+        let tangents: Option<Vec<Vec4>> = match primitive.get(&gltf::Semantic::Tangents) {
+            Some(acc) if tangents => {
+                let values: Vec<Vec4> = self
+                    .read_attribute::<4>(&acc, element, "TANGENT", Attribute::Tangent)?
+                    .into_iter()
+                    .map(Vec4::from)
+                    .collect();
+                if values.len() != points.len() {
+                    return Err(self.content(
+                        element,
+                        format!(
+                            "TANGENT has {} values for {} positions",
+                            acc.count(),
+                            points.len()
+                        ),
+                    ));
+                }
+                if let Some(k) = values.iter().position(|t| !t.is_finite()) {
+                    return Err(self.content(element, format!("TANGENT value {k} is NaN or infinite")));
+                }
+                Some(values)
+            }
+            _ => None,
+        };
+
         let indices: Vec<u32> = match primitive.indices() {
             Some(acc) => {
                 let int_types = [DataType::U8, DataType::U16, DataType::U32].map(|t| (t, Dimensions::Scalar));
@@ -123,11 +151,19 @@ impl<'p> Loader<'p> {
             .filter(|[a, b, c]| !strip_or_fan || (a != b && b != c && a != c))
             .map(|c| {
                 let c = c.map(|i| i as usize);
-                (c.map(|i| points[i]), c.map(|i| uvs[i]))
+                (
+                    c.map(|i| points[i]),
+                    c.map(|i| uvs[i]),
+                    tangents.as_ref().map(|t| c.map(|i| t[i])),
+                )
             })
             .collect())
     }
 }
+
+/// One triangle of a primitive: corners, texture coordinates, and the
+/// corners' `TANGENT`s when read.
+pub(super) type PrimitiveTriangle = ([Vec3; 3], [Vec2; 3], Option<[Vec4; 3]>);
 
 #[cfg(test)]
 mod tests {

@@ -42,8 +42,15 @@
 //!   `alphaCutoff` (default 0.5; negative or infinite cutoffs are an error):
 //!   camera, bounce and shadow rays pass through them
 //!   ([`Alpha::Mask`](crate::scene::Alpha::Mask)); `BLEND` is rendered
-//!   opaque with a notice. Normal and occlusion maps are ignored with a
-//!   notice. A
+//!   opaque with a notice. `normalTexture` (its `scale`, sampler,
+//!   `texCoord` and `KHR_texture_transform`, read as linear data) tilts the
+//!   shading normal ([`NormalTexture`](crate::scene::NormalTexture),
+//!   `kernels::normal_map`): the texel is a normal in a flat per-triangle
+//!   tangent frame, from the primitive's `TANGENT` attribute when it has one
+//!   (the three corners' mean, `w` the bitangent sign, flipped by mirroring
+//!   node transforms) and from the texture coordinates otherwise
+//!   (`scene::tangent`). The G-buffer's normal stays the geometric one.
+//!   Occlusion maps are ignored with a notice. A
 //!   primitive without material gets glTF's default material: base colour
 //!   1, metallic 1, roughness 1, no emission.
 //! - **Images**: whatever the `gltf` crate decodes (PNG, JPEG), converted to
@@ -96,7 +103,9 @@
 //! - `animation`: the animation channels;
 //! - `tests`: tests of the whole loader on the fixtures;
 //! - `extension_tests`: texture transforms and alpha cut-outs on patched
-//!   fixtures.
+//!   fixtures;
+//! - `normal_map_tests`: normal textures and tangents on patched fixtures,
+//!   rendered under a directional light.
 
 mod animation;
 mod attribute;
@@ -108,6 +117,8 @@ mod loader;
 mod material;
 mod mesh;
 mod nodes;
+#[cfg(test)]
+mod normal_map_tests;
 #[cfg(test)]
 mod tests;
 
@@ -139,7 +150,7 @@ pub struct GltfScene {
     /// [`Rig::local`] is parallel to `scene.triangles`.
     pub rig: Rig,
     /// One line per ignored feature of the file (unsupported extension,
-    /// metallic/roughness, normal maps, morph targets, ...), for the user.
+    /// occlusion maps, morph targets, ...), for the user.
     pub notices: Vec<String>,
 }
 
@@ -164,11 +175,12 @@ pub struct GltfScene {
 /// - [`Error::GltfContent`]: anything else that makes the content unusable:
 ///   no scene, no triangle in the scene, a node hierarchy cycle, a
 ///   non-finite node transform, an accessor of the wrong type, out of its
-///   buffer, or with NaN/infinite texture coordinates, a vertex index out of
-///   range, a `POINTS`/`LINE*` primitive, a textured material on a primitive
-///   without the texture coordinates it names (or base colour and emissive
-///   textures naming different sets), an invalid material colour or image,
-///   a camera index out of range (the message says how many camera nodes
+///   buffer, or with NaN/infinite texture coordinates or tangents, a vertex
+///   index out of range, a `POINTS`/`LINE*` primitive, a textured material
+///   on a primitive without the texture coordinates it names (or textures
+///   of one material naming different sets), an invalid material colour or
+///   image, a non-finite `normalTexture` scale or a malformed
+///   `KHR_texture_transform` on it, a camera index out of range (the message says how many camera nodes
 ///   there are), an orthographic or degenerate camera, invalid animation
 ///   data (times not finite and strictly increasing, values not finite, the
 ///   wrong number of values).
@@ -236,6 +248,7 @@ impl<'p> Loader<'p> {
                 m.base_color_texture.as_mut(),
                 m.emission_texture.as_mut(),
                 metal_rough,
+                m.normal_texture.as_mut().map(|n| &mut n.texture),
             ]
             .into_iter()
             .flatten()
@@ -268,8 +281,12 @@ impl<'p> Loader<'p> {
                     }
                 };
                 let set = primitive.material().index().and_then(|i| material_sets[i]);
-                let prim = self.primitive(&primitive, &element, set)?;
-                for (corners, uvs) in prim {
+                let normal_mapped = primitive
+                    .material()
+                    .index()
+                    .is_some_and(|i| materials[i].normal_texture.is_some());
+                let prim = self.primitive(&primitive, &element, set, normal_mapped)?;
+                for (corners, uvs, tangents) in prim {
                     let mut local = corners;
                     let mut uvs = uvs;
                     if world.determinant() < 0.0 {
@@ -286,12 +303,21 @@ impl<'p> Loader<'p> {
                             ),
                         ));
                     }
+                    // One flat tangent per triangle: the corners' mean in
+                    // world space; a mirroring transform flips handedness.
+                    let tangent = tangents.map(|t| {
+                        let sum = t[0] + t[1] + t[2];
+                        let mirror = world.determinant() < 0.0;
+                        let sign = if (sum.w < 0.0) != mirror { -1.0 } else { 1.0 };
+                        world.transform_vector3(sum.truncate()).extend(sign)
+                    });
                     rig.local.push(local);
                     triangles.push(Triangle {
                         vertices,
                         uvs,
                         material,
                         object,
+                        tangent,
                     });
                 }
             }

@@ -2,16 +2,17 @@
 //! leaf order with their attributes, materials, images and the emitter list.
 
 use super::emitters::{emitter_list, scene_radius};
-use super::mips::mip_levels;
-use super::{Alpha, Bsdf, Camera, CameraBasis, Filter, Image, Light, Scene, TextureRef, Triangle, Wrap};
+use super::image_pack::pack_images;
+use super::tangent::tangent_gpu;
+use super::{Alpha, Bsdf, Camera, CameraBasis, Filter, Light, Scene, TextureRef, Triangle, Wrap};
 use crate::bvh::build_bvh;
 use crate::error::{Error, Result};
 use glam::{UVec4, Vec4};
 use glam::{Vec2, Vec3};
 use kernels::abi::{
     BvhNodeGpu, EmitterGpu, MaterialGpu, TriangleAttrGpu, TriangleGpu, UvTransformGpu, CUT_OUT,
-    EMITTER_TRIANGLE, FILTER_BILINEAR, GBUFFER_NO_HIT, IMAGE_HEADER_WORDS, MODEL_LAMBERT,
-    MODEL_METALLIC_ROUGHNESS, TEXTURE_NONE, UV_TRANSFORM, WRAP_CLAMP, WRAP_MIRROR, WRAP_REPEAT,
+    EMITTER_TRIANGLE, FILTER_BILINEAR, GBUFFER_NO_HIT, MODEL_LAMBERT, MODEL_METALLIC_ROUGHNESS, TEXEL_LINEAR,
+    TEXTURE_NONE, UV_TRANSFORM, WRAP_CLAMP, WRAP_MIRROR, WRAP_REPEAT,
 };
 
 /// Largest material count: indices are stored as exact `f32` integers.
@@ -154,7 +155,7 @@ impl SceneGpu {
             let (base, base_flags, base_color_uv) = texture(&m.base_color_texture)?;
             let (emit, emit_flags, emission_uv) = texture(&m.emission_texture)?;
             let mut metal_rough_uv = UvTransformGpu::IDENTITY;
-            let (pbr, model) = match m.bsdf {
+            let (mut pbr, model) = match m.bsdf {
                 Bsdf::Lambert => (Vec4::ZERO, UVec4::new(MODEL_LAMBERT, TEXTURE_NONE, 0, 0)),
                 Bsdf::MetallicRoughness {
                     metallic,
@@ -179,6 +180,22 @@ impl SceneGpu {
                     )
                 }
             };
+            let (normal, normal_uv, normal_scale) = match m.normal_texture {
+                None => (UVec4::new(TEXTURE_NONE, 0, 0, 0), UvTransformGpu::IDENTITY, 0.0),
+                Some(n) if !n.scale.is_finite() => {
+                    return Err(Error::InvalidMaterialParameter {
+                        name: m.name.clone(),
+                        parameter: "normal texture scale",
+                        value: n.scale,
+                        expected: "a finite number",
+                    })
+                }
+                Some(n) => {
+                    let (image, flags, uv) = texture(&Some(n.texture))?;
+                    (UVec4::new(image, flags | TEXEL_LINEAR, 0, 0), uv, n.scale)
+                }
+            };
+            pbr.z = normal_scale;
             let alpha = match m.alpha {
                 Alpha::Opaque => Vec4::ZERO,
                 Alpha::Mask { cutoff, factor } => {
@@ -218,6 +235,8 @@ impl SceneGpu {
                 base_color_uv,
                 emission_uv,
                 metal_rough_uv,
+                normal,
+                normal_uv,
             });
         }
         // Images read as colour (base colour, emission) get their mip levels
@@ -304,9 +323,18 @@ impl SceneGpu {
                 ],
                 material: t.v0.w as u32,
                 object: a.ids.x,
+                tangent: None,
             };
         }
-        let g = build_geometry(&scene_order, &self.materials, &self.lights, self.environment_mean)?;
+        // Tangents are edge coefficients: they hold for the moved vertices.
+        let mut tangents = vec![Vec4::ZERO; positions.len()];
+        for (a, &orig) in self.attrs.iter().zip(&self.original_index) {
+            tangents[orig as usize] = a.tangent;
+        }
+        let mut g = build_geometry(&scene_order, &self.materials, &self.lights, self.environment_mean)?;
+        for a in &mut g.attrs {
+            a.tangent = tangents[a.ids.y as usize];
+        }
         self.previous = g.triangles.iter().map(positions_only).collect();
         self.nodes = g.nodes;
         self.triangles = g.triangles;
@@ -429,6 +457,7 @@ fn build_geometry(
             uv01: Vec4::new(t.uvs[0].x, t.uvs[0].y, t.uvs[1].x, t.uvs[1].y),
             uv2: Vec4::new(t.uvs[2].x, t.uvs[2].y, 0.0, 0.0),
             ids: UVec4::new(t.object, orig, 0, 0),
+            tangent: tangent_gpu(&t),
         });
     }
     let (emitters, emitter_count) = emitter_list(&mut triangles, materials, lights, environment_mean);
@@ -488,63 +517,10 @@ fn sampler_flags(t: &TextureRef) -> u32 {
     wrap(t.wrap_u) | wrap(t.wrap_v) << 2 | filter
 }
 
-/// Largest images buffer, in `u32` words: offsets are `u32`, and wgpu
-/// binds at most 2^31 bytes on common adapters.
-pub const MAX_IMAGE_WORDS: usize = 1 << 29;
-
-/// The images buffer of `images` (`kernels::abi::IMAGE_HEADER_WORDS`) and
-/// the image count.
-fn pack_images(images: &[Image], colour: &[bool]) -> Result<(Vec<u32>, u32)> {
-    let header = images.len() * IMAGE_HEADER_WORDS as usize;
-    // Level 0 and the mip chain (at most 1/3 more for square images, 1/2
-    // more for a long strip; the check below counts what is stored).
-    let texels: usize = images.iter().map(|i| i.texels.len()).sum();
-    if header + texels > MAX_IMAGE_WORDS {
-        return Err(Error::SceneTooLarge {
-            what: "texels",
-            count: header + texels,
-            limit: MAX_IMAGE_WORDS,
-        });
-    }
-    let mut out = vec![0u32; header];
-    for (i, image) in images.iter().enumerate() {
-        let expected = image.width as usize * image.height as usize;
-        if image.width == 0 || image.height == 0 || image.texels.len() != expected {
-            return Err(Error::InvalidImage {
-                name: image.name.clone(),
-                width: image.width,
-                height: image.height,
-                texels: image.texels.len(),
-            });
-        }
-        let levels = mip_levels(image, colour.get(i).copied().unwrap_or(true));
-        let h = i * IMAGE_HEADER_WORDS as usize;
-        out[h] = out.len() as u32;
-        out[h + 1] = image.width;
-        out[h + 2] = image.height;
-        out[h + 3] = 1 + levels.len() as u32;
-        out.extend(image.texels.iter().map(|t| u32::from_le_bytes(*t)));
-        for (_, _, texels) in &levels {
-            out.extend(texels.iter().map(|t| u32::from_le_bytes(*t)));
-        }
-        if out.len() > MAX_IMAGE_WORDS {
-            return Err(Error::SceneTooLarge {
-                what: "texels with their mip levels",
-                count: out.len(),
-                limit: MAX_IMAGE_WORDS,
-            });
-        }
-    }
-    if out.is_empty() {
-        out.push(0);
-    }
-    Ok((out, images.len() as u32))
-}
-
 #[cfg(test)]
 pub(super) mod tests {
     use super::*;
-    use crate::scene::Material;
+    use crate::scene::{Image, Material};
     use glam::Vec4;
 
     /// A unit quad of material `light` (emitting `emission`) in front of a

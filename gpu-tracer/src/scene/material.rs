@@ -100,6 +100,20 @@ pub struct TextureRef {
     pub transform: Option<UvTransform>,
 }
 
+/// A normal map (glTF `normalTexture`): the texture's `rgb`, read as linear
+/// data (`c / 255`, not sRGB), is a unit normal in the triangle's tangent
+/// frame, `(2r - 1, 2g - 1, 2b - 1)` = (tangent, bitangent, normal)
+/// components (`kernels::normal_map`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NormalTexture {
+    /// The texture (image, sampler, coordinate transform).
+    pub texture: TextureRef,
+    /// glTF `scale`: multiplies the tangent and bitangent components of each
+    /// texel's normal (1: as stored, 0: flat; negative inverts the relief).
+    /// Finite; anything else is refused when the GPU form is built.
+    pub scale: f32,
+}
+
 /// How a [`Material`] reflects light.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum Bsdf {
@@ -159,7 +173,8 @@ pub enum Alpha {
 ///
 /// Albedo (base colour) at a surface point = `albedo * decode(base_color_texture(uv))`,
 /// emitted radiance = `emission * decode(emission_texture(uv))` (sRGB
-/// decoding per texel; the texture factor is 1 without a texture).
+/// decoding per texel; the texture factor is 1 without a texture); an
+/// optional [`NormalTexture`] tilts the shading normal.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     /// Name (from the MTL or glTF file, or descriptive for built-in scenes).
@@ -179,6 +194,9 @@ pub struct Material {
     /// Opaque or cut out by the base colour alpha ([`Alpha::Opaque`] by
     /// default).
     pub alpha: Alpha,
+    /// Normal map tilting the shading normal; `None` (the default) shades
+    /// with the geometric normal.
+    pub normal_texture: Option<NormalTexture>,
 }
 
 impl Material {
@@ -192,6 +210,7 @@ impl Material {
             emission_texture: None,
             bsdf: Bsdf::Lambert,
             alpha: Alpha::Opaque,
+            normal_texture: None,
         }
     }
 

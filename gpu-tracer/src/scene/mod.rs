@@ -16,28 +16,35 @@
 //! - `environment`: [`EnvironmentMap`]s (equirectangular sky images);
 //! - `emitters`: the emitter list for next-event estimation (emissive
 //!   triangles and lights, picked by power);
-//! - `material`: [`Material`], its reflectance model ([`Bsdf`]), its [`TextureRef`]s ([`Wrap`], [`Filter`])
+//! - `material`: [`Material`], its reflectance model ([`Bsdf`]), its [`TextureRef`]s ([`Wrap`], [`Filter`]), its [`NormalTexture`]
 //!   and the [`Image`]s they name;
 //! - `buffers`: [`SceneGpu`], the buffers the kernels read, and the limits
 //!   on their sizes;
+//! - `image_pack`: the images buffer (headers, texels, mip levels);
 //! - `mips`: the images' mip chains (for footprint-filtered lookups);
 //! - `settings`: [`TraceSettings`], the per-frame settings of the trace
-//!   pass, and [`SceneGpu::trace_params`].
+//!   pass, and [`SceneGpu::trace_params`];
+//! - `tangent`: each triangle's tangent for normal maps in the kernels'
+//!   form (edge coefficients, `kernels::abi::TriangleAttrGpu::tangent`),
+//!   from [`Triangle::tangent`] or the texture coordinates.
 
 mod buffers;
 mod camera;
 mod emitters;
 mod environment;
+mod image_pack;
 mod light;
 mod material;
 mod mips;
 mod settings;
+mod tangent;
 
-pub use buffers::{SceneGpu, MAX_IMAGE_WORDS, MAX_MATERIALS, MAX_TRIANGLES};
+pub use buffers::{SceneGpu, MAX_MATERIALS, MAX_TRIANGLES};
 pub use camera::{Camera, CameraBasis};
 pub use environment::EnvironmentMap;
+pub use image_pack::MAX_IMAGE_WORDS;
 pub use light::{Light, LightKind};
-pub use material::{Alpha, Bsdf, Filter, Image, Material, TextureRef, UvTransform, Wrap};
+pub use material::{Alpha, Bsdf, Filter, Image, Material, NormalTexture, TextureRef, UvTransform, Wrap};
 pub use settings::{screen_sobol_max_spp, TraceSettings, ZSOBOL_MAX_SPP};
 
 use glam::{Vec2, Vec3};
@@ -60,6 +67,13 @@ pub struct Triangle {
     /// one object (a glTF mesh instance, an OBJ model, a Cornell-box wall or
     /// block); any value below [`kernels::abi::GBUFFER_NO_HIT`].
     pub object: u32,
+    /// Tangent for normal maps, in world space: `xyz` = the direction of
+    /// increasing `u` (any length; only its part in the triangle's plane
+    /// counts), `w` = bitangent sign (glTF `TANGENT.w`, `-1` or `+1`:
+    /// bitangent = `w * (normal x tangent)`), as the file's `TANGENT`
+    /// attribute gives it. `None`: derived from [`Triangle::uvs`] (the
+    /// `tangent` module). Read only when the material has a normal map.
+    pub tangent: Option<glam::Vec4>,
 }
 
 impl Triangle {
@@ -70,6 +84,7 @@ impl Triangle {
             uvs: [Vec2::ZERO; 3],
             material,
             object: 0,
+            tangent: None,
         }
     }
 }
