@@ -109,18 +109,7 @@ pub fn sway_steps(t: u32, period: u32) -> i32 {
 fn centre_hit(scene: &SceneGpu, size: u32) -> Result<(Vec3, f32)> {
     let params = scene.trace_params(&TraceSettings::new(size, size), 0)?;
     let ray = kernels::camera::primary_ray(&params, size / 2, size / 2, Vec2::ZERO);
-    let hit = kernels::bvh::closest_hit(
-        &scene.nodes,
-        &scene.triangles,
-        &scene.materials,
-        &scene.attrs,
-        &scene.images,
-        scene.image_count,
-        &ray,
-        0.0,
-        f32::MAX,
-    )
-    .context("the centre ray sees nothing")?;
+    let hit = scene.closest_hit(&ray).context("the centre ray sees nothing")?;
     let p = ray.origin + ray.dir * hit.t;
     Ok((p, (p - scene.camera.origin).dot(scene.camera.forward)))
 }

@@ -68,18 +68,9 @@ pub fn fit_insets(config: &MotionConfig, cases: &[MotionCase]) -> Result<Vec<Ins
     for inset in inset_layout(crate::study::StudyScene::Cornell, size) {
         let (cx, cy) = (inset.x0 + inset.side / 2, inset.y0 + inset.side / 2);
         let ray = kernels::camera::primary_ray(&params, cx, cy, Vec2::ZERO);
-        let hit = kernels::bvh::closest_hit(
-            &still.nodes,
-            &still.triangles,
-            &still.materials,
-            &still.attrs,
-            &still.images,
-            still.image_count,
-            &ray,
-            0.0,
-            f32::MAX,
-        )
-        .with_context(|| format!("inset {}: centre sees nothing", inset.name))?;
+        let hit = still
+            .closest_hit(&ray)
+            .with_context(|| format!("inset {}: centre sees nothing", inset.name))?;
         anchors.push(Some(InsetAnchor {
             point: ray.origin + ray.dir * hit.t,
             inset,

@@ -94,17 +94,7 @@ fn sees_sun(scene: &SceneGpu, p: glam::Vec3, offset: f32) -> bool {
     let dir = glam::Quat::from_axis_angle(side, offset) * sun;
     let origin = p + glam::Vec3::Y * 1e-3;
     let ray = kernels::intersect::Ray::new(origin, dir);
-    !kernels::bvh::any_hit(
-        &scene.nodes,
-        &scene.triangles,
-        &scene.materials,
-        &scene.attrs,
-        &scene.images,
-        scene.image_count,
-        &ray,
-        0.0,
-        f32::MAX,
-    )
+    !scene.occluded(&ray, f32::MAX)
 }
 
 pub(crate) fn check_inset(scene: &SceneGpu, params: &TraceParams, inset: &Inset) -> Result<()> {
@@ -116,18 +106,9 @@ pub(crate) fn check_inset(scene: &SceneGpu, params: &TraceParams, inset: &Inset)
     for y in inset.y0..inset.y0 + inset.side {
         for x in inset.x0..inset.x0 + inset.side {
             let ray = kernels::camera::primary_ray(params, x, y, Vec2::splat(0.5));
-            let hit = kernels::bvh::closest_hit(
-                &scene.nodes,
-                &scene.triangles,
-                &scene.materials,
-                &scene.attrs,
-                &scene.images,
-                scene.image_count,
-                &ray,
-                0.0,
-                f32::MAX,
-            )
-            .with_context(|| format!("inset {}: pixel ({x}, {y}) sees nothing", inset.name))?;
+            let hit = scene
+                .closest_hit(&ray)
+                .with_context(|| format!("inset {}: pixel ({x}, {y}) sees nothing", inset.name))?;
             let tri = scene.triangles[hit.triangle as usize];
             let p = ray.origin + ray.dir * hit.t;
             let material = tri.v0.w as u32;

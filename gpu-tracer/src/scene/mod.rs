@@ -20,6 +20,7 @@
 //!   and the [`Image`]s they name;
 //! - `buffers`: [`SceneGpu`], the buffers the kernels read, and the limits
 //!   on their sizes;
+//! - `queries`: ray queries against a built scene (closest hit, occlusion);
 //! - `image_pack`: the images buffer (headers, texels, mip levels);
 //! - `mips`: the images' mip chains (for footprint-filtered lookups);
 //! - `settings`: [`TraceSettings`], the per-frame settings of the trace
@@ -36,6 +37,7 @@ mod image_pack;
 mod light;
 mod material;
 mod mips;
+mod queries;
 mod settings;
 mod tangent;
 
