@@ -162,14 +162,19 @@ fn lit_frames_agree_with_the_cpu_renderer() {
     bumpy
         .lights
         .push(Light::point("bulb", glam::Vec3::new(400.0, 400.0, 200.0), 4.0e4));
-    for (scene, name) in [
-        (gpu_tracer::outdoor::sun_and_sky(), "sun-sky"),
-        (room, "cornell + point + spot"),
-        (mapped, "sun-sky under a sky map"),
-        (bumpy, "glossy cornell, normal-mapped, + point"),
+    // Per-pixel statistics (64 frames a side) for the two scenes that hold
+    // every new light kind between them; the same-seed comparison, which
+    // already pins the GPU to the CPU's arithmetic, for all four.
+    for (scene, name, statistics) in [
+        (gpu_tracer::outdoor::sun_and_sky(), "sun-sky", false),
+        (room, "cornell + point + spot", true),
+        (mapped, "sun-sky under a sky map", true),
+        (bumpy, "glossy cornell, normal-mapped, + point", false),
     ] {
         let scene = gpu_tracer::SceneGpu::build(&scene).unwrap();
-        compare_trace_statistics(&gpu, &scene, kernels::abi::SAMPLER_SEEDS, name);
+        if statistics {
+            compare_trace_statistics(&gpu, &scene, kernels::abi::SAMPLER_SEEDS, name);
+        }
         compare_same_seeds(
             &gpu,
             &scene,
