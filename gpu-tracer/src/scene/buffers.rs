@@ -1,7 +1,7 @@
 //! The buffers of a scene for the kernels ([`SceneGpu`]): BVH, triangles in
 //! leaf order with their attributes, materials, images and the emitter list.
 
-use super::emitters::{emitter_list, scene_radius};
+use super::emitters::{emitter_list, environment_power, scene_radius};
 use super::image_pack::pack_images;
 use super::tangent::tangent_gpu;
 use super::{Alpha, Bsdf, Camera, CameraBasis, Filter, Light, Scene, TextureRef, Triangle, Wrap};
@@ -411,7 +411,7 @@ impl SceneGpu {
             })
             .sum();
         let radius = scene_radius(&self.triangles);
-        let environment = 4.0 * std::f64::consts::PI * (radius as f64).powi(2) * self.environment_mean;
+        let environment = environment_power(radius, self.environment_mean);
         triangles + self.lights.iter().map(|l| l.power(radius) as f32).sum::<f32>() + environment as f32
     }
 }

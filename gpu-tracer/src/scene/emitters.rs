@@ -61,7 +61,7 @@ pub(super) fn emitter_list(
             kind: EMITTER_ENVIRONMENT,
             ..EmitterGpu::NONE
         });
-        powers.push(4.0 * std::f64::consts::PI * (radius as f64).powi(2) * environment_mean);
+        powers.push(environment_power(radius, environment_mean));
     }
 
     let total: f64 = powers.iter().sum();
@@ -80,6 +80,12 @@ pub(super) fn emitter_list(
         emitters.push(EmitterGpu::NONE);
     }
     (emitters, n as u32)
+}
+
+/// The power over pi of an environment map of mean radiance `mean` around
+/// a scene of bounding radius `radius`: `4 pi r^2 L` (module docs).
+pub(super) fn environment_power(radius: f32, mean: f64) -> f64 {
+    4.0 * std::f64::consts::PI * (radius as f64).powi(2) * mean
 }
 
 /// Radius of the sphere around the centre of the triangles' bounding box
