@@ -20,6 +20,7 @@ use glam::UVec2;
 use sampler_core::bake::{
     bake_vector_stbn, heaviside_integrands, no_progress, HeavisideIntegrand, VectorKind, VectorStbnParams,
 };
+use sampler_core::sequences::spatiotemporal::{SEQUENCE_KRONECKER, SEQUENCE_SOBOL};
 use sampler_core::{
     defaults, initial_seed, key_sample_u32, owen_sobol_u32, random_f32, shuffle_index, zsobol_sample,
     zsobol_sample_u32, ScreenSobolKeys,
@@ -365,14 +366,25 @@ fn spatiotemporal_jitter_is_stratified_over_frames() {
     };
     let spatiotemporal = measure(&|p, t| {
         let shift = sampler_core::spatiotemporal_shift_u32(tile.values(), 6, p, 0);
-        sampler_core::spatiotemporal_pair_u32(shift, t, 1, 0, 0)
+        sampler_core::spatiotemporal_pair_u32(SEQUENCE_SOBOL, shift, t, 1, 0, 0)
+    });
+    let kronecker = measure(&|p, t| {
+        let shift = sampler_core::spatiotemporal_shift_u32(tile.values(), 6, p, 0);
+        sampler_core::spatiotemporal_pair_u32(SEQUENCE_KRONECKER, shift, t, 1, 0, 0)
     });
     let zsobol = measure(&|p, t| [zsobol_sample_u32(p, 0, 0, 0, t), zsobol_sample_u32(p, 0, 1, 0, t)]);
     let random_dev = (1.0 / 12.0 / frames as f64).sqrt();
     println!(
-        "1-spp jitter over {frames} frames: chi-square (8x8 cells, random ~63) spatiotemporal {:.1}, zsobol {:.1}; \
-         rms of the mean x - 0.5 (random {random_dev:.4}) spatiotemporal {:.4}, zsobol {:.4}",
-        spatiotemporal.0, zsobol.0, spatiotemporal.1, zsobol.1
+        "1-spp jitter over {frames} frames: chi-square (8x8 cells, random ~63) spatiotemporal {:.1}, \
+         its Kronecker sequence {:.1}, zsobol {:.1}; rms of the mean x - 0.5 (random {random_dev:.4}) \
+         spatiotemporal {:.4}, Kronecker {:.4}, zsobol {:.4}",
+        spatiotemporal.0, kronecker.0, zsobol.0, spatiotemporal.1, kronecker.1, zsobol.1
+    );
+    assert!(kronecker.0 < 35.0, "Kronecker chi-square {:.1}", kronecker.0);
+    assert!(
+        kronecker.1 < 0.25 * random_dev,
+        "Kronecker rms mean deviation {:.4}",
+        kronecker.1
     );
     assert!(spatiotemporal.0 < 35.0, "chi-square {:.1}", spatiotemporal.0);
     assert!(

@@ -170,7 +170,8 @@ struct RenderArgs {
     /// `zsobol` (Morton-ordered Sobol, up to 256 spp and 4096 pixels a
     /// side) or `spatiotemporal` (each pixel one progressive sequence across
     /// frames, shifted by blue noise: blue in time; takes every decision,
-    /// Russian roulette included, and `--mode hold`). With the others Russian
+    /// Russian roulette included, and `--mode hold`; `spatiotemporal-kronecker`
+    /// continues a Kronecker sequence instead of Sobol). With the others Russian
     /// roulette still reads the seeds.
     /// `screen-sobol-jitter` and `zsobol-jitter` take only the position inside
     /// the pixel from that sampler and everything else from the (permuted)
@@ -222,6 +223,9 @@ enum SamplerArg {
     /// Each pixel continues one progressive Owen-scrambled Sobol sequence
     /// across frames, rotated by a blue-noise shift (blue in time).
     Spatiotemporal,
+    /// `spatiotemporal` with a Kronecker sequence in time instead of Sobol:
+    /// every window of consecutive frames as well spread as the first.
+    SpatiotemporalKronecker,
 }
 
 impl SamplerArg {
@@ -354,8 +358,14 @@ fn render(args: RenderArgs) -> Result<()> {
         SamplerArg::ScreenSobolJitter => SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY,
         SamplerArg::ZsobolJitter => SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY,
         SamplerArg::Spatiotemporal => kernels::abi::SAMPLER_SPATIOTEMPORAL,
+        SamplerArg::SpatiotemporalKronecker => {
+            kernels::abi::SAMPLER_SPATIOTEMPORAL | kernels::abi::SAMPLER_KRONECKER
+        }
     };
-    let spatiotemporal = matches!(args.sampler, SamplerArg::Spatiotemporal);
+    let spatiotemporal = matches!(
+        args.sampler,
+        SamplerArg::Spatiotemporal | SamplerArg::SpatiotemporalKronecker
+    );
     let mode =
         match (args.mode, spatiotemporal) {
             (None, true) => ModeArg::Hold,

@@ -3,12 +3,17 @@
 //! keys (`sampler_core::defaults::screen_sobol_keys()`), then the
 //! spatiotemporal sampler's 64x64 shift tile (the ranks of
 //! `sampler_core::defaults::tile_64()`, at index `key_count()` of the keys'
-//! layout), then room for the spatiotemporal sampler's frame point table
+//! layout), then the Kronecker generators of its `SAMPLER_KRONECKER`
+//! sequence (`sampler_core::sequences::kronecker::KRONECKER_GENERATORS`),
+//! then room for the spatiotemporal sampler's frame point table
 //! ([`with_frame_points`]: the sequence points every pixel of a frame shares,
 //! computed once per frame instead of once per pixel).
 
 use kernels::abi::{TraceParams, MAX_DEPTH_LIMIT, SAMPLER_SPATIOTEMPORAL, SPATIOTEMPORAL_TILE_LOG2};
-use kernels::numbers::{point_slot_pair, point_slots, point_table_start, sampler_kind};
+use kernels::numbers::{
+    point_slot_pair, point_slots, point_table_start, sampler_kind, spatiotemporal_sequence,
+};
+use sampler_core::sequences::kronecker::KRONECKER_GENERATORS;
 use std::sync::OnceLock;
 
 /// Words reserved for the frame point table after the shift tile: 64
@@ -38,6 +43,7 @@ pub fn sampler_buffer() -> &'static [u32] {
         );
         let mut buffer = keys.keys().to_vec();
         buffer.extend_from_slice(tile.values());
+        buffer.extend_from_slice(&KRONECKER_GENERATORS);
         buffer.resize(buffer.len() + POINT_TABLE_WORDS, 0);
         buffer
     })
@@ -72,6 +78,7 @@ pub fn with_frame_points(params: &TraceParams) -> (TraceParams, Vec<u32>) {
     let pairs: Vec<u32> = (0..slots).map(|k| point_slot_pair(k, params.max_depth)).collect();
     let mut table = vec![0u32; 2 * samples as usize * pairs.len()];
     sampler_core::sequences::spatiotemporal::spatiotemporal_frame_points(
+        spatiotemporal_sequence(params),
         params.frame,
         params.spp.max(1),
         samples,
@@ -89,13 +96,17 @@ mod tests {
 
     #[test]
     fn the_tile_follows_the_keys() {
+        use kernels::numbers::generators_start;
         let b = sampler_buffer();
         let keys = sampler_core::defaults::screen_sobol_keys();
         let n = keys.layout().key_count();
         assert_eq!(&b[..n], keys.keys());
         let tile = 1 << (2 * SPATIOTEMPORAL_TILE_LOG2);
         assert_eq!(&b[n..n + tile], sampler_core::defaults::tile_64().values());
-        assert_eq!(point_table_offset(), n + tile);
+        assert_eq!(generators_start(n), n + tile);
+        let g = KRONECKER_GENERATORS.len();
+        assert_eq!(&b[n + tile..n + tile + g], KRONECKER_GENERATORS.as_slice());
+        assert_eq!(point_table_offset(), n + tile + g);
         assert_eq!(b.len() - point_table_offset(), POINT_TABLE_WORDS);
     }
 
@@ -105,15 +116,22 @@ mod tests {
     #[test]
     fn the_frame_table_gives_the_computed_numbers() {
         use glam::UVec2;
+        use kernels::abi::SAMPLER_KRONECKER;
         use kernels::numbers::{apriori_pair, pair_bsdf, pair_light, pair_roulette, point_slot};
         let keys = sampler_core::defaults::screen_sobol_keys();
         let l = keys.layout();
-        for (spp, max_depth, frame) in [(1u32, 8u32, 0u32), (1, 8, 77), (4, 3, 5), (200, 64, 9)] {
+        let cases = [
+            (1u32, 8u32, 0u32, 0u32),
+            (1, 8, 77, SAMPLER_KRONECKER),
+            (4, 3, 5, 0),
+            (200, 64, 9, SAMPLER_KRONECKER),
+        ];
+        for (spp, max_depth, frame, flag) in cases {
             let params = TraceParams {
                 spp,
                 max_depth,
                 frame,
-                sampler: SAMPLER_SPATIOTEMPORAL,
+                sampler: SAMPLER_SPATIOTEMPORAL | flag,
                 key_side_log2: l.side_log2,
                 key_pairs: l.pairs,
                 key_levels: l.levels,

@@ -45,6 +45,7 @@ fn colour(m: Method) -> RGBColor {
         Method::ScreenSobol => RGBColor(204, 121, 167),
         Method::ZSobol => RGBColor(86, 180, 233),
         Method::Spatiotemporal => RGBColor(240, 228, 66),
+        Method::SpatiotemporalKronecker => RGBColor(120, 94, 240),
         Method::FeaturePermute => RGBColor(0, 170, 170),
         Method::FeaturePermuteJitter => RGBColor(0, 100, 100),
         Method::FeaturePermuteRawKey => RGBColor(120, 120, 40),

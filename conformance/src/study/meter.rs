@@ -137,11 +137,17 @@ impl Study {
             Method::DitherFilterAdapted => {
                 render_dither(self, sampler_core::defaults::filter_adapted_128(), &mut on_frame)?
             }
-            Method::ScreenSobol | Method::ZSobol | Method::Spatiotemporal => {
+            Method::ScreenSobol
+            | Method::ZSobol
+            | Method::Spatiotemporal
+            | Method::SpatiotemporalKronecker => {
                 let mut settings = self.config.settings();
                 settings.sampler = match method {
                     Method::ScreenSobol => kernels::abi::SAMPLER_SCREEN_SOBOL,
                     Method::ZSobol => kernels::abi::SAMPLER_ZSOBOL,
+                    Method::SpatiotemporalKronecker => {
+                        kernels::abi::SAMPLER_SPATIOTEMPORAL | kernels::abi::SAMPLER_KRONECKER
+                    }
                     _ => kernels::abi::SAMPLER_SPATIOTEMPORAL,
                 };
                 let job = RenderJob {

@@ -32,6 +32,9 @@ pub enum Method {
     /// (`--sampler spatiotemporal`, issue 29): each pixel continues one progressive
     /// Owen-scrambled Sobol sequence across frames, rotated by a blue-noise shift.
     Spatiotemporal,
+    /// [`Method::Spatiotemporal`] continuing a Kronecker sequence across frames
+    /// instead of Sobol (`--sampler spatiotemporal-kronecker`).
+    SpatiotemporalKronecker,
     /// The feature-aware permutation (issue 14, `SequenceOptions::features` of the
     /// tracer's CPU loop): demodulated sort keys, blocks sorted in groups of one
     /// surface, retarget moves cut at edges, features from the G-buffer.
@@ -49,7 +52,7 @@ pub enum Method {
 
 impl Method {
     /// Every method, white first.
-    pub const ALL: [Method; 14] = [
+    pub const ALL: [Method; 15] = [
         Method::White,
         Method::Sort,
         Method::Permute,
@@ -60,6 +63,7 @@ impl Method {
         Method::ScreenSobol,
         Method::ZSobol,
         Method::Spatiotemporal,
+        Method::SpatiotemporalKronecker,
         Method::FeaturePermute,
         Method::FeaturePermuteJitter,
         Method::FeaturePermuteRawKey,
@@ -110,6 +114,7 @@ impl Method {
             Method::ScreenSobol => "screen-sobol",
             Method::ZSobol => "zsobol",
             Method::Spatiotemporal => "spatiotemporal",
+            Method::SpatiotemporalKronecker => "spatiotemporal-kronecker",
             Method::FeaturePermute => "feature-permute",
             Method::FeaturePermuteJitter => "feature-permute-jitter",
             Method::FeaturePermuteRawKey => "feature-permute-raw-key",
@@ -133,6 +138,9 @@ impl Method {
             Method::ZSobol => "white seeds + ZSobol on every 2D decision",
             Method::Spatiotemporal => {
                 "white seeds + one progressive Sobol sequence per pixel across frames, blue-noise shifts"
+            }
+            Method::SpatiotemporalKronecker => {
+                "white seeds + one Kronecker sequence per pixel across frames, blue-noise shifts"
             }
             Method::FeaturePermute => {
                 "feature-aware permute: demodulated keys, groups of one surface, cut retarget moves"

@@ -197,11 +197,19 @@ fn apriori_samplers_agree_with_the_cpu_renderer() {
         return;
     };
     let scene = SceneGpu::build(&cornell_box()).unwrap();
-    use kernels::abi::{SAMPLER_JITTER_ONLY, SAMPLER_SCREEN_SOBOL, SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL};
+    use kernels::abi::{
+        SAMPLER_JITTER_ONLY, SAMPLER_KRONECKER, SAMPLER_SCREEN_SOBOL, SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL,
+    };
     for (sampler, name, mode) in [
         (SAMPLER_SCREEN_SOBOL, "screen-sobol", PermuteMode::White),
         (SAMPLER_ZSOBOL, "zsobol", PermuteMode::White),
         (SAMPLER_SPATIOTEMPORAL, "spatiotemporal", PermuteMode::White),
+        // The Kronecker sequence: generators read from the sampler buffer.
+        (
+            SAMPLER_SPATIOTEMPORAL | SAMPLER_KRONECKER,
+            "spatiotemporal-kronecker",
+            PermuteMode::White,
+        ),
         // Homes in the seed buffer (written by the host, read through the flag).
         (SAMPLER_SPATIOTEMPORAL, "spatiotemporal-hold", PermuteMode::Hold),
         // Jitter only: the seeds drive the rest, so permute them as the GPU would.

@@ -22,7 +22,7 @@
 //! | | 4 | storage, read | `[EmitterGpu]` (at least one entry: pad with [`EmitterGpu::NONE`]) |
 //! | | 5 | storage, read | seeds `[u32]`, `padded_width * padded_height` |
 //! | | 6 | storage, write | frame colour `[Vec4]`, `width * height` |
-//! | | 7 | storage, read | screen-space Sobol keys `[u32]` laid out as [`TraceParams::key_side_log2`], [`TraceParams::key_pairs`], [`TraceParams::key_levels`] say (`sampler_core::sequences::screen_sobol`; the host binds `sampler_core::defaults::screen_sobol_keys()`), then the [`SPATIOTEMPORAL_TILE_LOG2`]-sided shift tile of [`SAMPLER_SPATIOTEMPORAL`] (the host appends `sampler_core::defaults::tile_64()`'s ranks), then the frame's point table of [`SAMPLER_SPATIOTEMPORAL`] ([`TraceParams::point_samples`]); read only with [`SAMPLER_SCREEN_SOBOL`] (with or without [`SAMPLER_JITTER_ONLY`]) and [`SAMPLER_SPATIOTEMPORAL`], at least one element |
+//! | | 7 | storage, read | screen-space Sobol keys `[u32]` laid out as [`TraceParams::key_side_log2`], [`TraceParams::key_pairs`], [`TraceParams::key_levels`] say (`sampler_core::sequences::screen_sobol`; the host binds `sampler_core::defaults::screen_sobol_keys()`), then the [`SPATIOTEMPORAL_TILE_LOG2`]-sided shift tile of [`SAMPLER_SPATIOTEMPORAL`] (the host appends `sampler_core::defaults::tile_64()`'s ranks), then the `2 * KRONECKER_PAIRS` generator words of [`SAMPLER_KRONECKER`] (`sampler_core::sequences::kronecker::KRONECKER_GENERATORS`), then the frame's point table of [`SAMPLER_SPATIOTEMPORAL`] ([`TraceParams::point_samples`]); read only with [`SAMPLER_SCREEN_SOBOL`] (with or without [`SAMPLER_JITTER_ONLY`]) and [`SAMPLER_SPATIOTEMPORAL`], at least one element |
 //! | | 8 | storage, read | `[TriangleAttrGpu]`, parallel to binding 2 |
 //! | | 9 | storage, read | images `[u32]` (layout in [`IMAGE_HEADER_WORDS`]), at least one element |
 //! | | 10 | storage, read | environment map `[f32]`: sampling table then texels ([`crate::environment::environment_texel`]), at least one element |
@@ -185,10 +185,17 @@ pub const SAMPLER_JITTER_ONLY: u32 = 1 << 8;
 /// moves them like seeds with the seed reprojection, so the pixels that
 /// follow a surface keep its shift. Ignored with the other samplers.
 pub const SAMPLER_FOLLOW_HOMES: u32 = 1 << 9;
+/// Flag of [`TraceParams::sampler`], ORed with [`SAMPLER_SPATIOTEMPORAL`]:
+/// every pixel continues the Kronecker sequence `frac(n g_k)` of
+/// `sampler_core::sequences::kronecker` (its generators read from binding 7
+/// after the shift tile) instead of the Owen-scrambled Sobol sequence; the
+/// shifts and everything else are unchanged. Ignored with the other samplers.
+pub const SAMPLER_KRONECKER: u32 = 1 << 10;
 /// The bits of [`TraceParams::sampler`] that name the sampler
 /// ([`SAMPLER_SEEDS`], [`SAMPLER_SCREEN_SOBOL`], [`SAMPLER_ZSOBOL`] or
 /// [`SAMPLER_SPATIOTEMPORAL`]); the
-/// rest are flags ([`SAMPLER_JITTER_ONLY`], [`SAMPLER_FOLLOW_HOMES`]).
+/// rest are flags ([`SAMPLER_JITTER_ONLY`], [`SAMPLER_FOLLOW_HOMES`],
+/// [`SAMPLER_KRONECKER`]).
 pub const SAMPLER_KIND_MASK: u32 = 0xFF;
 
 /// Per-frame parameters of the trace, G-buffer and accumulate passes

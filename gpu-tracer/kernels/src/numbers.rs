@@ -61,15 +61,17 @@
 
 use crate::abi::{
     TraceParams, MAX_DEPTH_LIMIT, SAMPLER_FOLLOW_HOMES, SAMPLER_JITTER_ONLY, SAMPLER_KIND_MASK,
-    SAMPLER_SCREEN_SOBOL, SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL, SEED_MODE_ADVANCE,
+    SAMPLER_KRONECKER, SAMPLER_SCREEN_SOBOL, SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL, SEED_MODE_ADVANCE,
     SPATIOTEMPORAL_TILE_LOG2,
 };
 use crate::sampler_entry::{screen_sobol_pair, zsobol_pair};
 use glam::{UVec2, Vec2};
+use sampler_core::sequences::kronecker::{kronecker_point_at, KRONECKER_PAIRS};
 use sampler_core::sequences::r2::q32_to_f32;
 use sampler_core::sequences::screen_sobol::ScreenSobolLayout;
 use sampler_core::sequences::spatiotemporal::{
-    home_texel, spatiotemporal_index, spatiotemporal_point_u32, spatiotemporal_shift_at, SPATIOTEMPORAL_SEED,
+    home_texel, spatiotemporal_index, spatiotemporal_point_u32, spatiotemporal_shift_at, SEQUENCE_KRONECKER,
+    SEQUENCE_SOBOL, SPATIOTEMPORAL_SEED,
 };
 use sampler_core::RandomStream;
 
@@ -187,12 +189,32 @@ pub fn point_slot_pair(slot: u32, max_depth: u32) -> u32 {
     }
 }
 
-/// Index in binding 7 of the frame point table: after the screen-space
-/// Sobol keys (`key_count` words) and the `2^SPATIOTEMPORAL_TILE_LOG2`-sided
-/// shift tile.
+/// Index in binding 7 of the Kronecker generators
+/// (`sampler_core::sequences::kronecker::KRONECKER_GENERATORS`, read with
+/// [`SAMPLER_KRONECKER`]): after the screen-space Sobol keys (`key_count`
+/// words) and the `2^SPATIOTEMPORAL_TILE_LOG2`-sided shift tile.
+#[inline]
+pub fn generators_start(key_count: usize) -> usize {
+    key_count + (1usize << (2 * SPATIOTEMPORAL_TILE_LOG2))
+}
+
+/// Index in binding 7 of the frame point table: after the generators
+/// ([`generators_start`], `2 * KRONECKER_PAIRS` words).
 #[inline]
 pub fn point_table_start(key_count: usize) -> usize {
-    key_count + (1usize << (2 * SPATIOTEMPORAL_TILE_LOG2))
+    generators_start(key_count) + 2 * KRONECKER_PAIRS as usize
+}
+
+/// The sequence [`SAMPLER_SPATIOTEMPORAL`] continues under `params`:
+/// `SEQUENCE_KRONECKER` with [`SAMPLER_KRONECKER`], else `SEQUENCE_SOBOL`
+/// (`sampler_core::sequences::spatiotemporal`).
+#[inline]
+pub fn spatiotemporal_sequence(params: &TraceParams) -> u32 {
+    if params.sampler & SAMPLER_KRONECKER != 0 {
+        SEQUENCE_KRONECKER
+    } else {
+        SEQUENCE_SOBOL
+    }
 }
 
 /// [`SAMPLER_SPATIOTEMPORAL`]'s unshifted point of `pair` for sample `s`:
@@ -211,7 +233,11 @@ fn spatiotemporal_point(params: &TraceParams, keys: &[u32], key_count: usize, s:
         }
     }
     let index = spatiotemporal_index(params.frame, params.spp.max(1), s);
-    spatiotemporal_point_u32(index, pair, SPATIOTEMPORAL_SEED)
+    if spatiotemporal_sequence(params) == SEQUENCE_KRONECKER {
+        kronecker_point_at(keys, generators_start(key_count), index, pair)
+    } else {
+        spatiotemporal_point_u32(index, pair, SPATIOTEMPORAL_SEED)
+    }
 }
 
 /// Pair `pair` (dimensions `2 pair`, `2 pair + 1`) of sample `s` of `pixel`
@@ -237,7 +263,9 @@ fn spatiotemporal_point(params: &TraceParams, keys: &[u32], key_count: usize, s:
 ///   mean converges across frames as Monte Carlo over per-frame stratified
 ///   estimates.
 /// - [`SAMPLER_SPATIOTEMPORAL`]: index `frame * spp + s` of the shared
-///   progressive sequence, rotated by the pixel's shift read from the tile
+///   progressive sequence (Owen-scrambled Sobol, or the Kronecker sequence
+///   with [`SAMPLER_KRONECKER`], [`spatiotemporal_sequence`]), rotated by the
+///   pixel's shift read from the tile
 ///   stored after the keys (`sampler_core::sequences::spatiotemporal`; the
 ///   point from the frame table after the tile when
 ///   [`TraceParams::point_samples`] covers `s`, see [`point_slot`]): one

@@ -18,7 +18,9 @@ use crate::permute_entry::linear_id;
 use glam::{UVec2, UVec3, Vec2};
 use sampler_core::sequences::r2::q32_to_f32;
 use sampler_core::sequences::screen_sobol::{screen_sobol_pair_u32, ScreenSobolLayout};
-use sampler_core::sequences::spatiotemporal::{spatiotemporal_pair_u32, spatiotemporal_shift_u32};
+use sampler_core::sequences::spatiotemporal::{
+    spatiotemporal_pair_u32, spatiotemporal_shift_u32, SEQUENCE_SOBOL,
+};
 use sampler_core::sequences::walk::walk_offset;
 use sampler_core::sequences::zsobol::{zsobol_sample_u32, ZSOBOL_MAX_LOG2_SPP};
 use spirv_std::spirv;
@@ -106,7 +108,9 @@ pub fn zsobol_pair(spp: u32, seed: u32, pixel: UVec2, s: u32, pair: u32) -> Vec2
 
 /// Pair `pair` of sample `s` of `pixel` in frame `frame` at `spp` samples
 /// per pixel from the spatiotemporal sampler
-/// (`sampler_core::sequences::spatiotemporal`), its shift read from the
+/// (`sampler_core::sequences::spatiotemporal`) with its Sobol sequence
+/// (`SEQUENCE_SOBOL`; the trace kernel also offers the Kronecker one,
+/// `crate::abi::SAMPLER_KRONECKER`), its shift read from the
 /// `2^side_log2`-sided rank tile `tile`; each coordinate in `[0, 1)` (24
 /// bits). Pass a pixel's home (`spatiotemporal::home_texel`) as `pixel` to
 /// have its shift follow the picture.
@@ -121,7 +125,7 @@ pub fn spatiotemporal_pair(
     pair: u32,
 ) -> Vec2 {
     let shift = spatiotemporal_shift_u32(tile, side_log2, pixel, pair);
-    let v = spatiotemporal_pair_u32(shift, frame, spp, s, pair);
+    let v = spatiotemporal_pair_u32(SEQUENCE_SOBOL, shift, frame, spp, s, pair);
     Vec2::new(q32_to_f32(v[0]), q32_to_f32(v[1]))
 }
 

@@ -143,10 +143,10 @@ impl SceneGpu {
                 kind <= kernels::abi::SAMPLER_SPATIOTEMPORAL
                     && (flags == 0
                         || (flags == SAMPLER_JITTER_ONLY && kind != kernels::abi::SAMPLER_SEEDS)
-                        || (flags == kernels::abi::SAMPLER_FOLLOW_HOMES
+                        || (flags & !(kernels::abi::SAMPLER_FOLLOW_HOMES | kernels::abi::SAMPLER_KRONECKER) == 0
                             && kind == kernels::abi::SAMPLER_SPATIOTEMPORAL)),
                 "0 (seeds), 1 (screen-sobol), 2 (zsobol) or 3 (spatiotemporal), the last three optionally ORed \
-                 with 256 (jitter only), spatiotemporal also with 512 (homes)",
+                 with 256 (jitter only), spatiotemporal also with 512 (homes) and 1024 (Kronecker sequence)",
             ),
             (
                 "spp",

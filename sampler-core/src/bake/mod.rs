@@ -17,6 +17,9 @@
 //! - [`bake_vector_stbn`]: vector spatiotemporal masks (2D/3D values, unit
 //!   and cosine-hemisphere directions) with the same swap optimiser and the
 //!   STBN coupling.
+//! - [`bake_shift_tile`]: jointly blue 2D shifts of the spatiotemporal
+//!   sampler, arranged for the error after a history filter
+//!   ([`field_quality`] measures it on held-out integrands).
 //! - [`bake_filter_adapted`] / [`refine_filter_adapted`]: masks adapted to
 //!   the spatial and temporal filters a renderer applies (the idea of FAST,
 //!   Donnelly et al. 2024): scalar values of several distributions and
@@ -38,7 +41,10 @@ mod filter_adapted;
 mod filter_swap;
 mod filters;
 mod keys;
+mod kronecker_search;
 mod retarget_bake;
+mod shift_quality;
+mod shift_tile;
 mod stbn;
 mod swap;
 mod threshold_swap;
@@ -60,9 +66,17 @@ pub use keys::{
     bake_key_tile, bake_sampler_keys, heaviside_integrands, key_errors, line_integrands, HeavisideIntegrand,
     KeyParams, LINE_INTEGRANDS, LINE_STEPS,
 };
+pub use kronecker_search::{
+    kronecker_score, resonates, search_kronecker_generators, KroneckerSearch, HISTORY_ALPHA, MEAN_WEIGHT,
+    RESONANCE_GAP, RESONANCE_NEIGHBOURS, SCORE_FRAMES,
+};
 pub use retarget_bake::{
     bake_retarget_table, bake_retarget_table_with, bake_retarget_tables, mean_displacement, retarget_energy,
     RetargetBake, RetargetCosts, DISPLACEMENT_COST,
+};
+pub use shift_quality::{field_quality, FieldQuality};
+pub use shift_tile::{
+    bake_shift_tile, pack_shift, refine_shift_tile_words, unpack_shift, ShiftTile, ShiftTileParams,
 };
 pub use stbn::{bake_stbn, StbnParams};
 pub use swap::SwapReport;

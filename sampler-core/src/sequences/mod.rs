@@ -14,12 +14,14 @@
 //!   Morton-ordered ZSobol ([`zsobol`], [`zsobol_sample`](crate::zsobol_sample)).
 //! - A spatiotemporal a-priori sampler whose pixels each continue one
 //!   progressive sequence across frames, rotated by a blue-noise shift
-//!   ([`spatiotemporal`], [`spatiotemporal_pair_u32`](crate::spatiotemporal_pair_u32)).
+//!   ([`spatiotemporal`], [`spatiotemporal_pair_u32`](crate::spatiotemporal_pair_u32)),
+//!   the sequence Owen-scrambled Sobol or a Kronecker sequence ([`kronecker`]).
 //!
 //! Everything here is `u32`/`f32` arithmetic that compiles with rust-gpu and
 //! gives the same bits on the CPU and in shaders. Nothing here depends on the
 //! other capabilities.
 
+pub mod kronecker;
 pub mod owen;
 pub mod r2;
 pub mod screen_sobol;

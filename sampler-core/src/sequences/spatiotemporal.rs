@@ -27,7 +27,11 @@
 //!   aligned block of `2^m` consecutive indices (so every prefix of `2^m`
 //!   frames at 1 spp) is a (0, m, 2)-net, and the independent `seed_k` of
 //!   each pair decorrelates the pairs ("padding"). It is the **same** for
-//!   every pixel.
+//!   every pixel. With [`SEQUENCE_KRONECKER`] it is replaced by the
+//!   Kronecker sequence `frac(n g_k)` of [`crate::sequences::kronecker`]
+//!   (one searched generator per pair), whose every window of consecutive
+//!   frames is as well spread as its first: what a history's sliding window
+//!   wants ([`spatiotemporal_sequence_point_u32`]).
 //! - `shift_k(p)` is a toroidal (Cranley-Patterson) rotation, constant over
 //!   time, read from a blue-noise dither tile ([`spatiotemporal_shift_u32`]):
 //!   coordinate `c` of pair `k` reads the tile at `p + o_(2k + c + 1)`, where
@@ -64,6 +68,7 @@
 //! identical on the CPU and in shaders.
 
 use crate::error::{Buffer, Error};
+use crate::sequences::kronecker::kronecker_point_u32;
 use crate::sequences::owen::{owen_sobol_pair_u32, shuffle_index};
 use crate::sequences::seed::hash_u32;
 use crate::sequences::walk::walk_offset;
@@ -127,13 +132,41 @@ pub fn spatiotemporal_point_u32(index: u32, pair: u32, seed: u32) -> [u32; 2] {
     owen_sobol_pair_u32(shuffle_index(index, pair_seed), pair_seed)
 }
 
-/// Pair `pair` of sample `s` of `frame` (at `spp` samples per pixel) of the
-/// pixel whose shift is `shift` ([`spatiotemporal_shift_u32`]), both
-/// coordinates in 0.32 fixed point: [`spatiotemporal_point_u32`] of
-/// [`spatiotemporal_index`] rotated by `shift` (a wrapping add).
+/// Selector of the sequence a pixel continues over frames: the Owen-scrambled Sobol points of
+/// [`spatiotemporal_point_u32`] (seed [`SPATIOTEMPORAL_SEED`]).
+pub const SEQUENCE_SOBOL: u32 = 0;
+/// Selector of the sequence a pixel continues over frames: the Kronecker
+/// sequence of [`kronecker_point_u32`] (every window of consecutive frames
+/// as well spread as the first; see [`crate::sequences::kronecker`]).
+pub const SEQUENCE_KRONECKER: u32 = 1;
+
+/// Pair `pair` of sequence index `index` of `sequence` ([`SEQUENCE_SOBOL`],
+/// [`SEQUENCE_KRONECKER`]; any other value reads as Sobol) before the
+/// per-pixel shift, both coordinates in 0.32 fixed point.
 #[inline]
-pub fn spatiotemporal_pair_u32(shift: [u32; 2], frame: u32, spp: u32, s: u32, pair: u32) -> [u32; 2] {
-    let p = spatiotemporal_point_u32(spatiotemporal_index(frame, spp, s), pair, SPATIOTEMPORAL_SEED);
+pub fn spatiotemporal_sequence_point_u32(sequence: u32, index: u32, pair: u32) -> [u32; 2] {
+    if sequence == SEQUENCE_KRONECKER {
+        kronecker_point_u32(index, pair)
+    } else {
+        spatiotemporal_point_u32(index, pair, SPATIOTEMPORAL_SEED)
+    }
+}
+
+/// Pair `pair` of sample `s` of `frame` (at `spp` samples per pixel) of the
+/// pixel whose shift is `shift` ([`spatiotemporal_shift_u32`]) when its
+/// samples continue `sequence`, both coordinates in 0.32 fixed point:
+/// [`spatiotemporal_sequence_point_u32`] of [`spatiotemporal_index`] rotated
+/// by `shift` (a wrapping add).
+#[inline]
+pub fn spatiotemporal_pair_u32(
+    sequence: u32,
+    shift: [u32; 2],
+    frame: u32,
+    spp: u32,
+    s: u32,
+    pair: u32,
+) -> [u32; 2] {
+    let p = spatiotemporal_sequence_point_u32(sequence, spatiotemporal_index(frame, spp, s), pair);
     [p[0].wrapping_add(shift[0]), p[1].wrapping_add(shift[1])]
 }
 
@@ -176,6 +209,7 @@ pub fn write_initial_homes(padded_width: u32, padded_height: u32, out: &mut [u32
 /// [`Error::BufferSize`] ([`Buffer::SamplePoints`]) unless `out` holds exactly
 /// `2 * samples * pairs.len()` words; nothing is written then.
 pub fn spatiotemporal_frame_points(
+    sequence: u32,
     frame: u32,
     spp: u32,
     samples: u32,
@@ -194,7 +228,7 @@ pub fn spatiotemporal_frame_points(
     for s in 0..samples {
         let index = spatiotemporal_index(frame, spp, s);
         for &pair in pairs {
-            let p = spatiotemporal_point_u32(index, pair, SPATIOTEMPORAL_SEED);
+            let p = spatiotemporal_sequence_point_u32(sequence, index, pair);
             out[i] = p[0];
             out[i + 1] = p[1];
             i += 2;
@@ -226,7 +260,7 @@ mod tests {
                         let ybits = m - xbits;
                         let mut seen = [false; 64];
                         for t in start..start + n {
-                            let v = spatiotemporal_pair_u32(shift, t, 1, 0, pair);
+                            let v = spatiotemporal_pair_u32(SEQUENCE_SOBOL, shift, t, 1, 0, pair);
                             let (x, y) = (v[0].wrapping_sub(shift[0]), v[1].wrapping_sub(shift[1]));
                             let cell =
                                 ((x as u64 >> (32 - xbits)) << ybits | (y as u64 >> (32 - ybits))) as usize;
@@ -271,8 +305,8 @@ mod tests {
         let b = spatiotemporal_shift_u32(&tile, side_log2, UVec2::new(6, 5), 0);
         assert_ne!(a, b);
         for frame in [0, 1, 17] {
-            let pa = spatiotemporal_pair_u32(a, frame, 4, 3, 0);
-            let pb = spatiotemporal_pair_u32(b, frame, 4, 3, 0);
+            let pa = spatiotemporal_pair_u32(SEQUENCE_SOBOL, a, frame, 4, 3, 0);
+            let pb = spatiotemporal_pair_u32(SEQUENCE_SOBOL, b, frame, 4, 3, 0);
             assert_eq!(pa[0].wrapping_sub(a[0]), pb[0].wrapping_sub(b[0]));
             assert_eq!(pa[1].wrapping_sub(a[1]), pb[1].wrapping_sub(b[1]));
         }
@@ -327,23 +361,31 @@ mod tests {
         let pairs = [0u32, 1, 2, 7, 129];
         let (frame, spp, samples) = (37u32, 4u32, 3u32);
         let mut table = [0u32; 2 * 3 * 5];
-        spatiotemporal_frame_points(frame, spp, samples, &pairs, &mut table).unwrap();
-        for pixel in [UVec2::new(0, 0), UVec2::new(3, 9)] {
-            for s in 0..samples {
-                for (k, &pair) in pairs.iter().enumerate() {
-                    let shift = spatiotemporal_shift_u32(&tile, 2, pixel, pair);
-                    let i = 2 * (s as usize * pairs.len() + k);
-                    let from_table = [
-                        table[i].wrapping_add(shift[0]),
-                        table[i + 1].wrapping_add(shift[1]),
-                    ];
-                    assert_eq!(from_table, spatiotemporal_pair_u32(shift, frame, spp, s, pair));
+        for sequence in [SEQUENCE_SOBOL, SEQUENCE_KRONECKER] {
+            spatiotemporal_frame_points(sequence, frame, spp, samples, &pairs, &mut table).unwrap();
+            for pixel in [UVec2::new(0, 0), UVec2::new(3, 9)] {
+                for s in 0..samples {
+                    for (k, &pair) in pairs.iter().enumerate() {
+                        let shift = spatiotemporal_shift_u32(&tile, 2, pixel, pair);
+                        let i = 2 * (s as usize * pairs.len() + k);
+                        let from_table = [
+                            table[i].wrapping_add(shift[0]),
+                            table[i + 1].wrapping_add(shift[1]),
+                        ];
+                        let direct = spatiotemporal_pair_u32(sequence, shift, frame, spp, s, pair);
+                        assert_eq!(from_table, direct);
+                    }
                 }
             }
         }
+        // The two sequences differ.
+        assert_ne!(
+            spatiotemporal_sequence_point_u32(SEQUENCE_SOBOL, 5, 0),
+            spatiotemporal_sequence_point_u32(SEQUENCE_KRONECKER, 5, 0)
+        );
         let mut short = [7u32; 29];
         assert_eq!(
-            spatiotemporal_frame_points(frame, spp, samples, &pairs, &mut short),
+            spatiotemporal_frame_points(SEQUENCE_SOBOL, frame, spp, samples, &pairs, &mut short),
             Err(Error::BufferSize {
                 buffer: Buffer::SamplePoints,
                 expected: 30,
