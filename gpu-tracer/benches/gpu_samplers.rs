@@ -18,18 +18,24 @@
 use gpu_tracer::cornell::cornell_box;
 use gpu_tracer::gpu::{Gpu, PassTimer, PermutePipelines, SeedPermuter, TracePipelines, Tracer};
 use gpu_tracer::{SceneGpu, TraceSettings};
-use kernels::abi::{SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS, SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL};
+use kernels::abi::{
+    SAMPLER_KRONECKER, SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS, SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL,
+};
 use sampler_core::FrameLayout;
 
 const WIDTH: u32 = 1280;
 const HEIGHT: u32 = 720;
 
 /// The rows: name and `TraceParams::sampler`.
-const SAMPLERS: [(&str, u32); 4] = [
+const SAMPLERS: [(&str, u32); 5] = [
     ("seed stream", SAMPLER_SEEDS),
     ("screen-sobol", SAMPLER_SCREEN_SOBOL),
     ("zsobol", SAMPLER_ZSOBOL),
     ("spatiotemporal", SAMPLER_SPATIOTEMPORAL),
+    (
+        "spatiotemporal-kronecker",
+        SAMPLER_SPATIOTEMPORAL | SAMPLER_KRONECKER,
+    ),
 ];
 
 mod common;
