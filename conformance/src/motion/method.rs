@@ -25,11 +25,14 @@ pub enum MotionMethod {
     /// The spatiotemporal sampler with its homes moved along the motion
     /// (hold mode with reprojection): each surface point keeps its shift.
     SpatiotemporalFollow,
+    /// [`MotionMethod::SpatiotemporalFollow`] with the Kronecker sequence in
+    /// time (`--sampler spatiotemporal-kronecker`).
+    SpatiotemporalKroneckerFollow,
 }
 
 impl MotionMethod {
     /// Every row, white first.
-    pub const ALL: [MotionMethod; 8] = [
+    pub const ALL: [MotionMethod; 9] = [
         MotionMethod::White,
         MotionMethod::Permute,
         MotionMethod::PermuteReproject,
@@ -38,6 +41,7 @@ impl MotionMethod {
         MotionMethod::ScreenSobol,
         MotionMethod::Spatiotemporal,
         MotionMethod::SpatiotemporalFollow,
+        MotionMethod::SpatiotemporalKroneckerFollow,
     ];
 
     /// Name used in tables.
@@ -51,6 +55,7 @@ impl MotionMethod {
             MotionMethod::ScreenSobol => "screen-sobol",
             MotionMethod::Spatiotemporal => "spatiotemporal, shifts at the pixels",
             MotionMethod::SpatiotemporalFollow => "spatiotemporal, shifts follow (hold + reprojection)",
+            MotionMethod::SpatiotemporalKroneckerFollow => "spatiotemporal-kronecker, shifts follow",
         }
     }
 
@@ -78,6 +83,10 @@ impl MotionMethod {
             }
             MotionMethod::SpatiotemporalFollow => {
                 settings.sampler = kernels::abi::SAMPLER_SPATIOTEMPORAL;
+                (PermuteMode::Hold, true)
+            }
+            MotionMethod::SpatiotemporalKroneckerFollow => {
+                settings.sampler = kernels::abi::SAMPLER_SPATIOTEMPORAL | kernels::abi::SAMPLER_KRONECKER;
                 (PermuteMode::Hold, true)
             }
         };
