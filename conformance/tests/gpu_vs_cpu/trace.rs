@@ -418,6 +418,7 @@ fn textured_moving_scene_and_gbuffer_agree_with_the_cpu() {
                 material,
                 object,
                 tangent: None,
+                normals: None,
             },
             Triangle {
                 vertices: [c[0], c[2], c[3]],
@@ -425,6 +426,7 @@ fn textured_moving_scene_and_gbuffer_agree_with_the_cpu() {
                 material,
                 object,
                 tangent: None,
+                normals: None,
             },
         ]
     };
