@@ -114,7 +114,9 @@
 //! - `extension_tests`: texture transforms and alpha cut-outs on patched
 //!   fixtures;
 //! - `normal_map_tests`: normal textures and tangents on patched fixtures,
-//!   rendered under a directional light.
+//!   rendered under a directional light;
+//! - `smooth_normal_tests`: `NORMAL` (float, quantised, bad values) on the
+//!   smooth sphere, rendered smooth and flat.
 
 mod animation;
 mod attribute;
@@ -128,6 +130,8 @@ mod mesh;
 mod nodes;
 #[cfg(test)]
 mod normal_map_tests;
+#[cfg(test)]
+mod smooth_normal_tests;
 #[cfg(test)]
 mod tests;
 
