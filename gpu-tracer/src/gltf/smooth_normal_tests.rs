@@ -265,3 +265,36 @@ fn smooth_shading_is_continuous_across_triangle_edges() {
         "the smooth sphere is shaded per pixel"
     );
 }
+
+/// Animation: a scale channel stretching the sphere 2x along y. After the
+/// sequence advances to the stretched pose, the scene buffers hold the
+/// ellipsoid's normals (`(x, y / 4, z)` at the world point `(x, y, z)`),
+/// not the rest pose's.
+#[test]
+fn animated_nodes_carry_their_normals() {
+    use crate::animation::{Channel, Interpolation, Property};
+    use crate::timeline::{SceneSequence, Timeline};
+    let mut g = load(&fixture("smooth_sphere.gltf"));
+    let node = g.rig.instances[0].node;
+    g.rig.channels.push(Channel {
+        node,
+        property: Property::Scale,
+        interpolation: Interpolation::Linear,
+        times: vec![0.0, 1.0],
+        values: vec![Vec4::ONE, Vec4::new(1.0, 2.0, 1.0, 0.0)],
+    });
+    let timeline = Timeline {
+        rig: Some(g.rig),
+        fps: 1.0,
+        ..Timeline::still()
+    };
+    let mut seq = SceneSequence::new(&g.scene, timeline, 16).expect("sequence");
+    assert!(seq.advance().expect("advances"));
+    let scene = seq.scene();
+    for (t, a) in scene.triangles.iter().zip(&scene.attrs) {
+        for (p, n) in [(t.v0, a.normal0), (t.v1, a.normal1), (t.v2, a.normal2)] {
+            let want = Vec3::new(p.x, p.y / 4.0, p.z).normalize();
+            assert!((n.truncate() - want).length() < 1e-4, "{n} vs {want} at {p}");
+        }
+    }
+}

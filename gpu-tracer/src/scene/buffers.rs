@@ -31,7 +31,8 @@ pub struct SceneGpu {
     pub triangles: Vec<TriangleGpu>,
     /// Materials with albedo clamped to `[0, 1]`.
     pub materials: Vec<MaterialGpu>,
-    /// Texture coordinates and ids, parallel to `triangles`.
+    /// Texture coordinates, ids, tangents and vertex normals, parallel to
+    /// `triangles`.
     pub attrs: Vec<TriangleAttrGpu>,
     /// The images buffer (`kernels::abi::IMAGE_HEADER_WORDS`); one zero word
     /// for a scene without images (wgpu refuses empty buffers).
