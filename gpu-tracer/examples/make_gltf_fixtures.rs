@@ -24,7 +24,11 @@
 //!   roughness, blue metallic; [`METAL_ROUGH_TEXELS`]);
 //! - `metallic_quad.gltf` + `.bin`: two quads and a light: `brushed`
 //!   (metallic 0.8, roughness 0.5, the metallic-roughness texture, NEAREST)
-//!   and `plain` (no factors: glTF's defaults, metallic 1 and roughness 1).
+//!   and `plain` (no factors: glTF's defaults, metallic 1 and roughness 1);
+//! - `punctual_lights.gltf` + `.bin`: a floor and a table lit only by
+//!   `KHR_lights_punctual` lights;
+//! - `smooth_sphere.gltf` + `.bin`: a coarse sphere with `NORMAL`s (the
+//!   `smooth_sphere` module).
 //!
 //! The diffuse materials of every other fixture are written as exactly
 //! Lambertian glTF: `metallicFactor` 0, an explicit `roughnessFactor` 1 and
@@ -34,6 +38,9 @@
 //! specular layer).
 //!
 //! Run with `cargo run -p gpu-tracer --example make_gltf_fixtures`.
+
+#[path = "make_gltf_fixtures/smooth_sphere.rs"]
+mod smooth_sphere;
 
 use glam::{Mat3, Quat, Vec2, Vec3};
 use serde_json::{json, Value};
@@ -766,4 +773,5 @@ fn main() {
     write(&dir, "metal_rough.png", &metal_rough_png());
     metallic_quad(&dir);
     punctual_lights(&dir);
+    smooth_sphere::smooth_sphere(&dir);
 }

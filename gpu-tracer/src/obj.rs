@@ -1,6 +1,11 @@
 //! Scenes from Wavefront OBJ files with MTL materials (tobj 4).
 //!
-//! Polygons are triangulated; points and lines are ignored. From each MTL
+//! Polygons are triangulated; points and lines are ignored. Vertex normals
+//! (`vn`, the `v/vt/vn` or `v//vn` face corners) make smooth shading
+//! ([`Triangle::normals`]); a triangle with a NaN, infinite or zero-length
+//! normal shades flat, and so do files without `vn`. (A face without
+//! normals in a file whose other faces have them gets the normal tobj
+//! makes up for it: the previous corner's, or the file's first.) From each MTL
 //! material the diffuse colour `Kd` becomes the albedo (default 0.8 grey
 //! when absent) and the emissive colour `Ke` the emitted radiance (default
 //! 0). Faces without a material get a 0.8 grey diffuse default. Emission
@@ -26,7 +31,7 @@
 //!   between.
 
 use crate::error::{Error, Result};
-use crate::scene::{Bsdf, Camera, Material, Scene, Triangle};
+use crate::scene::{usable_normals, Bsdf, Camera, Material, Scene, Triangle};
 use glam::Vec3;
 use std::path::Path;
 
@@ -115,9 +120,21 @@ pub fn load_obj(path: impl AsRef<Path>) -> Result<Scene> {
             let i = i as usize * 3;
             Vec3::new(mesh.positions[i], mesh.positions[i + 1], mesh.positions[i + 2])
         };
-        for face in mesh.indices.chunks_exact(3) {
+        // `vn` normals: tobj's normal indices run parallel to the position
+        // indices when the model has any.
+        let has_normals = !mesh.normals.is_empty() && mesh.normal_indices.len() == mesh.indices.len();
+        let normal = |k: usize| {
+            let i = mesh.normal_indices[k] as usize * 3;
+            match mesh.normals.get(i..i + 3) {
+                Some(n) => Vec3::new(n[0], n[1], n[2]),
+                None => Vec3::ZERO,
+            }
+        };
+        for (f, face) in mesh.indices.chunks_exact(3).enumerate() {
+            let normals = has_normals.then(|| [normal(3 * f), normal(3 * f + 1), normal(3 * f + 2)]);
             triangles.push(Triangle {
                 object,
+                normals: normals.and_then(usable_normals),
                 ..Triangle::new([vertex(face[0]), vertex(face[1]), vertex(face[2])], material)
             });
         }
@@ -237,6 +254,31 @@ mod tests {
         assert_eq!(scene.triangles[0].vertices[1], Vec3::new(1.0, 1.0, 0.0));
         let gpu = SceneGpu::build(&scene).expect("builds");
         assert_eq!(gpu.emitter_count, 1);
+    }
+
+    /// `vn` corners become unit vertex normals (in face-corner order,
+    /// shared or not); a zero `vn` makes its triangle flat; no `vn`, none.
+    #[test]
+    fn vertex_normals_are_read() {
+        let dir = TempDir::new("vn");
+        let path = dir.write(
+            "bent.obj",
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n\
+             vn 0 0 2\nvn 1 0 1\nvn 0 0 0\n\
+             o smooth\nf 1//1 2//2 3//1\n\
+             o degenerate\nf 1//1 3//1 4//3\n",
+        );
+        let scene = load_obj(&path).expect("loads");
+        assert_eq!(scene.triangles.len(), 2);
+        let s = 0.5f32.sqrt();
+        assert_eq!(
+            scene.triangles[0].normals,
+            Some([Vec3::Z, Vec3::new(s, 0.0, s), Vec3::Z])
+        );
+        assert_eq!(scene.triangles[1].normals, None);
+        dir.write("scene.mtl", QUAD_MTL);
+        let plain = load_obj(dir.write("scene.obj", QUAD_OBJ)).expect("loads");
+        assert!(plain.triangles.iter().all(|t| t.normals.is_none()));
     }
 
     #[test]

@@ -38,6 +38,10 @@ pub struct FramePose {
     /// World-space vertices in [`Scene::triangles`] order when objects move;
     /// `None` when the geometry is the base scene's.
     pub triangles: Option<Vec<[Vec3; 3]>>,
+    /// World-space vertex normals parallel to `triangles` (zeros for flat
+    /// triangles), present exactly when `triangles` is
+    /// ([`crate::animation::RigPose::normals`]).
+    pub normals: Option<Vec<[Vec3; 3]>>,
 }
 
 impl Default for Timeline {
@@ -114,11 +118,18 @@ impl Timeline {
     /// As [`Timeline::camera`].
     pub fn pose(&self, base: &Camera, frame: u32, height: u32) -> Result<FramePose> {
         let camera = self.camera(base, frame, height)?;
-        let triangles = match &self.rig {
-            Some(rig) if rig.animates_geometry() => Some(rig.pose(self.time(frame)).triangles),
-            _ => None,
+        let (triangles, normals) = match &self.rig {
+            Some(rig) if rig.animates_geometry() => {
+                let pose = rig.pose(self.time(frame));
+                (Some(pose.triangles), Some(pose.normals))
+            }
+            _ => (None, None),
         };
-        Ok(FramePose { camera, triangles })
+        Ok(FramePose {
+            camera,
+            triangles,
+            normals,
+        })
     }
 }
 
@@ -145,6 +156,9 @@ impl<'a> SceneSequence<'a> {
         let pose = timeline.pose(&base.camera, 0, height)?;
         if let Some(t) = &pose.triangles {
             scene.set_positions(t)?;
+        }
+        if let Some(n) = &pose.normals {
+            scene.set_normals(n)?;
         }
         scene.set_cameras(&pose.camera, &pose.camera)?;
         Ok(SceneSequence {
@@ -173,6 +187,7 @@ impl<'a> SceneSequence<'a> {
             pose: FramePose {
                 camera,
                 triangles: None,
+                normals: None,
             },
             scene: Cow::Borrowed(scene),
         }
@@ -198,7 +213,8 @@ impl<'a> SceneSequence<'a> {
     /// (the scene's buffers, not only its cameras, must be uploaded again).
     ///
     /// # Errors
-    /// As [`Timeline::pose`] and [`SceneGpu::set_positions`]; the sequence
+    /// As [`Timeline::pose`], [`SceneGpu::set_positions`] and
+    /// [`SceneGpu::set_normals`]; the sequence
     /// stays at its frame then.
     pub fn advance(&mut self) -> Result<bool> {
         let next = self.frame + 1;
@@ -211,6 +227,9 @@ impl<'a> SceneSequence<'a> {
         if let Some(t) = &pose.triangles {
             let scene = self.scene.to_mut();
             scene.set_positions(t)?;
+            if let Some(n) = &pose.normals {
+                scene.set_normals(n)?;
+            }
             if let Some(prev) = &self.pose.triangles {
                 scene.set_previous_positions(prev)?;
             }

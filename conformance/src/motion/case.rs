@@ -233,6 +233,7 @@ pub fn timeline(
                 }],
                 instances: Vec::new(),
                 local: Vec::new(),
+                local_normals: Vec::new(),
                 camera: Some(RigCamera {
                     node: 1,
                     fov_y_degrees: cam.fov_y_degrees,
@@ -267,6 +268,7 @@ pub fn timeline(
                     triangle_count: range.len(),
                 }],
                 local: scene.triangles.iter().map(|t| t.vertices).collect(),
+                local_normals: Vec::new(),
                 camera: None,
             });
             format!(

@@ -110,8 +110,9 @@ fn with_normal_maps(mut scene: gpu_tracer::scene::Scene) -> gpu_tracer::scene::S
 /// Punctual lights (point, spot, a directional sun with a disk) and an
 /// environment map on the GPU against the CPU: the outdoor scene (with and
 /// without a sky map), the Cornell box with a point and a spot light
-/// beside its area light (selection by power across kinds), and the glossy
-/// Cornell box with normal maps under a point light.
+/// beside its area light (selection by power across kinds), the glossy
+/// Cornell box with normal maps under a point light, and the smooth-normal
+/// sphere fixture, plain and normal-mapped.
 /// Per-pixel means agree statistically, and with the same seeds the frames
 /// agree pixel for pixel up to float rounding.
 #[test]
@@ -162,14 +163,39 @@ fn lit_frames_agree_with_the_cpu_renderer() {
     bumpy
         .lights
         .push(Light::point("bulb", glam::Vec3::new(400.0, 400.0, 200.0), 4.0e4));
+    // The smooth sphere (vertex normals, under its directional light),
+    // framed close so that it covers most pixels, plain and normal-mapped
+    // (the tangent frame around the smooth normal).
+    let mut sphere = gpu_tracer::gltf::load_gltf(
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../gpu-tracer/tests/data/gltf/smooth_sphere.gltf"
+        ),
+        None,
+    )
+    .unwrap()
+    .scene;
+    assert!(sphere.triangles.iter().all(|t| t.normals.is_some()));
+    sphere.camera = gpu_tracer::scene::Camera {
+        origin: glam::Vec3::new(0.0, 0.0, 2.2),
+        target: glam::Vec3::ZERO,
+        up: glam::Vec3::Y,
+        fov_y_degrees: 60.0,
+    };
+    let mut bumpy_sphere = with_normal_maps(sphere.clone());
+    for t in &mut bumpy_sphere.triangles {
+        t.uvs = t.vertices.map(|p| glam::Vec2::new(p.x + p.z, p.y + p.z) * 2.0);
+    }
     // Per-pixel statistics (64 frames a side) for the two scenes that hold
     // every new light kind between them; the same-seed comparison, which
-    // already pins the GPU to the CPU's arithmetic, for all four.
+    // already pins the GPU to the CPU's arithmetic, for all of them.
     for (scene, name, statistics) in [
         (gpu_tracer::outdoor::sun_and_sky(), "sun-sky", false),
         (room, "cornell + point + spot", true),
         (mapped, "sun-sky under a sky map", true),
         (bumpy, "glossy cornell, normal-mapped, + point", false),
+        (sphere, "smooth sphere", false),
+        (bumpy_sphere, "smooth sphere, normal-mapped", false),
     ] {
         let scene = gpu_tracer::SceneGpu::build(&scene).unwrap();
         if statistics {
@@ -426,6 +452,7 @@ fn textured_moving_scene_and_gbuffer_agree_with_the_cpu() {
                 material,
                 object,
                 tangent: None,
+                normals: None,
             },
             Triangle {
                 vertices: [c[0], c[2], c[3]],
@@ -433,6 +460,7 @@ fn textured_moving_scene_and_gbuffer_agree_with_the_cpu() {
                 material,
                 object,
                 tangent: None,
+                normals: None,
             },
         ]
     };

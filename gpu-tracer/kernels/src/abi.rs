@@ -23,7 +23,7 @@
 //! | | 5 | storage, read | seeds `[u32]`, `padded_width * padded_height` |
 //! | | 6 | storage, write | frame colour `[Vec4]`, `width * height` |
 //! | | 7 | storage, read | screen-space Sobol keys `[u32]` laid out as [`TraceParams::key_side_log2`], [`TraceParams::key_pairs`], [`TraceParams::key_levels`] say (`sampler_core::sequences::screen_sobol`; the host binds `sampler_core::defaults::screen_sobol_keys()`), then the [`SPATIOTEMPORAL_TILE_LOG2`]-sided shift tile of [`SAMPLER_SPATIOTEMPORAL`] (the host appends `sampler_core::defaults::tile_64()`'s ranks), then the `2 * KRONECKER_PAIRS` generator words of [`SAMPLER_KRONECKER`] (`sampler_core::sequences::kronecker::KRONECKER_GENERATORS`), then the frame's point table of [`SAMPLER_SPATIOTEMPORAL`] ([`TraceParams::point_samples`]); read only with [`SAMPLER_SCREEN_SOBOL`] (with or without [`SAMPLER_JITTER_ONLY`]) and [`SAMPLER_SPATIOTEMPORAL`], at least one element |
-//! | | 8 | storage, read | `[TriangleAttrGpu]`, parallel to binding 2 |
+//! | | 8 | storage, read | `[TriangleAttrGpu]` (112 bytes each: texture coordinates, ids, tangent, vertex normals), parallel to binding 2 |
 //! | | 9 | storage, read | images `[u32]` (layout in [`IMAGE_HEADER_WORDS`]), at least one element |
 //! | | 10 | storage, read | environment map `[f32]`: sampling table then texels ([`crate::environment::environment_texel`]), at least one element |
 //! | [`GBUFFER_ENTRY`] | 0 | uniform | [`TraceParams`] (current and previous camera) |
@@ -495,8 +495,12 @@ impl MaterialGpu {
     }
 }
 
-/// Per-triangle attributes the BVH traversal does not need, 64 bytes,
+/// Per-triangle attributes the BVH traversal does not need, 112 bytes,
 /// parallel to the triangle buffer (BVH leaf order).
+///
+/// Layout: texture coordinates (32 bytes), ids (16), the normal map's
+/// tangent (16), then the three vertex normals (48), each field a 16-byte
+/// `Vec4`/`UVec4` (std430 without padding).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct TriangleAttrGpu {
@@ -517,6 +521,19 @@ pub struct TriangleAttrGpu {
     /// `w` = 0. All zero (the default): any tangent, sign +1
     /// (`crate::normal_map::tangent_frame`).
     pub tangent: Vec4,
+    /// Shading normal of vertex 0 (`crate::vertex_normal`): `xyz` = unit
+    /// vector in world space (the file's `NORMAL` / OBJ `vn` after the
+    /// node's inverse-transpose transform), pointing to the side the
+    /// authored normals point to (any side: the kernel orients the blend to
+    /// the triangle's front); `w` = 0. All three normals zero (the default):
+    /// the triangle has no vertex normals and shades with its flat
+    /// geometric normal, bit for bit as before vertex normals existed. The
+    /// host writes either three unit normals or three zeros.
+    pub normal0: Vec4,
+    /// Shading normal of vertex 1, as [`Self::normal0`].
+    pub normal1: Vec4,
+    /// Shading normal of vertex 2, as [`Self::normal0`].
+    pub normal2: Vec4,
 }
 
 /// One pixel of the G-buffer, 64 bytes: what the ray through the pixel
@@ -643,7 +660,7 @@ impl EmitterGpu {
 }
 
 const _: () = assert!(core::mem::size_of::<TraceParams>() == 240);
-const _: () = assert!(core::mem::size_of::<TriangleAttrGpu>() == 64);
+const _: () = assert!(core::mem::size_of::<TriangleAttrGpu>() == 112);
 const _: () = assert!(core::mem::size_of::<GBufferGpu>() == 64);
 const _: () = assert!(core::mem::size_of::<BvhNodeGpu>() == 48);
 const _: () = assert!(core::mem::size_of::<TriangleGpu>() == 48);

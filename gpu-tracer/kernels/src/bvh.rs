@@ -359,7 +359,7 @@ mod tests {
                 uv01: Vec4::new(t.v0.x, t.v0.y, t.v1.x, t.v1.y),
                 uv2: Vec4::new(t.v2.x, t.v2.y, 0.0, 0.0),
                 ids: UVec4::ZERO,
-                tangent: Vec4::ZERO,
+                ..Default::default()
             })
             .collect();
         let images = [4u32, 2, 1, 0, 0x00FF_FFFF, 0xFFFF_FFFF];

@@ -15,7 +15,8 @@
 //!   [`geometry`] triangle normals and ray offsets, [`mis`] the power heuristic,
 //!   [`environment`] what rays leaving the scene see, [`accumulate`] the running mean, [`texture`] image lookup, [`texture_filter`] lookups filtered over a
 //!   pixel's footprint (mip maps), [`footprint`] that footprint at a camera ray's first hit,
-//!   [`surface`] textured albedo and emission, [`normal_map`] tangent
+//!   [`surface`] textured albedo and emission, [`vertex_normal`] smooth
+//!   shading normals from vertex normals, [`normal_map`] tangent
 //!   frames and normal-mapped shading normals, [`bsdf`] the reflectance
 //!   models (GGX microfacets and the glTF metallic-roughness BRDF, not yet
 //!   used by [`trace`]), [`gbuffer`] the G-buffer and
@@ -86,6 +87,7 @@ pub mod surface_features;
 pub mod texture;
 pub mod texture_filter;
 pub mod trace;
+pub mod vertex_normal;
 
 pub use accumulate::accumulate_pixel;
 pub use gbuffer::gbuffer_pixel;

@@ -4,7 +4,9 @@
 //!
 //! # Tangent frame
 //!
-//! Flat per triangle (the tracer has no smooth vertex normals). The host
+//! Built around the smooth normal where the triangle has vertex normals
+//! (`crate::vertex_normal`), around the flat front normal otherwise. The
+//! host
 //! stores the tangent in [`TriangleAttrGpu::tangent`] as a combination of
 //! the triangle's edges `e1 = v1 - v0`, `e2 = v2 - v0`: from the file's
 //! `TANGENT` attribute when it has one, otherwise the standard `dp/du`
@@ -21,16 +23,19 @@
 //!
 //! glTF: `n_s = normalize(t (2r - 1) s + b (2g - 1) s + n (2b - 1))` with
 //! the texel `(r, g, b)` read as linear data ([`TEXEL_LINEAR`]) and `s` the
-//! texture's `scale`. Surfaces are two-sided: `n` here is the geometric
-//! normal facing the incoming ray, so a surface seen from behind uses the
-//! same tangent-plane tilt about the flipped normal.
+//! texture's `scale`. Surfaces are two-sided: `n` here is the base normal
+//! (the smooth normal, or the geometric one without vertex normals) on the
+//! side facing the incoming ray, so a surface seen from behind uses the
+//! same tangent-plane tilt about the flipped normal. Without a normal map
+//! the shading normal is that base normal itself.
 //!
-//! Guard: a normal-mapped shading normal must face the outgoing direction
-//! `wo` (`n_s . wo > 0`), or the BSDF frame would put `wo` below its
-//! horizon. Where it does not (or the texel gives no direction at all, or
-//! anything is NaN), [`shading_normal`] falls back to the geometric normal
-//! (chosen over bending `n_s` towards it: no extra parameter, never NaN,
-//! and it only happens at grazing views of strong tilts).
+//! Guard: a shading normal (smooth, normal-mapped or both) must face the
+//! outgoing direction `wo` (`n_s . wo > 0`), or the BSDF frame would put
+//! `wo` below its horizon. Where it does not (or the texel gives no
+//! direction at all, or anything is NaN), [`shading_normal`] falls back to
+//! the geometric normal (chosen over bending `n_s` towards it: no extra
+//! parameter, never NaN, and it only happens at grazing views of strong
+//! tilts, or near the silhouettes of smooth meshes).
 //!
 //! The integrator uses `n_s` for the BSDF (evaluation, sampling, the cosine
 //! of next-event estimation) and keeps the geometric normal for ray
@@ -41,6 +46,7 @@ use crate::abi::{MaterialGpu, TriangleAttrGpu, TEXEL_LINEAR, TEXTURE_NONE};
 use crate::sampling::Frame;
 use crate::surface::texture_uv;
 use crate::texture::sample_image;
+use crate::vertex_normal::{has_vertex_normals, interpolated_normal};
 use glam::{Vec2, Vec3, Vec4};
 
 /// Smallest squared length of a vector normalised here; shorter ones (and
@@ -82,13 +88,19 @@ pub fn texel_normal(t: Vec3, b: Vec3, n: Vec3, texel: Vec3, scale: f32) -> Vec3 
 /// edges `e1`, `e2` and unit front normal `front`, at texture coordinates
 /// `uv` (the surface's, before any texture transform), seen from the unit
 /// outgoing direction `wo`; `facing` is the unit geometric normal facing
-/// `wo` (`front` or `-front`).
+/// `wo` (`front` or `-front`), and `bary` the hit's barycentrics `(u, v)`.
 ///
-/// Without a normal texture (`material.normal.x` = [`TEXTURE_NONE`]) it is
-/// `facing` itself, bit for bit. Otherwise the normalised
-/// [`texel_normal`] of the texture's texel in the frame (`t`, `b`,
-/// `facing`) of [`tangent_frame`], or `facing` when that is degenerate, not
-/// finite or does not face `wo` (module docs).
+/// The base normal: without vertex normals `facing` itself; with them the
+/// smooth normal `s` at `bary`
+/// ([`interpolated_normal`], on the front's side) taken to `facing`'s
+/// side (negated when `facing . front < 0`). Without a normal texture
+/// (`material.normal.x` = [`TEXTURE_NONE`]) the result is the base normal,
+/// or `facing` when that does not face `wo`; for a triangle without vertex
+/// normals that is `facing` itself, bit for bit. With one, the normalised
+/// [`texel_normal`] of the texture's texel in the frame (`t`, `b`, base)
+/// of [`tangent_frame`] around `s` (`front` without vertex normals), or
+/// `facing` when that is degenerate, not finite or does not face `wo`
+/// (module docs).
 #[allow(clippy::too_many_arguments)]
 #[inline]
 pub fn shading_normal(
@@ -100,16 +112,23 @@ pub fn shading_normal(
     edges: (Vec3, Vec3),
     front: Vec3,
     facing: Vec3,
+    bary: Vec2,
     wo: Vec3,
 ) -> Vec3 {
+    let (smooth, base) = if has_vertex_normals(attr) {
+        let s = interpolated_normal(attr, bary.x, bary.y, front);
+        (s, if facing.dot(front) < 0.0 { -s } else { s })
+    } else {
+        (front, facing)
+    };
     let m = material.normal;
     if m.x == TEXTURE_NONE {
-        return facing;
+        return if base.dot(wo) > 0.0 { base } else { facing };
     }
     let uv = texture_uv(m.y, &material.normal_uv, uv);
     let texel = sample_image(images, image_count, m.x, m.y | TEXEL_LINEAR, uv);
-    let (t, b) = tangent_frame(edges.0, edges.1, front, attr.tangent);
-    let n = texel_normal(t, b, facing, texel, material.pbr.z);
+    let (t, b) = tangent_frame(edges.0, edges.1, smooth, attr.tangent);
+    let n = texel_normal(t, b, base, texel, material.pbr.z);
     let len2 = n.length_squared();
     if len2 > MIN_LENGTH_SQUARED && len2 <= f32::MAX {
         let n = n * (1.0 / libm::sqrtf(len2));
@@ -181,7 +200,18 @@ mod tests {
         let (m, images, attr) = mapped(texel, scale, sign);
         let (e1, e2, n) = quad();
         let facing = if back { -n } else { n };
-        shading_normal(&m, &images, 1, Vec2::splat(0.5), &attr, (e1, e2), n, facing, wo)
+        shading_normal(
+            &m,
+            &images,
+            1,
+            Vec2::splat(0.5),
+            &attr,
+            (e1, e2),
+            n,
+            facing,
+            Vec2::ZERO,
+            wo,
+        )
     }
 
     #[test]
@@ -234,12 +264,97 @@ mod tests {
             (Vec3::X, Vec3::Y),
             Vec3::Z,
             facing,
+            Vec2::ZERO,
             Vec3::Z,
         );
         assert_eq!(
             n.to_array().map(f32::to_bits),
             facing.to_array().map(f32::to_bits)
         );
+    }
+
+    /// Vertex normals all tilted 30 degrees towards +x over the quad.
+    fn smooth_attr(tangent_sign: f32) -> (TriangleAttrGpu, Vec3) {
+        let tilt = Vec3::new(0.5, 0.0, 0.75f32.sqrt());
+        let attr = TriangleAttrGpu {
+            tangent: Vec4::new(1.0, 0.0, tangent_sign, 0.0),
+            normal0: tilt.extend(0.0),
+            normal1: tilt.extend(0.0),
+            normal2: tilt.extend(0.0),
+            ..Default::default()
+        };
+        (attr, tilt)
+    }
+
+    /// Without a normal map the shading normal is the smooth normal on the
+    /// side facing `wo` (negated from behind), and the geometric one where
+    /// the smooth normal turns away from `wo`.
+    #[test]
+    fn vertex_normals_make_the_shading_normal() {
+        let (attr, tilt) = smooth_attr(1.0);
+        let m = MaterialGpu::untextured(Vec4::ONE, Vec4::ZERO);
+        let (e1, e2, n) = quad();
+        let at = |facing: Vec3, wo: Vec3| {
+            shading_normal(
+                &m,
+                &[0],
+                0,
+                Vec2::ZERO,
+                &attr,
+                (e1, e2),
+                n,
+                facing,
+                Vec2::new(0.2, 0.3),
+                wo,
+            )
+        };
+        assert!((at(n, Vec3::Z) - tilt).length() < 1e-6);
+        assert!((at(-n, -Vec3::Z) + tilt).length() < 1e-6);
+        // Seen from 70 degrees on the -x side: the tilted normal faces away.
+        let wo = Vec3::new(-(70f32.to_radians().sin()), 0.0, 70f32.to_radians().cos());
+        assert_eq!(at(n, wo), n);
+    }
+
+    /// With a normal map the tangent frame is built around the smooth
+    /// normal: a flat texel gives the smooth normal, a tilted one tilts it.
+    #[test]
+    fn normal_maps_perturb_the_smooth_normal() {
+        let (smooth, tilt) = smooth_attr(1.0);
+        let (m, images, _) = mapped([128, 128, 255], 1.0, 1.0);
+        let (e1, e2, n) = quad();
+        let bary = Vec2::new(0.2, 0.3);
+        let got = shading_normal(
+            &m,
+            &images,
+            1,
+            Vec2::splat(0.5),
+            &smooth,
+            (e1, e2),
+            n,
+            n,
+            bary,
+            Vec3::Z,
+        );
+        assert!((got - tilt).length() < 0.01, "{got}");
+        // Texel (1, 0.5, 1): 45 degrees further about the tangent, which is
+        // +x projected onto the smooth normal's plane.
+        let (m, images, _) = mapped([255, 128, 255], 1.0, 1.0);
+        let got = shading_normal(
+            &m,
+            &images,
+            1,
+            Vec2::splat(0.5),
+            &smooth,
+            (e1, e2),
+            n,
+            n,
+            bary,
+            Vec3::Z,
+        );
+        let t = (Vec3::X - tilt * tilt.x).normalize();
+        let want = (t + tilt).normalize();
+        assert!((got - want).length() < 0.01, "{got} vs {want}");
+        assert!(got.dot(t) > 0.0 && got.dot(tilt) > 0.0);
     }
 
     #[test]
@@ -256,8 +371,20 @@ mod tests {
             255 | 128 << 8 | 255 << 16,
         ];
         let (e1, e2, n) = quad();
-        let at =
-            |m: &MaterialGpu| shading_normal(m, &images, 1, Vec2::new(0.25, 0.5), &attr, (e1, e2), n, n, n);
+        let at = |m: &MaterialGpu| {
+            shading_normal(
+                m,
+                &images,
+                1,
+                Vec2::new(0.25, 0.5),
+                &attr,
+                (e1, e2),
+                n,
+                n,
+                Vec2::ZERO,
+                n,
+            )
+        };
         assert!((at(&m) - Vec3::Z).length() < 0.01);
         m.normal.y = crate::abi::UV_TRANSFORM;
         m.normal_uv = UvTransformGpu {

@@ -13,8 +13,9 @@
 //!   the metallic-roughness texture ([`crate::surface::surface_metallic_roughness`]).
 //!
 //! Surfaces are two-sided: the shading normal is the geometric normal
-//! flipped towards the outgoing direction `wo`, or the normal map's normal
-//! in that frame, which [`crate::normal_map::shading_normal`] keeps facing
+//! flipped towards the outgoing direction `wo`, or the smooth normal of the
+//! triangle's vertex normals on that side, or the normal map's normal in
+//! that frame, which [`crate::normal_map::shading_normal`] keeps facing
 //! `wo` (the caller passes it so), so `wo` is always in the upper
 //! hemisphere of the local frame. With a normal map, Lambertian reflection
 //! stays `albedo / pi` with its cosine taken against the shading normal

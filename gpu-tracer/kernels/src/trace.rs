@@ -5,8 +5,10 @@
 //!
 //! Materials are Lambertian (albedo `a`, BRDF `a / pi`, two-sided) or the
 //! glTF metallic-roughness BRDF (two-sided too: the shading normal is the
-//! geometric normal flipped towards the outgoing direction, tilted by the
-//! material's normal map where it has one, [`crate::normal_map`]), plus emission
+//! geometric normal flipped towards the outgoing direction, smoothed by
+//! the triangle's vertex normals where it has them,
+//! [`crate::vertex_normal`], tilted by the material's normal map where it
+//! has one, [`crate::normal_map`]), plus emission
 //! from the front side of a triangle (see [`TriangleGpu`]); [`crate::shading`]
 //! evaluates and samples them. Rays leaving the scene see the environment
 //! ([`crate::environment`], found by BSDF sampling only, weight 1). At every
@@ -60,7 +62,7 @@ use crate::lights::sample_emitter;
 use crate::normal_map::shading_normal;
 use crate::shading::Shading;
 use crate::surface::{has_textures, surface_emission_filtered, triangle_uv};
-use glam::{UVec2, Vec3, Vec4};
+use glam::{UVec2, Vec2, Vec3, Vec4};
 use sampler_core::RandomStream;
 
 /// Largest Russian-roulette survival probability: paths with a bright
@@ -267,9 +269,10 @@ pub(crate) fn trace_sample_with(
             radiance += throughput * emission * weight;
         }
 
-        // Shading frame faces the incoming ray (two-sided materials); a
-        // normal map tilts it (`crate::normal_map`), the geometric `normal`
-        // stays for offsets and for what lies below the surface.
+        // Shading frame faces the incoming ray (two-sided materials); vertex
+        // normals smooth it (`crate::vertex_normal`) and a normal map tilts
+        // it (`crate::normal_map`), the geometric `normal` stays for
+        // offsets and for what lies below the surface.
         let normal = if cos_out > 0.0 { geo_normal } else { -geo_normal };
         let shading_normal = shading_normal(
             &material,
@@ -280,6 +283,7 @@ pub(crate) fn trace_sample_with(
             (v1 - v0, v2 - v0),
             geo_normal,
             normal,
+            Vec2::new(hit.u, hit.v),
             -ray.dir,
         );
         let shading = Shading::at_filtered(

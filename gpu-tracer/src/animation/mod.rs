@@ -17,4 +17,4 @@ mod channel;
 mod rig;
 
 pub use channel::{Channel, Interpolation, Property};
-pub use rig::{camera_from_matrix, MeshInstance, Node, Rig, RigCamera, RigPose, Trs};
+pub use rig::{camera_from_matrix, normal_matrix, MeshInstance, Node, Rig, RigCamera, RigPose, Trs};

@@ -4,7 +4,7 @@
 
 use super::channel::{Channel, Property};
 use crate::scene::Camera;
-use glam::{Mat4, Quat, Vec3};
+use glam::{Mat3, Mat4, Quat, Vec3};
 
 /// A node's local transform: scale, then rotation, then translation
 /// (glTF's TRS order). [`Trs::default`] is the identity.
@@ -88,6 +88,11 @@ pub struct Rig {
     /// instance's node, in the same vertex order (so the rest pose maps them
     /// exactly onto the scene's triangles).
     pub local: Vec<[Vec3; 3]>,
+    /// `local_normals[i]` = the vertex normals of triangle `i` in the same
+    /// local space and vertex order as [`Rig::local`] (unit), or three
+    /// zeros for a flat triangle; a missing entry (a shorter list) is flat
+    /// too.
+    pub local_normals: Vec<[Vec3; 3]>,
     /// The camera node, `None` when the scene frames itself automatically.
     pub camera: Option<RigCamera>,
 }
@@ -98,6 +103,11 @@ pub struct RigPose {
     /// World-space vertices, parallel to [`Rig::local`] (so to
     /// [`crate::scene::Scene::triangles`]).
     pub triangles: Vec<[Vec3; 3]>,
+    /// World-space vertex normals, parallel to `triangles`: each
+    /// [`Rig::local_normals`] entry through its node's [`normal_matrix`]
+    /// (not normalised), swapped with the vertices; zeros for flat
+    /// triangles (what `SceneGpu::set_normals` takes).
+    pub normals: Vec<[Vec3; 3]>,
     /// The camera, `None` without a camera node.
     pub camera: Option<Camera>,
 }
@@ -248,6 +258,9 @@ impl Rig {
         let world = self.world_transforms(time);
         let rest = self.rest_transforms();
         let mut triangles = self.local.clone();
+        let mut normals: Vec<[Vec3; 3]> = (0..triangles.len())
+            .map(|i| self.local_normals.get(i).copied().unwrap_or([Vec3::ZERO; 3]))
+            .collect();
         for inst in &self.instances {
             let (Some(m), Some(r)) = (world.get(inst.node), rest.get(inst.node)) else {
                 continue;
@@ -262,9 +275,18 @@ impl Rig {
                 let [a, b, c] = t.map(|v| m.transform_point3(v));
                 *t = if flip { [a, c, b] } else { [a, b, c] };
             }
+            let nm = normal_matrix(m);
+            for n in &mut normals[start..end] {
+                let [a, b, c] = n.map(|v| nm * v);
+                *n = if flip { [a, c, b] } else { [a, b, c] };
+            }
         }
         let camera = self.camera_in(&world);
-        RigPose { triangles, camera }
+        RigPose {
+            triangles,
+            normals,
+            camera,
+        }
     }
 
     /// The camera at `time` seconds alone (as [`Rig::pose`] places it),
@@ -277,6 +299,21 @@ impl Rig {
     fn camera_in(&self, world: &[Mat4]) -> Option<Camera> {
         self.camera
             .and_then(|c| world.get(c.node).map(|m| camera_from_matrix(m, c.fov_y_degrees)))
+    }
+}
+
+/// The matrix that carries normals under the affine map `m`: the
+/// inverse transpose of its linear part, up to a positive factor (the
+/// cofactor matrix times the sign of the determinant, so it stays finite
+/// for singular maps and keeps a mirrored normal on the mirrored outside).
+/// Normalise what it gives.
+pub fn normal_matrix(m: &Mat4) -> Mat3 {
+    let (c0, c1, c2) = (m.x_axis.truncate(), m.y_axis.truncate(), m.z_axis.truncate());
+    let cofactor = Mat3::from_cols(c1.cross(c2), c2.cross(c0), c0.cross(c1));
+    if m.determinant() < 0.0 {
+        -cofactor
+    } else {
+        cofactor
     }
 }
 
@@ -342,8 +379,53 @@ mod tests {
                 triangle_count: 1,
             }],
             local: vec![[Vec3::ZERO, Vec3::X, Vec3::Y]],
+            local_normals: Vec::new(),
             camera: None,
         }
+    }
+
+    /// Vertex normals follow the inverse transpose: under a non-uniform
+    /// scale they stay perpendicular to the scaled surface, under an
+    /// animated mirror they swap with their vertices and keep pointing to
+    /// the mirrored outside; a rig without normals poses zeros.
+    #[test]
+    fn normals_follow_the_inverse_transpose() {
+        let mut rig = two_level_rig(false);
+        assert_eq!(rig.pose(0.0).normals, vec![[Vec3::ZERO; 3]]);
+        rig.nodes[0].rest = Trs::default();
+        rig.nodes[1].rest = Trs {
+            scale: Vec3::new(1.0, 4.0, 1.0),
+            ..Trs::default()
+        };
+        // The plane x + y = 1 (its normal (1, 1, 0) / sqrt 2) scaled by 4
+        // along y becomes x + y / 4 = 1: normal (4, 1, 0) / sqrt 17.
+        let tilted = Vec3::new(1.0, 1.0, 0.0).normalize();
+        rig.local_normals = vec![[tilted, Vec3::Z, Vec3::X]];
+        let n = rig.pose(0.0).normals[0].map(Vec3::normalize);
+        assert!(
+            n[0].abs_diff_eq(Vec3::new(4.0, 1.0, 0.0).normalize(), 1e-6),
+            "{}",
+            n[0]
+        );
+        assert!(n[1].abs_diff_eq(Vec3::Z, 1e-6) && n[2].abs_diff_eq(Vec3::X, 1e-6));
+        // Mirror x from t = 1: vertices 1 and 2 swap, so do their normals,
+        // and the +x normal becomes -x (the mirrored outside).
+        rig.channels.push(Channel {
+            node: 1,
+            property: Property::Scale,
+            interpolation: Interpolation::Step,
+            times: vec![0.0, 1.0],
+            values: vec![Vec4::ONE, Vec4::new(-1.0, 1.0, 1.0, 0.0)],
+        });
+        let n = rig.pose(1.0).normals[0].map(Vec3::normalize);
+        assert!(n[1].abs_diff_eq(Vec3::NEG_X, 1e-6), "{n:?}");
+        assert!(n[2].abs_diff_eq(Vec3::Z, 1e-6), "{n:?}");
+        assert!(
+            n[0].abs_diff_eq(Vec3::new(-1.0, 1.0, 0.0).normalize(), 1e-6),
+            "{n:?}"
+        );
+        // A singular map gives finite normals.
+        assert!(normal_matrix(&Mat4::ZERO).is_finite());
     }
 
     #[test]

@@ -1,4 +1,4 @@
-//! Vertex attributes (`POSITION`, `TEXCOORD_n`, `TANGENT`) read as `f32` vectors from
+//! Vertex attributes (`POSITION`, `NORMAL`, `TEXCOORD_n`, `TANGENT`) read as `f32` vectors from
 //! accessors of every component type the specification allows, including
 //! the integer types of `KHR_mesh_quantization`.
 //!
@@ -8,6 +8,7 @@
 //! |---|---|---|
 //! | `POSITION` (`VEC3`) | float | also byte, unsigned byte, short, unsigned short, normalised or not |
 //! | `TEXCOORD_n` (`VEC2`) | float, unsigned byte and unsigned short normalised | also byte and short (normalised or not), unsigned byte and unsigned short not normalised |
+//! | `NORMAL` (`VEC3`) | float | also byte and short normalised |
 //! | `TANGENT` (`VEC4`) | float | also byte and short normalised |
 //!
 //! Normalised integers map to `[0, 1]` (unsigned) or `[-1, 1]` (signed) as
@@ -32,6 +33,8 @@ pub(super) enum Attribute {
     TexCoord,
     /// `TANGENT`, `VEC4` (`w` = bitangent sign).
     Tangent,
+    /// `NORMAL`, `VEC3` (vertex normals for smooth shading).
+    Normal,
 }
 
 impl Attribute {
@@ -44,15 +47,17 @@ impl Attribute {
             (Attribute::TexCoord, false) => {
                 "F32, or normalized U8 or U16 (other integer types need KHR_mesh_quantization in extensionsUsed)"
             }
-            (Attribute::Tangent, false) => "F32 (normalized integers need KHR_mesh_quantization in extensionsUsed)",
-            (Attribute::Tangent, true) => "F32, or normalized I8 or I16",
+            (Attribute::Tangent | Attribute::Normal, false) => {
+                "F32 (normalized integers need KHR_mesh_quantization in extensionsUsed)"
+            }
+            (Attribute::Tangent | Attribute::Normal, true) => "F32, or normalized I8 or I16",
             (_, true) => "F32, or I8, U8, I16 or U16 (normalized or not)",
         }
     }
 
     /// Whether `(data_type, normalized)` is accepted.
     fn accepts(self, data_type: DataType, normalized: bool, quantized: bool) -> bool {
-        if self == Attribute::Tangent {
+        if matches!(self, Attribute::Tangent | Attribute::Normal) {
             return match data_type {
                 DataType::F32 => !normalized,
                 DataType::I8 | DataType::I16 => quantized && normalized,
@@ -75,7 +80,7 @@ impl<'p> Loader<'p> {
     }
 
     /// The values of vertex attribute `acc` (`N` = 3 for
-    /// [`Attribute::Position`], 2 for [`Attribute::TexCoord`], 4 for
+    /// [`Attribute::Position`] and [`Attribute::Normal`], 2 for [`Attribute::TexCoord`], 4 for
     /// [`Attribute::Tangent`]) as `f32`
     /// vectors, one per element (module docs for the conversion).
     ///

@@ -1,6 +1,6 @@
 //! Mesh primitives: the triangles of one primitive in its node's space,
-//! with their texture coordinates (triangles, strips and fans, indexed or
-//! not, sparse accessors included).
+//! with their texture coordinates, tangents and normals (triangles, strips
+//! and fans, indexed or not, sparse accessors included).
 
 use super::attribute::Attribute;
 use super::loader::Loader;
@@ -10,9 +10,11 @@ use gltf::accessor::{DataType, Dimensions};
 
 impl<'p> Loader<'p> {
     /// The triangles of a primitive in its node's space: corners, their
-    /// texture coordinates (zero when `set` is `None`) and, when `tangents`
+    /// texture coordinates (zero when `set` is `None`), when `tangents`
     /// is set and the primitive has a `TANGENT` attribute, the corners'
-    /// tangents (node space, `w` = bitangent sign).
+    /// tangents (node space, `w` = bitangent sign), and when it has a
+    /// `NORMAL` attribute the corners' normals (node space, as stored: NaN
+    /// or zero ones are left for the caller to drop).
     pub(super) fn primitive(
         &self,
         primitive: &gltf::Primitive,
@@ -101,6 +103,24 @@ impl<'p> Loader<'p> {
             _ => None,
         };
 
+        let normals: Option<Vec<Vec3>> = match primitive.get(&gltf::Semantic::Normals) {
+            Some(acc) => {
+                let values: Vec<Vec3> = self
+                    .read_attribute::<3>(&acc, element, "NORMAL", Attribute::Normal)?
+                    .into_iter()
+                    .map(Vec3::from)
+                    .collect();
+                if values.len() != points.len() {
+                    return Err(self.content(
+                        element,
+                        format!("NORMAL has {} values for {} positions", acc.count(), points.len()),
+                    ));
+                }
+                Some(values)
+            }
+            None => None,
+        };
+
         let indices: Vec<u32> = match primitive.indices() {
             Some(acc) => {
                 let int_types = [DataType::U8, DataType::U16, DataType::U32].map(|t| (t, Dimensions::Scalar));
@@ -151,19 +171,28 @@ impl<'p> Loader<'p> {
             .filter(|[a, b, c]| !strip_or_fan || (a != b && b != c && a != c))
             .map(|c| {
                 let c = c.map(|i| i as usize);
-                (
-                    c.map(|i| points[i]),
-                    c.map(|i| uvs[i]),
-                    tangents.as_ref().map(|t| c.map(|i| t[i])),
-                )
+                PrimitiveTriangle {
+                    corners: c.map(|i| points[i]),
+                    uvs: c.map(|i| uvs[i]),
+                    tangents: tangents.as_ref().map(|t| c.map(|i| t[i])),
+                    normals: normals.as_ref().map(|n| c.map(|i| n[i])),
+                }
             })
             .collect())
     }
 }
 
-/// One triangle of a primitive: corners, texture coordinates, and the
-/// corners' `TANGENT`s when read.
-pub(super) type PrimitiveTriangle = ([Vec3; 3], [Vec2; 3], Option<[Vec4; 3]>);
+/// One triangle of a primitive, in its node's space.
+pub(super) struct PrimitiveTriangle {
+    /// Corner positions.
+    pub corners: [Vec3; 3],
+    /// The corners' texture coordinates (zero without a set).
+    pub uvs: [Vec2; 3],
+    /// The corners' `TANGENT`s when read (`w` = bitangent sign).
+    pub tangents: Option<[Vec4; 3]>,
+    /// The corners' `NORMAL`s when the primitive has them, as stored.
+    pub normals: Option<[Vec3; 3]>,
+}
 
 #[cfg(test)]
 mod tests {

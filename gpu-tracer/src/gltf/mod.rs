@@ -49,7 +49,16 @@
 //!   tangent frame, from the primitive's `TANGENT` attribute when it has one
 //!   (the three corners' mean, `w` the bitangent sign, flipped by mirroring
 //!   node transforms) and from the texture coordinates otherwise
-//!   (`scene::tangent`). The G-buffer's normal stays the geometric one.
+//!   (`scene::tangent`), built around the smooth normal where there is
+//!   one. The G-buffer's normal stays the geometric one.
+//! - **Vertex normals**: `NORMAL` (float, or with `KHR_mesh_quantization`
+//!   normalised 8/16-bit integers) makes smooth shading
+//!   ([`Triangle::normals`], `kernels::vertex_normal`): carried to world
+//!   space by the inverse transpose of the node transform (and by
+//!   [`Rig::pose`] for animated nodes). A triangle with a NaN, infinite or
+//!   zero-length normal shades flat, with a notice counting them;
+//!   primitives without `NORMAL` shade flat (the specification's "flat
+//!   normals").
 //!   Occlusion maps are ignored with a notice. A
 //!   primitive without material gets glTF's default material: base colour
 //!   1, metallic 1, roughness 1, no emission.
@@ -105,7 +114,9 @@
 //! - `extension_tests`: texture transforms and alpha cut-outs on patched
 //!   fixtures;
 //! - `normal_map_tests`: normal textures and tangents on patched fixtures,
-//!   rendered under a directional light.
+//!   rendered under a directional light;
+//! - `smooth_normal_tests`: `NORMAL` (float, quantised, bad values) on the
+//!   smooth sphere, rendered smooth and flat.
 
 mod animation;
 mod attribute;
@@ -120,15 +131,19 @@ mod nodes;
 #[cfg(test)]
 mod normal_map_tests;
 #[cfg(test)]
+mod smooth_normal_tests;
+#[cfg(test)]
 mod tests;
 
 pub use material::DEFAULT_ALBEDO;
 
-use crate::animation::{camera_from_matrix, MeshInstance, Node, Rig};
+use crate::animation::{camera_from_matrix, normal_matrix, MeshInstance, Node, Rig};
 use crate::error::Result;
+use crate::scene::usable_normals;
 use crate::scene::{Camera, Material, Scene, Triangle};
 use glam::Vec3;
 use loader::{label, Loader};
+use mesh::PrimitiveTriangle;
 use std::path::Path;
 
 /// The extensions whose content is used; others are noticed and ignored.
@@ -262,10 +277,12 @@ impl<'p> Loader<'p> {
         let mut triangles = Vec::new();
         let mut uses_default = false;
         let (mut morph, mut skinned, mut colours) = (false, false, false);
+        let mut flat_normals = 0usize;
         for (rig_node, (node, _)) in order.iter().enumerate() {
             let Some(mesh) = node.mesh() else { continue };
             skinned |= node.skin().is_some();
             let world = rest_world[rig_node];
+            let normal_matrix = normal_matrix(&world);
             let first_triangle = triangles.len();
             let object = rig.instances.len() as u32;
             let mesh_label = label("mesh", mesh.index(), mesh.name());
@@ -286,13 +303,32 @@ impl<'p> Loader<'p> {
                     .index()
                     .is_some_and(|i| materials[i].normal_texture.is_some());
                 let prim = self.primitive(&primitive, &element, set, normal_mapped)?;
-                for (corners, uvs, tangents) in prim {
+                for PrimitiveTriangle {
+                    corners,
+                    uvs,
+                    tangents,
+                    normals,
+                } in prim
+                {
                     let mut local = corners;
                     let mut uvs = uvs;
+                    let mut local_normals = normals.map(|n| usable_normals(n).ok_or(n));
                     if world.determinant() < 0.0 {
                         local.swap(1, 2);
                         uvs.swap(1, 2);
+                        if let Some(Ok(n)) = &mut local_normals {
+                            n.swap(1, 2);
+                        }
                     }
+                    let local_normals = match local_normals {
+                        Some(Ok(n)) => Some(n),
+                        Some(Err(_)) => {
+                            flat_normals += 1;
+                            None
+                        }
+                        None => None,
+                    };
+                    let normals = local_normals.map(|n| n.map(|n| normal_matrix * n));
                     let vertices = local.map(|v| world.transform_point3(v));
                     if let Some(vertex) = vertices.iter().position(|v| !v.is_finite()) {
                         return Err(self.content(
@@ -312,12 +348,14 @@ impl<'p> Loader<'p> {
                         world.transform_vector3(sum.truncate()).extend(sign)
                     });
                     rig.local.push(local);
+                    rig.local_normals.push(local_normals.unwrap_or([Vec3::ZERO; 3]));
                     triangles.push(Triangle {
                         vertices,
                         uvs,
                         material,
                         object,
                         tangent,
+                        normals,
                     });
                 }
             }
@@ -343,6 +381,11 @@ impl<'p> Loader<'p> {
         }
         if colours {
             self.notices.push("vertex colours (COLOR_0) are ignored".into());
+        }
+        if flat_normals > 0 {
+            self.notices.push(format!(
+                "{flat_normals} triangles have a NaN, infinite or zero-length NORMAL: they are shaded flat"
+            ));
         }
 
         let lights = self.lights(&order, &rest_world)?;

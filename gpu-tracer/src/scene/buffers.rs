@@ -4,6 +4,7 @@
 use super::emitters::{emitter_list, environment_power, scene_radius};
 use super::image_pack::pack_images;
 use super::tangent::tangent_gpu;
+use super::vertex_normals::normals_gpu;
 use super::{Alpha, Bsdf, Camera, CameraBasis, Filter, Light, Scene, TextureRef, Triangle, Wrap};
 use crate::bvh::build_bvh;
 use crate::error::{Error, Result};
@@ -30,7 +31,8 @@ pub struct SceneGpu {
     pub triangles: Vec<TriangleGpu>,
     /// Materials with albedo clamped to `[0, 1]`.
     pub materials: Vec<MaterialGpu>,
-    /// Texture coordinates and ids, parallel to `triangles`.
+    /// Texture coordinates, ids, tangents and vertex normals, parallel to
+    /// `triangles`.
     pub attrs: Vec<TriangleAttrGpu>,
     /// The images buffer (`kernels::abi::IMAGE_HEADER_WORDS`); one zero word
     /// for a scene without images (wgpu refuses empty buffers).
@@ -293,8 +295,11 @@ impl SceneGpu {
 
     /// Moves the scene's vertices to `positions` (given in the order of
     /// [`Scene::triangles`] of the scene this was built from), keeping
-    /// materials, images, texture coordinates and ids: rebuilds the BVH, the
-    /// leaf order and the emitter list (areas change). The previous
+    /// materials, images, texture coordinates, tangents, vertex normals and
+    /// ids: rebuilds the BVH, the leaf order and the emitter list (areas
+    /// change). Vertex normals are world vectors, so a moving object that
+    /// rotates or scales needs [`SceneGpu::set_normals`] as well (the
+    /// animation timeline calls both). The previous
     /// positions become the new positions too: call
     /// [`SceneGpu::set_previous_positions`] afterwards for motion vectors.
     ///
@@ -324,16 +329,20 @@ impl SceneGpu {
                 material: t.v0.w as u32,
                 object: a.ids.x,
                 tangent: None,
+                normals: None,
             };
         }
         // Tangents are edge coefficients: they hold for the moved vertices.
-        let mut tangents = vec![Vec4::ZERO; positions.len()];
+        // Vertex normals are kept as they are (`set_normals` moves them).
+        let mut kept = vec![TriangleAttrGpu::default(); positions.len()];
         for (a, &orig) in self.attrs.iter().zip(&self.original_index) {
-            tangents[orig as usize] = a.tangent;
+            kept[orig as usize] = *a;
         }
         let mut g = build_geometry(&scene_order, &self.materials, &self.lights, self.environment_mean)?;
         for a in &mut g.attrs {
-            a.tangent = tangents[a.ids.y as usize];
+            let k = &kept[a.ids.y as usize];
+            a.tangent = k.tangent;
+            (a.normal0, a.normal1, a.normal2) = (k.normal0, k.normal1, k.normal2);
         }
         self.previous = g.triangles.iter().map(positions_only).collect();
         self.nodes = g.nodes;
@@ -343,6 +352,33 @@ impl SceneGpu {
         self.emitter_count = g.emitter_count;
         self.original_index = g.original_index;
         self.bvh_depth = g.bvh_depth;
+        Ok(())
+    }
+
+    /// Sets the vertex normals, given in the order of [`Scene::triangles`]
+    /// (the scene this was built from), as [`Triangle::normals`] says (world
+    /// space, any length): zero or otherwise unusable normals make a
+    /// triangle shade flat. Used with [`SceneGpu::set_positions`] when
+    /// animation moves the geometry.
+    ///
+    /// # Errors
+    /// [`Error::BufferSize`] when `normals` does not have one entry per
+    /// triangle; nothing changes then.
+    pub fn set_normals(&mut self, normals: &[[Vec3; 3]]) -> Result<()> {
+        if normals.len() != self.triangles.len() {
+            return Err(Error::BufferSize {
+                buffer: "normals",
+                expected: self.triangles.len(),
+                actual: normals.len(),
+            });
+        }
+        for (a, &orig) in self.attrs.iter_mut().zip(&self.original_index) {
+            let t = Triangle {
+                normals: Some(normals[orig as usize]),
+                ..Triangle::new([Vec3::ZERO; 3], 0)
+            };
+            [a.normal0, a.normal1, a.normal2] = normals_gpu(&t);
+        }
         Ok(())
     }
 
@@ -448,6 +484,7 @@ fn build_geometry(
         let t = triangles_in[orig as usize];
         let [a, b, c] = t.vertices;
         let cut_out = materials[t.material as usize].alpha.x > 0.0;
+        let normals = normals_gpu(&t);
         triangles.push(TriangleGpu {
             v0: a.extend(t.material as f32),
             v1: b.extend(0.0),
@@ -458,6 +495,9 @@ fn build_geometry(
             uv2: Vec4::new(t.uvs[2].x, t.uvs[2].y, 0.0, 0.0),
             ids: UVec4::new(t.object, orig, 0, 0),
             tangent: tangent_gpu(&t),
+            normal0: normals[0],
+            normal1: normals[1],
+            normal2: normals[2],
         });
     }
     let (emitters, emitter_count) = emitter_list(&mut triangles, materials, lights, environment_mean);

@@ -27,7 +27,10 @@
 //!   pass, and [`SceneGpu::trace_params`];
 //! - `tangent`: each triangle's tangent for normal maps in the kernels'
 //!   form (edge coefficients, `kernels::abi::TriangleAttrGpu::tangent`),
-//!   from [`Triangle::tangent`] or the texture coordinates.
+//!   from [`Triangle::tangent`] or the texture coordinates;
+//! - `vertex_normals`: each triangle's vertex normals in the kernels' form
+//!   (`kernels::abi::TriangleAttrGpu::normal0` ...), from
+//!   [`Triangle::normals`].
 
 mod buffers;
 mod camera;
@@ -40,6 +43,7 @@ mod mips;
 mod queries;
 mod settings;
 mod tangent;
+mod vertex_normals;
 
 pub use buffers::{SceneGpu, MAX_MATERIALS, MAX_TRIANGLES};
 pub use camera::{Camera, CameraBasis};
@@ -48,6 +52,7 @@ pub use image_pack::MAX_IMAGE_WORDS;
 pub use light::{Light, LightKind};
 pub use material::{Alpha, Bsdf, Filter, Image, Material, NormalTexture, TextureRef, UvTransform, Wrap};
 pub use settings::{screen_sobol_max_spp, TraceSettings, ZSOBOL_MAX_SPP};
+pub use vertex_normals::{usable_normals, MIN_NORMAL_LENGTH};
 
 use glam::{Vec2, Vec3};
 
@@ -76,6 +81,15 @@ pub struct Triangle {
     /// attribute gives it. `None`: derived from [`Triangle::uvs`] (the
     /// `tangent` module). Read only when the material has a normal map.
     pub tangent: Option<glam::Vec4>,
+    /// Vertex normals for smooth shading, in world space (the file's
+    /// `NORMAL` / `vn` through the node's inverse-transpose transform),
+    /// parallel to [`Triangle::vertices`]; any length (the scene buffers
+    /// normalise them). `None`: flat shading with the geometric normal. A
+    /// triangle whose normals include a NaN, infinite or zero-length one
+    /// shades flat too ([`SceneGpu::build`]). The kernels blend them at the
+    /// hit and keep the geometric normal for offsets, emission and light
+    /// cosines (`kernels::vertex_normal`).
+    pub normals: Option<[Vec3; 3]>,
 }
 
 impl Triangle {
@@ -87,6 +101,7 @@ impl Triangle {
             material,
             object: 0,
             tangent: None,
+            normals: None,
         }
     }
 }
