@@ -9,6 +9,7 @@ use super::insets::crop;
 use super::method::Method;
 use super::result::{MethodRun, Snapshot, StudyResult};
 use super::setup::Study;
+use super::temporal_sort::{render_temporal_permute, render_temporal_sort};
 use super::walks::{render_dither, render_walk, Walk};
 use crate::metrics::regions::{region_shares, square_sums_by_region};
 use crate::{low_frequency_ratio, radial_power, GaussianBlur, Grid, SpectrumAnalyzer};
@@ -134,6 +135,15 @@ impl Study {
             }
             Method::FixedStep => render_walk(self, Walk::FixedStep, &mut on_frame)?,
             Method::Dither => render_dither(self, sampler_core::defaults::stbn_128(), &mut on_frame)?,
+            Method::TemporalSort | Method::TemporalSortAdvance => render_temporal_sort(
+                self,
+                sampler_core::defaults::stbn_128(),
+                method == Method::TemporalSortAdvance,
+                &mut on_frame,
+            )?,
+            Method::TemporalPermute => {
+                render_temporal_permute(self, sampler_core::defaults::stbn_128(), &mut on_frame)?
+            }
             Method::DitherFilterAdapted => {
                 render_dither(self, sampler_core::defaults::filter_adapted_128(), &mut on_frame)?
             }

@@ -35,6 +35,14 @@ pub enum Method {
     /// [`Method::Spatiotemporal`] continuing a Kronecker sequence across frames
     /// instead of Sobol (`--sampler spatiotemporal-kronecker`).
     SpatiotemporalKronecker,
+    /// Sorting only, against the next slice of the STBN mask (blue in time),
+    /// the seeds' streams fixed (`crate::study::temporal_sort`, CPU only).
+    TemporalSort,
+    /// [`Method::TemporalSort`] with the seeds' streams advancing every frame.
+    TemporalSortAdvance,
+    /// Sorting against STBN slice `t`, then an exact retarget table to slice
+    /// `t + 1` (seeds cross block borders), fixed streams; CPU only.
+    TemporalPermute,
     /// The feature-aware permutation (issue 14, `SequenceOptions::features` of the
     /// tracer's CPU loop): demodulated sort keys, blocks sorted in groups of one
     /// surface, retarget moves cut at edges, features from the G-buffer.
@@ -52,7 +60,7 @@ pub enum Method {
 
 impl Method {
     /// Every method, white first.
-    pub const ALL: [Method; 15] = [
+    pub const ALL: [Method; 18] = [
         Method::White,
         Method::Sort,
         Method::Permute,
@@ -64,6 +72,9 @@ impl Method {
         Method::ZSobol,
         Method::Spatiotemporal,
         Method::SpatiotemporalKronecker,
+        Method::TemporalSort,
+        Method::TemporalSortAdvance,
+        Method::TemporalPermute,
         Method::FeaturePermute,
         Method::FeaturePermuteJitter,
         Method::FeaturePermuteRawKey,
@@ -115,6 +126,9 @@ impl Method {
             Method::ZSobol => "zsobol",
             Method::Spatiotemporal => "spatiotemporal",
             Method::SpatiotemporalKronecker => "spatiotemporal-kronecker",
+            Method::TemporalSort => "temporal-sort",
+            Method::TemporalSortAdvance => "temporal-sort-advance",
+            Method::TemporalPermute => "temporal-permute",
             Method::FeaturePermute => "feature-permute",
             Method::FeaturePermuteJitter => "feature-permute-jitter",
             Method::FeaturePermuteRawKey => "feature-permute-raw-key",
@@ -141,6 +155,15 @@ impl Method {
             }
             Method::SpatiotemporalKronecker => {
                 "white seeds + one Kronecker sequence per pixel across frames, blue-noise shifts"
+            }
+            Method::TemporalSort => {
+                "sorting pass only, against the next STBN slice (blue in time), fixed streams"
+            }
+            Method::TemporalSortAdvance => {
+                "sorting pass only, against the next STBN slice (blue in time), streams advance every frame"
+            }
+            Method::TemporalPermute => {
+                "sorting against STBN slice t + retarget table to slice t + 1 (blue in time), fixed streams"
             }
             Method::FeaturePermute => {
                 "feature-aware permute: demodulated keys, groups of one surface, cut retarget moves"

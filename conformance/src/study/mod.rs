@@ -124,6 +124,7 @@ pub mod reference;
 pub mod result;
 pub mod scene;
 pub mod setup;
+pub mod temporal_sort;
 pub mod walks;
 
 pub use config::{StudyConfig, ACCUMULATION_POINTS, ACCUMULATION_SNAPSHOTS, GOAL_FRAME};
@@ -135,4 +136,5 @@ pub use reference::{default_cache_dir, Reference};
 pub use result::{HistoryMetric, MethodRun, Metric, Snapshot, StudyResult, TEMPORAL_MEANS};
 pub use scene::StudyScene;
 pub use setup::Study;
+pub use temporal_sort::{render_temporal_permute, render_temporal_sort};
 pub use walks::{permute_with_offset, render_dither, render_walk, Walk};

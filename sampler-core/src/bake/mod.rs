@@ -71,8 +71,8 @@ pub use kronecker_search::{
     RESONANCE_GAP, RESONANCE_NEIGHBOURS, SCORE_FRAMES,
 };
 pub use retarget_bake::{
-    bake_retarget_table, bake_retarget_table_with, bake_retarget_tables, mean_displacement, retarget_energy,
-    RetargetBake, RetargetCosts, DISPLACEMENT_COST,
+    bake_retarget_between, bake_retarget_table, bake_retarget_table_with, bake_retarget_tables,
+    mean_displacement, retarget_energy, RetargetBake, RetargetCosts, DISPLACEMENT_COST,
 };
 pub use shift_quality::{field_quality, FieldQuality};
 pub use shift_tile::{

@@ -87,6 +87,30 @@ impl<'a> RetargetCosts<'a> {
         }
     }
 
+    /// The graph from `source`'s arrangement to another tile's, `target`
+    /// (same side, ranks of its own): costs `|source[q] - target[d]| +
+    /// displacement_cost * (|dx| + |dy|)`. For targets that are not a shift of
+    /// the source, such as consecutive slices of a spatiotemporal mask.
+    ///
+    /// # Errors
+    /// [`BakeError::Size`] (the target's side) if `target` has another side.
+    pub fn between(
+        source: DitherTile<'a>,
+        target: &DitherTile<'_>,
+        displacement_cost: u32,
+    ) -> Result<Self, BakeError> {
+        if target.tile() != source.tile() {
+            return Err(BakeError::Size {
+                width: target.tile(),
+                height: target.tile(),
+                depth: 1,
+            });
+        }
+        let mut costs = RetargetCosts::new(source, UVec2::ZERO, displacement_cost);
+        costs.shifted = target.values().to_vec();
+        Ok(costs)
+    }
+
     #[inline]
     fn destination(&self, q: usize, o: IVec2) -> usize {
         let k = self.tile.tile_log2();
@@ -204,6 +228,31 @@ pub fn bake_retarget_table(tile: &DitherTile<'_>, index: u32) -> Result<Retarget
     bake_retarget_table_with(tile, index, DISPLACEMENT_COST)
 }
 
+/// The exact retarget table (packed offsets, as [`RetargetTable`] reads them)
+/// that moves seeds ranked like `source` so they rank like `target`, another
+/// tile of the same side ([`RetargetCosts::between`]); radius-bounded like
+/// the walk's tables. Applied with a tile offset `o`, it reads and moves as
+/// the walk's tables do at `o`.
+///
+/// # Errors
+/// [`BakeError::Size`] for tiles of different sides; as [`solve_assignment`].
+pub fn bake_retarget_between(
+    source: &DitherTile<'_>,
+    target: &DitherTile<'_>,
+    displacement_cost: u32,
+) -> Result<Vec<u32>, BakeError> {
+    let costs = RetargetCosts::between(*source, target, displacement_cost)?;
+    let solution = solve_assignment(&costs)?;
+    let packed: Vec<u32> = solution
+        .destination
+        .iter()
+        .enumerate()
+        .map(|(q, &d)| pack_offset(costs.offset_between(q, d as usize)))
+        .collect();
+    RetargetTable::new(source.tile(), &packed)?;
+    Ok(packed)
+}
+
 /// [`bake_retarget_table`] with another cost per texel of displacement
 /// (0: the dither energy alone, as in the paper).
 ///
@@ -251,6 +300,42 @@ pub fn bake_retarget_tables(tile: &DitherTile<'_>) -> Result<Vec<RetargetBake>, 
 
 #[cfg(test)]
 mod tests {
+
+    /// A table between two different tiles is a radius-bounded permutation
+    /// whose rank mismatch is the identity's or less, and tiles of different
+    /// sides are refused.
+    #[test]
+    fn tables_between_two_tiles_lower_the_mismatch() {
+        use crate::permutation::retarget::unpack_offset;
+        let a_values: Vec<u32> = (0..64u32).map(|i| (i * 37 + 11) % 64).collect();
+        let b_values: Vec<u32> = (0..64u32).map(|i| (i * 13 + 5) % 64).collect();
+        let (a, b) = (
+            DitherTile::new(8, &a_values).unwrap(),
+            DitherTile::new(8, &b_values).unwrap(),
+        );
+        let packed = bake_retarget_between(&a, &b, 0).unwrap();
+        let mut hit = [false; 64];
+        let mut mismatch = 0u32;
+        for (q, &p) in packed.iter().enumerate() {
+            let o = unpack_offset(p);
+            let (x, y) = ((q as i32 + o.x).rem_euclid(8), (q as i32 / 8 + o.y).rem_euclid(8));
+            let d = (y * 8 + x) as usize;
+            assert!(!core::mem::replace(&mut hit[d], true), "destination {d} twice");
+            mismatch += a_values[q].abs_diff(b_values[d]);
+        }
+        let identity: u32 = a_values.iter().zip(&b_values).map(|(x, y)| x.abs_diff(*y)).sum();
+        assert!(mismatch <= identity, "{mismatch} > {identity}");
+        assert!(
+            mismatch < identity / 2,
+            "an exact assignment should do far better: {mismatch} / {identity}"
+        );
+        let small: Vec<u32> = (0..16).collect();
+        let c = DitherTile::new(4, &small).unwrap();
+        assert!(matches!(
+            bake_retarget_between(&a, &c, 0),
+            Err(BakeError::Size { .. })
+        ));
+    }
     use super::*;
     use crate::bake::{anneal_retarget_table, bake_mask, no_progress, AnnealParams, MaskParams};
 
