@@ -55,38 +55,65 @@ pub fn render_temporal_sort(
     advance: bool,
     on_frame: &mut impl FnMut(u32, &[Vec4]),
 ) -> Result<()> {
-    let c = &study.config;
-    let side = mask_side(&mask)?;
-    let layout = FrameLayout::new(c.size, c.size, c.block, side)?;
-    let mut settings = c.settings();
-    settings.seed_mode = if advance {
+    let mode = if advance {
         SEED_MODE_ADVANCE
     } else {
         SEED_MODE_FIXED
     };
-    settings.padded_width = layout.padded_width();
+    let (layout, settings, slices) = setup(study, &mask, mode)?;
     let depth = mask.depth();
-    let slices = slice_ranks(&mask, side);
     let params = layout.params(0);
+    run_frames(study, &layout, &settings, on_frame, |t, color, seeds, next| {
+        let target = t + 1;
+        let offset = walk_offset(target / depth, params.tile_log2);
+        let slice = &slices[(target % depth) as usize];
+        next.copy_from_slice(seeds);
+        for by in 0..params.blocks_y() {
+            for bx in 0..params.blocks_x() {
+                sort_block_at_offset(&params, offset, bx, by, color, slice, seeds, next);
+            }
+        }
+    })
+}
+
+/// The frame loop of the temporal rows: white seeds from the study's salt,
+/// then for every frame render, report, and let `step(t, colour, seeds,
+/// next)` write the next frame's seeds.
+fn run_frames(
+    study: &Study,
+    layout: &FrameLayout,
+    settings: &gpu_tracer::TraceSettings,
+    on_frame: &mut impl FnMut(u32, &[Vec4]),
+    mut step: impl FnMut(u32, &[Vec4], &[u32], &mut [u32]),
+) -> Result<()> {
+    let c = &study.config;
     let mut seeds = cpu::white_seeds(layout.padded_width(), layout.padded_height(), c.salt);
     let mut next = seeds.clone();
     let mut color = vec![Vec4::ZERO; layout.pixel_count()];
     for t in 0..c.frames {
-        let trace = study.scene.trace_params(&settings, t)?;
+        let trace = study.scene.trace_params(settings, t)?;
         cpu::render_frame(&study.scene, &trace, &seeds, &mut color)?;
         on_frame(t, &color);
-        let target = t + 1;
-        let offset = walk_offset(target / depth, params.tile_log2);
-        let slice = &slices[(target % depth) as usize];
-        next.copy_from_slice(&seeds);
-        for by in 0..params.blocks_y() {
-            for bx in 0..params.blocks_x() {
-                sort_block_at_offset(&params, offset, bx, by, &color, slice, &seeds, &mut next);
-            }
-        }
+        step(t, &color, &seeds, &mut next);
         std::mem::swap(&mut seeds, &mut next);
     }
     Ok(())
+}
+
+/// The layout (tiles of the mask's side), trace settings (seed mode `seed_mode`)
+/// and slice ranks of a temporal row.
+fn setup(
+    study: &Study,
+    mask: &SpatiotemporalMask<'_>,
+    seed_mode: u32,
+) -> Result<(FrameLayout, gpu_tracer::TraceSettings, Vec<Vec<u32>>)> {
+    let c = &study.config;
+    let side = mask_side(mask)?;
+    let layout = FrameLayout::new(c.size, c.size, c.block, side)?;
+    let mut settings = c.settings();
+    settings.seed_mode = seed_mode;
+    settings.padded_width = layout.padded_width();
+    Ok((layout, settings, slice_ranks(mask, side)))
 }
 
 /// The ranks of every slice of `mask`, slice-major.
@@ -135,14 +162,8 @@ pub fn render_temporal_permute(
     mask: SpatiotemporalMask<'_>,
     on_frame: &mut impl FnMut(u32, &[Vec4]),
 ) -> Result<()> {
-    let c = &study.config;
-    let side = mask_side(&mask)?;
-    let layout = FrameLayout::new(c.size, c.size, c.block, side)?;
-    let mut settings = c.settings();
-    settings.seed_mode = SEED_MODE_FIXED;
-    settings.padded_width = layout.padded_width();
-    let depth = mask.depth() as usize;
-    let slices = slice_ranks(&mask, side);
+    let (layout, settings, slices) = setup(study, &mask, SEED_MODE_FIXED)?;
+    let (side, depth) = (mask.width(), mask.depth() as usize);
     let tables: Vec<Vec<u32>> = (0..depth)
         .into_par_iter()
         .map(|z| {
@@ -152,27 +173,11 @@ pub fn render_temporal_permute(
         })
         .collect::<Result<_>>()?;
     let params = layout.params(0);
-    let mut seeds = cpu::white_seeds(layout.padded_width(), layout.padded_height(), c.salt);
-    let mut sorted = seeds.clone();
-    let mut next = seeds.clone();
-    let mut color = vec![Vec4::ZERO; layout.pixel_count()];
-    for t in 0..c.frames {
-        let trace = study.scene.trace_params(&settings, t)?;
-        cpu::render_frame(&study.scene, &trace, &seeds, &mut color)?;
-        on_frame(t, &color);
+    let mut sorted = vec![0u32; layout.seed_count()];
+    run_frames(study, &layout, &settings, on_frame, |t, color, seeds, next| {
         let z = t as usize % depth;
-        temporal_permute_step(
-            &params,
-            &color,
-            &slices[z],
-            &tables[z],
-            &seeds,
-            &mut sorted,
-            &mut next,
-        );
-        std::mem::swap(&mut seeds, &mut next);
-    }
-    Ok(())
+        temporal_permute_step(&params, color, &slices[z], &tables[z], seeds, &mut sorted, next);
+    })
 }
 
 #[cfg(test)]

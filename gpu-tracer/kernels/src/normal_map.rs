@@ -320,37 +320,28 @@ mod tests {
     #[test]
     fn normal_maps_perturb_the_smooth_normal() {
         let (smooth, tilt) = smooth_attr(1.0);
-        let (m, images, _) = mapped([128, 128, 255], 1.0, 1.0);
         let (e1, e2, n) = quad();
         let bary = Vec2::new(0.2, 0.3);
-        let got = shading_normal(
-            &m,
-            &images,
-            1,
-            Vec2::splat(0.5),
-            &smooth,
-            (e1, e2),
-            n,
-            n,
-            bary,
-            Vec3::Z,
-        );
+        let normal_for_texel = |texel: [u8; 3]| {
+            let (m, images, _) = mapped(texel, 1.0, 1.0);
+            shading_normal(
+                &m,
+                &images,
+                1,
+                Vec2::splat(0.5),
+                &smooth,
+                (e1, e2),
+                n,
+                n,
+                bary,
+                Vec3::Z,
+            )
+        };
+        let got = normal_for_texel([128, 128, 255]);
         assert!((got - tilt).length() < 0.01, "{got}");
         // Texel (1, 0.5, 1): 45 degrees further about the tangent, which is
         // +x projected onto the smooth normal's plane.
-        let (m, images, _) = mapped([255, 128, 255], 1.0, 1.0);
-        let got = shading_normal(
-            &m,
-            &images,
-            1,
-            Vec2::splat(0.5),
-            &smooth,
-            (e1, e2),
-            n,
-            n,
-            bary,
-            Vec3::Z,
-        );
+        let got = normal_for_texel([255, 128, 255]);
         let t = (Vec3::X - tilt * tilt.x).normalize();
         let want = (t + tilt).normalize();
         assert!((got - want).length() < 0.01, "{got} vs {want}");

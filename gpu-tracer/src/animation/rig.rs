@@ -410,13 +410,7 @@ mod tests {
         assert!(n[1].abs_diff_eq(Vec3::Z, 1e-6) && n[2].abs_diff_eq(Vec3::X, 1e-6));
         // Mirror x from t = 1: vertices 1 and 2 swap, so do their normals,
         // and the +x normal becomes -x (the mirrored outside).
-        rig.channels.push(Channel {
-            node: 1,
-            property: Property::Scale,
-            interpolation: Interpolation::Step,
-            times: vec![0.0, 1.0],
-            values: vec![Vec4::ONE, Vec4::new(-1.0, 1.0, 1.0, 0.0)],
-        });
+        rig.channels.push(mirror_x_from_one(1));
         let n = rig.pose(1.0).normals[0].map(Vec3::normalize);
         assert!(n[1].abs_diff_eq(Vec3::NEG_X, 1e-6), "{n:?}");
         assert!(n[2].abs_diff_eq(Vec3::Z, 1e-6), "{n:?}");
@@ -482,19 +476,24 @@ mod tests {
         assert!(!rig.animates_geometry());
     }
 
+    /// A step channel that scales `node` by (-1, 1, 1) from t = 1: a mirror.
+    fn mirror_x_from_one(node: usize) -> Channel {
+        Channel {
+            node,
+            property: Property::Scale,
+            interpolation: Interpolation::Step,
+            times: vec![0.0, 1.0],
+            values: vec![Vec4::ONE, Vec4::new(-1.0, 1.0, 1.0, 0.0)],
+        }
+    }
+
     #[test]
     fn mirroring_keeps_the_authored_front() {
         let mut rig = two_level_rig(false);
         rig.nodes[1].rest.translation = Vec3::ZERO;
         rig.nodes[0].rest = Trs::default();
         // Scale x from +1 (rest) to -1 at t = 1: the mirror flips the winding.
-        rig.channels.push(Channel {
-            node: 1,
-            property: Property::Scale,
-            interpolation: Interpolation::Step,
-            times: vec![0.0, 1.0],
-            values: vec![Vec4::ONE, Vec4::new(-1.0, 1.0, 1.0, 0.0)],
-        });
+        rig.channels.push(mirror_x_from_one(1));
         let normal = |t: [Vec3; 3]| (t[1] - t[0]).cross(t[2] - t[0]).normalize();
         assert!(normal(rig.pose(0.0).triangles[0]).abs_diff_eq(Vec3::Z, 1e-6));
         // Mirrored in x, the authored front (+Z) still faces +Z.

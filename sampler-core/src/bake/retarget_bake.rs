@@ -242,15 +242,21 @@ pub fn bake_retarget_between(
     displacement_cost: u32,
 ) -> Result<Vec<u32>, BakeError> {
     let costs = RetargetCosts::between(*source, target, displacement_cost)?;
-    let solution = solve_assignment(&costs)?;
-    let packed: Vec<u32> = solution
+    let (packed, _) = solve_packed(&costs)?;
+    RetargetTable::new(source.tile(), &packed)?;
+    Ok(packed)
+}
+
+/// The exact assignment of `costs` as packed offsets, and the solver's bid count.
+fn solve_packed(costs: &RetargetCosts<'_>) -> Result<(Vec<u32>, u64), BakeError> {
+    let solution = solve_assignment(costs)?;
+    let packed = solution
         .destination
         .iter()
         .enumerate()
         .map(|(q, &d)| pack_offset(costs.offset_between(q, d as usize)))
         .collect();
-    RetargetTable::new(source.tile(), &packed)?;
-    Ok(packed)
+    Ok((packed, solution.bids))
 }
 
 /// [`bake_retarget_table`] with another cost per texel of displacement
@@ -268,13 +274,7 @@ pub fn bake_retarget_table_with(
     }
     let step = step_of_index(index, tile.tile_log2());
     let costs = RetargetCosts::new(*tile, step, displacement_cost);
-    let solution = solve_assignment(&costs)?;
-    let packed: Vec<u32> = solution
-        .destination
-        .iter()
-        .enumerate()
-        .map(|(q, &d)| pack_offset(costs.offset_between(q, d as usize)))
-        .collect();
+    let (packed, bids) = solve_packed(&costs)?;
     RetargetTable::new(tile.tile(), &packed)?;
     let identity = vec![IDENTITY_PACKED; packed.len()];
     Ok(RetargetBake {
@@ -283,7 +283,7 @@ pub fn bake_retarget_table_with(
         energy_identity: retarget_energy(tile, step, &identity),
         energy: retarget_energy(tile, step, &packed),
         packed,
-        bids: solution.bids,
+        bids,
     })
 }
 
