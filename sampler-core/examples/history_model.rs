@@ -13,17 +13,11 @@ use sampler_core::bake::{
     bake_shift_tile, field_quality, heaviside_integrands, no_progress, unpack_shift, FieldQuality,
     ShiftTileParams,
 };
+use sampler_core::sequences::seed::hash_u32;
 use sampler_core::sequences::spatiotemporal::{
     spatiotemporal_sequence_point_u32, spatiotemporal_shift_u32, SEQUENCE_KRONECKER, SEQUENCE_SOBOL,
 };
 use sampler_core::walk_offset;
-
-/// SplitMix64's finaliser: white noise for the baseline.
-fn mix(mut h: u64) -> u64 {
-    h = (h ^ (h >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    h = (h ^ (h >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    h ^ (h >> 31)
-}
 
 fn main() {
     let (side, frames, skip, alpha) = (64u32, 128u32, 16u32, 0.1);
@@ -34,8 +28,8 @@ fn main() {
         field_quality(side, pairs.clone(), frames, skip, alpha, &integrands, sample)
     };
     let white = run(&|p, pair, t| {
-        let h = mix(((p.x as u64) << 40) ^ ((p.y as u64) << 20) ^ ((pair as u64) << 12) ^ t as u64);
-        [h as u32, (h >> 32) as u32]
+        let key = hash_u32(p.x ^ hash_u32(p.y ^ hash_u32(pair ^ hash_u32(t))));
+        [key, hash_u32(key)]
     });
     let tile = sampler_core::defaults::tile_64();
     let scalar = |sequence: u32| {

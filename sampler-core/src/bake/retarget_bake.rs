@@ -74,7 +74,12 @@ impl<'a> RetargetCosts<'a> {
                 shifted.push(v[((((y + step.y) & m) << k) | ((x + step.x) & m)) as usize]);
             }
         }
-        let axis = axis_offsets(w);
+        RetargetCosts::with_target(tile, shifted, displacement_cost)
+    }
+
+    /// The graph from `tile` to the target ranks `target[d]` per destination.
+    fn with_target(tile: DitherTile<'a>, target: Vec<u32>, displacement_cost: u32) -> Self {
+        let axis = axis_offsets(tile.tile());
         let offsets = axis
             .iter()
             .flat_map(|&dy| axis.iter().map(move |&dx| IVec2::new(dx, dy)))
@@ -82,7 +87,7 @@ impl<'a> RetargetCosts<'a> {
         RetargetCosts {
             tile,
             displacement_cost,
-            shifted,
+            shifted: target,
             offsets,
         }
     }
@@ -106,9 +111,11 @@ impl<'a> RetargetCosts<'a> {
                 depth: 1,
             });
         }
-        let mut costs = RetargetCosts::new(source, UVec2::ZERO, displacement_cost);
-        costs.shifted = target.values().to_vec();
-        Ok(costs)
+        Ok(RetargetCosts::with_target(
+            source,
+            target.values().to_vec(),
+            displacement_cost,
+        ))
     }
 
     #[inline]

@@ -5,9 +5,9 @@
 //! ([`bake_shift_tile`](super::bake_shift_tile)) with held-out integrands
 //! and pairs, and against white noise.
 
+use super::filters::SpatialFilter;
 use super::keys::HeavisideIntegrand;
 use alloc::vec;
-use alloc::vec::Vec;
 use glam::UVec2;
 
 /// Root-mean-square errors over pixels, frames and integrands (one value
@@ -33,28 +33,25 @@ impl FieldQuality {
     }
 }
 
-/// Gaussian blur of sigma 1 on a `side x side` torus (taps to 4 sigma,
-/// normalised), in place.
-fn blur(side: usize, image: &mut [f64], scratch: &mut [f64]) {
-    let taps: Vec<f64> = (-4i32..=4).map(|d| libm::exp(-0.5 * (d * d) as f64)).collect();
-    let norm: f64 = taps.iter().sum();
+/// Blur with the normalised 1D `taps` (centred) along both axes of a
+/// `side x side` torus, in place.
+fn blur(side: usize, taps: &[f64], image: &mut [f64], scratch: &mut [f64]) {
+    let r = (taps.len() / 2) as i32;
     let wrap = |i: usize, d: i32| (i as i32 + d).rem_euclid(side as i32) as usize;
     for y in 0..side {
         for x in 0..side {
-            scratch[y * side + x] = (-4i32..=4)
-                .zip(&taps)
+            scratch[y * side + x] = (-r..=r)
+                .zip(taps)
                 .map(|(d, w)| w * image[y * side + wrap(x, d)])
-                .sum::<f64>()
-                / norm;
+                .sum();
         }
     }
     for y in 0..side {
         for x in 0..side {
-            image[y * side + x] = (-4i32..=4)
-                .zip(&taps)
+            image[y * side + x] = (-r..=r)
+                .zip(taps)
                 .map(|(d, w)| w * scratch[wrap(y, d) * side + x])
-                .sum::<f64>()
-                / norm;
+                .sum();
         }
     }
 }
@@ -80,6 +77,7 @@ pub fn field_quality(
     let mut h = vec![0.0; n];
     let mut work = vec![0.0; n];
     let mut scratch = vec![0.0; n];
+    let taps = SpatialFilter::Gaussian { sigma: 1.0 }.taps();
     for pair in pairs {
         for f in integrands {
             let integral = f.integral();
@@ -93,13 +91,13 @@ pub fn field_quality(
                     *hv = if t == 0 { *ev } else { *hv + alpha * (ev - *hv) };
                 }
                 work.copy_from_slice(&e);
-                blur(side as usize, &mut work, &mut scratch);
+                blur(side as usize, &taps, &mut work, &mut scratch);
                 raw += work.iter().map(|v| v * v).sum::<f64>();
                 raw_count += n as u64;
                 if t >= skip {
                     hist += h.iter().map(|v| v * v).sum::<f64>();
                     work.copy_from_slice(&h);
-                    blur(side as usize, &mut work, &mut scratch);
+                    blur(side as usize, &taps, &mut work, &mut scratch);
                     hist_blur += work.iter().map(|v| v * v).sum::<f64>();
                     hist_count += n as u64;
                 }

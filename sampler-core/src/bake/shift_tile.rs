@@ -41,10 +41,10 @@
 //!
 //! **Measured, and not shipped**: on held-out integrands and pairs
 //! (`examples/history_model.rs`) the baked tile lowers the blurred history's
-//! error from 0.562 to 0.542 of white noise's but raises each frame's blurred
-//! error from 0.662 to 0.675 against the sampler's two scalar reads of the
+//! error from 0.562 to 0.541 of white noise's but raises each frame's blurred
+//! error from 0.663 to 0.676 against the sampler's two scalar reads of the
 //! void-and-cluster tile, and the Kronecker sequence in time alone buys far
-//! more (0.491). The sampler keeps the scalar tile; this baker stays as the
+//! more (0.492). The sampler keeps the scalar tile; this baker stays as the
 //! tool of that measurement (`QUALITY.md`, "Tried and dropped").
 
 use super::keys::{heaviside_integrands, line_integrands, HeavisideIntegrand, LINE_STEPS};
