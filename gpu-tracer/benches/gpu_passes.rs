@@ -67,7 +67,7 @@ fn main() {
     let pp = PermutePipelines::new(&gpu).expect("permute pipelines");
     let color = Tracer::color_buffer(&gpu, WIDTH, HEIGHT);
     let permuter = SeedPermuter::new(&gpu, &pp, layout, &tile, &tables, &color).expect("permuter");
-    let mut tracer = Tracer::new(&gpu, &tp, &scene, &params, &permuter.seeds, color);
+    let mut tracer = Tracer::new(&gpu, &tp, &scene, &params, &permuter.seeds, color).expect("tracer");
     let rp = ReprojectPipelines::new(&gpu).expect("reproject pipelines");
     let reprojector = SeedReprojector::new(&gpu, &rp, layout, &permuter.seeds).expect("reprojector");
     tracer.enable_motion(&gpu, &tp, &reprojector.motion);

@@ -1,6 +1,8 @@
 //! What each sampler's numbers cost on the GPU: the 1-spp path-traced frame
 //! (Cornell box, 1280x720, max depth 8) drawn from the seed stream, from
-//! screen-space Sobol, from ZSobol and from the spatiotemporal sampler,
+//! screen-space Sobol, from ZSobol and from the spatiotemporal sampler
+//! (the basic trace kernel, which the Cornell box fits), and the seed
+//! stream's frame from the full trace kernel (`kernels::trace_variant`),
 //! measured on one device in one run, the samplers alternated round by
 //! round so that clock and thermal drift fall on all of them alike.
 //!
@@ -17,7 +19,7 @@
 
 use gpu_tracer::cornell::cornell_box;
 use gpu_tracer::gpu::{Gpu, PassTimer, PermutePipelines, SeedPermuter, TracePipelines, Tracer};
-use gpu_tracer::{SceneGpu, TraceSettings};
+use gpu_tracer::{SceneGpu, TraceSettings, TraceVariant};
 use kernels::abi::{
     SAMPLER_KRONECKER, SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS, SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL,
 };
@@ -26,16 +28,20 @@ use sampler_core::FrameLayout;
 const WIDTH: u32 = 1280;
 const HEIGHT: u32 = 720;
 
-/// The rows: name and `TraceParams::sampler`.
-const SAMPLERS: [(&str, u32); 5] = [
-    ("seed stream", SAMPLER_SEEDS),
-    ("screen-sobol", SAMPLER_SCREEN_SOBOL),
-    ("zsobol", SAMPLER_ZSOBOL),
-    ("spatiotemporal", SAMPLER_SPATIOTEMPORAL),
+/// The rows: name, `TraceParams::sampler` and the trace kernel variant
+/// (the Cornell box fits the basic one, `kernels::trace_variant`; the last
+/// row runs the full kernel on the same frame, for its cost).
+const SAMPLERS: [(&str, u32, TraceVariant); 6] = [
+    ("seed stream", SAMPLER_SEEDS, TraceVariant::Basic),
+    ("screen-sobol", SAMPLER_SCREEN_SOBOL, TraceVariant::Basic),
+    ("zsobol", SAMPLER_ZSOBOL, TraceVariant::Basic),
+    ("spatiotemporal", SAMPLER_SPATIOTEMPORAL, TraceVariant::Basic),
     (
         "spatiotemporal-kronecker",
         SAMPLER_SPATIOTEMPORAL | SAMPLER_KRONECKER,
+        TraceVariant::Basic,
     ),
+    ("seed stream (full kernel)", SAMPLER_SEEDS, TraceVariant::Full),
 ];
 
 mod common;
@@ -66,25 +72,28 @@ fn main() {
         sampler_core::defaults::tables_64(),
     );
     let permuter = SeedPermuter::new(&gpu, &pp, layout, &tile, &tables, &color).expect("permuter");
-    let tracer = Tracer::new(&gpu, &tp, &scene, &params(SAMPLER_SEEDS), &permuter.seeds, color);
+    let mut tracer =
+        Tracer::new(&gpu, &tp, &scene, &params(SAMPLER_SEEDS), &permuter.seeds, color).expect("tracer");
     permuter.set_frame(&gpu, 1);
     let mut e = gpu.device.create_command_encoder(&Default::default());
     permuter.encode_seed_init(&mut e, &pp);
     gpu.queue.submit([e.finish()]);
 
     let wanted = std::env::var("SAMPLERS").ok();
-    let samplers: Vec<(&str, u32)> = SAMPLERS
+    let samplers: Vec<(&str, u32, TraceVariant)> = SAMPLERS
         .iter()
         .copied()
-        .filter(|&(name, s)| {
-            s == SAMPLER_SEEDS || wanted.as_deref().is_none_or(|w| w.split(',').any(|x| x == name))
+        .filter(|&(name, s, v)| {
+            (s == SAMPLER_SEEDS && v == TraceVariant::Basic)
+                || wanted.as_deref().is_none_or(|w| w.split(',').any(|x| x == name))
         })
         .collect();
     let timer = PassTimer::new(&gpu, 1);
     let mut ms = vec![Vec::new(); samplers.len()];
     // Round 0 warms every pipeline up and is not counted.
     for round in 0..=rounds {
-        for (k, &(_, sampler)) in samplers.iter().enumerate() {
+        for (k, &(_, sampler, variant)) in samplers.iter().enumerate() {
+            tracer.set_variant(&tp, &scene, variant).expect("variant");
             tracer.set_params(&gpu, &params(sampler));
             let t = common::time_trace(&gpu, &tracer, &tp, timer.as_ref());
             if round > 0 {
@@ -98,14 +107,14 @@ fn main() {
     );
     println!("timing: {}", common::timing_name(timer.as_ref()));
     println!(
-        "{:<16} {:>10} {:>10} {:>10} {:>22}",
+        "{:<26} {:>10} {:>10} {:>10} {:>22}",
         "sampler", "median ms", "min ms", "max ms", "excess, % of seed frame"
     );
     let medians: Vec<f64> = ms.iter_mut().map(|v| common::median(v)).collect();
-    for ((name, _), (v, m)) in samplers.iter().zip(ms.iter().zip(&medians)) {
+    for ((name, _, _), (v, m)) in samplers.iter().zip(ms.iter().zip(&medians)) {
         let (lo, hi) = (v[0], v[v.len() - 1]);
         println!(
-            "{name:<16} {m:>10.3} {lo:>10.3} {hi:>10.3} {:>21.2}%",
+            "{name:<26} {m:>10.3} {lo:>10.3} {hi:>10.3} {:>21.2}%",
             100.0 * (m - medians[0]) / medians[0]
         );
     }

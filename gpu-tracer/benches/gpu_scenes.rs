@@ -63,7 +63,7 @@ fn main() {
         let rays = cpu::render_frame(&scene, &params, &seeds, &mut color).expect("cpu frame");
         let gpu_color = Tracer::color_buffer(&gpu, WIDTH, HEIGHT);
         let permuter = SeedPermuter::new(&gpu, &pp, layout, &tile, &tables, &gpu_color).expect("permuter");
-        let tracer = Tracer::new(&gpu, &tp, &scene, &params, &permuter.seeds, gpu_color);
+        let tracer = Tracer::new(&gpu, &tp, &scene, &params, &permuter.seeds, gpu_color).expect("tracer");
         permuter.set_frame(&gpu, 1);
         let mut e = gpu.device.create_command_encoder(&Default::default());
         permuter.encode_seed_init(&mut e, &pp);

@@ -1,17 +1,17 @@
 //! The CPU renderer: the kernels' own per-pixel functions run with rayon.
 //!
-//! [`render_frame`] calls `kernels::trace_pixel` (through `trace_pixel_counted`) for every visible pixel,
-//! exactly as the GPU's `trace_cs` does, so the two agree up to
+//! [`render_frame`] calls `kernels::trace_pixel` (through `trace_pixel_counted_variant`, the variant the GPU
+//! runs for the scene) for every visible pixel, exactly as the GPU's `trace_cs` (or `trace_basic_cs`) does, so the two agree up to
 //! floating-point differences between the host's and the device's math
 //! libraries. Rows are distributed over the current rayon pool (use
 //! `ThreadPool::install` to choose the thread count).
 
 use crate::error::{Error, Result};
-use crate::scene::SceneGpu;
+use crate::scene::{SceneGpu, TraceVariant};
 use glam::{UVec2, Vec4};
 use kernels::abi::{GBufferGpu, TraceParams, MAX_DEPTH_LIMIT, SAMPLER_SCREEN_SOBOL};
 use kernels::trace::sampler_kind;
-use kernels::{accumulate_pixel, gbuffer_pixel, trace_pixel_counted};
+use kernels::{accumulate_pixel, gbuffer_pixel, trace_pixel_counted_variant, trace_variant};
 use rayon::prelude::*;
 
 /// Traces one frame: `color[y * width + x]` = mean radiance of the pixel's
@@ -31,13 +31,42 @@ use rayon::prelude::*;
 /// entries or `color` is not `width * height` long.
 ///
 /// Returns the number of rays traced (camera, continuation and shadow rays).
+///
+/// Runs the trace kernel's variant the GPU runs for `scene`
+/// ([`SceneGpu::trace_variant`]), as [`render_frame_variant`].
 pub fn render_frame(
     scene: &SceneGpu,
     params: &TraceParams,
     seeds: &[u32],
     color: &mut [Vec4],
 ) -> Result<u64> {
+    render_frame_variant(scene, params, seeds, color, scene.trace_variant())
+}
+
+/// [`render_frame`] with the trace kernel's `variant`
+/// (`kernels::trace_variant`): [`TraceVariant::Full`] renders any scene,
+/// [`TraceVariant::Basic`] the scenes that fit it, with the same colours
+/// bit for bit.
+///
+/// # Errors
+/// As [`render_frame`]; [`Error::UnfitTraceVariant`] for
+/// [`TraceVariant::Basic`] on a scene it cannot render
+/// ([`SceneGpu::fits_basic_trace`]).
+pub fn render_frame_variant(
+    scene: &SceneGpu,
+    params: &TraceParams,
+    seeds: &[u32],
+    color: &mut [Vec4],
+    variant: TraceVariant,
+) -> Result<u64> {
     check_params(scene, params)?;
+    if variant == TraceVariant::Basic && !scene.fits_basic_trace() {
+        return Err(Error::UnfitTraceVariant);
+    }
+    let trace = match variant {
+        TraceVariant::Full => trace_pixel_counted_variant::<{ trace_variant::FULL }>,
+        TraceVariant::Basic => trace_pixel_counted_variant::<{ trace_variant::BASIC }>,
+    };
     let (width, stride) = (params.width as usize, params.padded_width as usize);
     let pixels = width * params.height as usize;
     check_len("seed buffer", stride * params.height as usize, seeds.len(), true)?;
@@ -80,7 +109,7 @@ pub fn render_frame(
         .map(|(y, row)| {
             let mut rays = 0u64;
             for (x, out) in row.iter_mut().enumerate() {
-                let (c, n) = trace_pixel_counted(
+                let (c, n) = trace(
                     params,
                     UVec2::new(x as u32, y as u32),
                     seeds[y * stride + x],

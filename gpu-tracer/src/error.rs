@@ -204,6 +204,9 @@ pub enum Error {
         /// The cause.
         source: ImageWriteError,
     },
+    /// The basic trace variant (`kernels::trace_variant`) was asked for a
+    /// scene that uses what it leaves out.
+    UnfitTraceVariant,
 }
 
 /// Cause of an [`Error::ImageWrite`].
@@ -311,6 +314,11 @@ impl fmt::Display for Error {
             } => write!(
                 f,
                 "invalid frame size {width}x{height} with seed stride {padded_width} (sizes must be >= 1 and the stride >= the width)"
+            ),
+            Error::UnfitTraceVariant => write!(
+                f,
+                "the basic trace variant cannot render this scene (it uses textures, cut-outs, vertex normals, \
+                 glossy materials, punctual lights or an environment map): use the full variant"
             ),
             Error::InvalidParameter { name, value, expected } => {
                 write!(f, "invalid {name} = {value}: expected {expected}")

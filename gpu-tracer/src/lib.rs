@@ -88,4 +88,4 @@ pub use render::{
     render_cpu, render_gpu, render_sequence_cpu, render_sequence_gpu, FrameView, RenderJob, RenderOutput,
     SequenceOptions, TileChoice,
 };
-pub use scene::{Scene, SceneGpu, TraceSettings};
+pub use scene::{Scene, SceneGpu, TraceSettings, TraceVariant};

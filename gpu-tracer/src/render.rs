@@ -457,7 +457,7 @@ pub fn render_sequence_gpu(
         &params0,
         &permuter.seeds,
         color,
-    );
+    )?;
 
     if let Some(f) = permuter.features() {
         tracer.enable_features(gpu, &trace_pipelines, f, &permuter.intensity);
@@ -486,7 +486,7 @@ pub fn render_sequence_gpu(
 
     for t in 0..job.frames {
         if t > 0 && sequence.advance()? {
-            tracer.update_scene(gpu, &trace_pipelines, sequence.scene());
+            tracer.update_scene(gpu, &trace_pipelines, sequence.scene())?;
         }
         let params = sequence.scene().trace_params(&settings, t)?;
         tracer.set_params(gpu, &params);

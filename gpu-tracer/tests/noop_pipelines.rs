@@ -24,8 +24,14 @@ fn kernels_pipelines_and_bind_groups_validate() {
     let color = Tracer::color_buffer(&gpu, 33, 17);
     let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
     let permuter = SeedPermuter::new(&gpu, &pp, layout, &tile, &tables, &color).unwrap();
-    let tracer = Tracer::new(&gpu, &tp, &scene, &params, &permuter.seeds, color);
+    let mut tracer = Tracer::new(&gpu, &tp, &scene, &params, &permuter.seeds, color).expect("tracer");
     let mut e = gpu.device.create_command_encoder(&Default::default());
+    tracer.encode_trace(&mut e, &tp, None);
+    // Both trace kernel variants, through the one bind group.
+    assert_eq!(tracer.variant(), gpu_tracer::TraceVariant::Basic);
+    tracer
+        .set_variant(&tp, &scene, gpu_tracer::TraceVariant::Full)
+        .expect("full trace variant");
     tracer.encode_trace(&mut e, &tp, None);
     tracer.encode_accumulate(&mut e, &tp);
     // The trace bind group holds bindings 0..=7 (7 = screen-space Sobol keys):

@@ -10,7 +10,9 @@
 //! - [`trace`]: traced frames (statistically, and with the same seeds),
 //!   the G-buffer of a textured moving scene, and the feature pass.
 //! - [`reprojection`]: the seed reprojection passes and the motion pass.
+//! - [`trace_variant`]: the basic trace kernel against the full one.
 
 mod permute;
 mod reprojection;
 mod trace;
+mod trace_variant;

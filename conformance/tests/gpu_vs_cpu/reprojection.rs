@@ -147,7 +147,8 @@ fn motion_kernel_matches_the_cpu() {
         &params,
         &seeds,
         Tracer::color_buffer(&gpu, w, h),
-    );
+    )
+    .expect("tracer");
     tracer.enable_motion(&gpu, &pipelines, &motion);
     for g in [&previous, &current] {
         gpu.queue

@@ -554,7 +554,7 @@ fn textured_moving_scene_and_gbuffer_agree_with_the_cpu() {
     let pipelines = TracePipelines::new(&gpu).unwrap();
     let seed_buffer = gpu.storage("seeds", &seeds);
     let color = Tracer::color_buffer(&gpu, w, h);
-    let tracer = Tracer::new(&gpu, &pipelines, &gpu_scene, &params, &seed_buffer, color);
+    let tracer = Tracer::new(&gpu, &pipelines, &gpu_scene, &params, &seed_buffer, color).expect("tracer");
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     tracer.encode_gbuffer(&mut encoder, &pipelines, None);
     tracer.encode_trace(&mut encoder, &pipelines, None);
@@ -656,7 +656,8 @@ fn feature_pass_matches_the_cpu() {
         &params,
         &seeds,
         Tracer::color_buffer(&gpu, w, h),
-    );
+    )
+    .expect("tracer");
     tracer.enable_features(&gpu, &pipelines, &features, &keys);
     gpu.queue
         .write_buffer(&tracer.gbuffer, 0, bytemuck::cast_slice(&gbuffer));

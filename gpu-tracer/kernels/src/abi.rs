@@ -15,7 +15,7 @@
 //!
 //! | entry point | binding | kind | contents |
 //! |---|---|---|---|
-//! | [`TRACE_ENTRY`] | 0 | uniform | [`TraceParams`] |
+//! | [`TRACE_ENTRY`], [`TRACE_BASIC_ENTRY`] | 0 | uniform | [`TraceParams`] |
 //! | | 1 | storage, read | `[BvhNodeGpu]`, root at index 0 |
 //! | | 2 | storage, read | `[TriangleGpu]`, in BVH leaf order |
 //! | | 3 | storage, read | `[MaterialGpu]` |
@@ -60,6 +60,10 @@ use glam::{UVec4, Vec2, Vec4};
 
 /// Name of the path-tracing entry point (rust-gpu qualifies it with its module path) (one invocation per visible pixel).
 pub const TRACE_ENTRY: &str = "entry::trace_cs";
+/// Name of the basic variant of [`TRACE_ENTRY`] (`crate::trace_variant`):
+/// the same bindings, for scenes without textures, cut-outs, vertex
+/// normals, glossy materials, punctual lights or environment maps.
+pub const TRACE_BASIC_ENTRY: &str = "entry::trace_basic_cs";
 /// Name of the accumulation entry point (one invocation per visible pixel).
 pub const ACCUMULATE_ENTRY: &str = "entry::accumulate_cs";
 /// Name of the G-buffer entry point (one invocation per visible pixel):

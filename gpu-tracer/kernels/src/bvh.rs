@@ -62,7 +62,7 @@ pub fn closest_hit(
     t_min: f32,
     t_max: f32,
 ) -> Option<Hit> {
-    traverse(
+    traverse_cut_outs(
         nodes,
         triangles,
         materials,
@@ -74,6 +74,23 @@ pub fn closest_hit(
         t_max,
         false,
     )
+}
+
+/// [`closest_hit`] with every triangle opaque: the [`CUT_OUT`] flag is
+/// ignored and no material is read. The same hit as [`closest_hit`] in a
+/// scene without cut-outs, from a smaller kernel (the basic trace variant,
+/// [`crate::trace`]).
+#[inline]
+pub fn closest_hit_opaque(
+    nodes: &[BvhNodeGpu],
+    triangles: &[TriangleGpu],
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> Option<Hit> {
+    let mut t = Traversal::new(nodes, ray, t_min, t_max);
+    t.advance::<false>(nodes, triangles, ray, t_min, false);
+    t.result()
 }
 
 /// Whether any surface meets the ray at a distance in `(t_min, t_max)`
@@ -92,7 +109,7 @@ pub fn any_hit(
     t_min: f32,
     t_max: f32,
 ) -> bool {
-    traverse(
+    traverse_cut_outs(
         nodes,
         triangles,
         materials,
@@ -105,6 +122,20 @@ pub fn any_hit(
         true,
     )
     .is_some()
+}
+
+/// [`any_hit`] with every triangle opaque (as [`closest_hit_opaque`]).
+#[inline]
+pub fn any_hit_opaque(
+    nodes: &[BvhNodeGpu],
+    triangles: &[TriangleGpu],
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> bool {
+    let mut t = Traversal::new(nodes, ray, t_min, t_max);
+    t.advance::<false>(nodes, triangles, ray, t_min, true);
+    t.found()
 }
 
 /// Whether barycentrics `(u, v)` of triangle `index` (flagged [`CUT_OUT`])
@@ -126,11 +157,21 @@ fn in_hole(
     surface_alpha(&material, images, image_count, uv) < material.alpha.x
 }
 
-/// Shared traversal: with `stop_at_first` the first hit found is returned,
-/// otherwise the closest.
+/// Traversal honouring cut-outs: with `stop_at_first` the first surface
+/// found is returned, otherwise the closest.
+///
+/// The cut-out test sits outside the node loop, as an any-hit stage: a hit
+/// on a [`CUT_OUT`] triangle leaves the node loop
+/// ([`Traversal::advance`]) as a *candidate*; its alpha is tested here, the
+/// hit kept or dropped, and the traversal resumes where it left off (the
+/// leaf's next triangle, then the stack). Scenes without cut-outs never
+/// leave the node loop early. On SIMD back ends that run untaken branches
+/// under a mask (llvmpipe runs every lane through both sides of a
+/// divergent `if`), this keeps the texture lookup out of the per-triangle
+/// loop: it costs once per query instead of once per triangle tested.
 #[allow(clippy::too_many_arguments)]
 #[inline]
-fn traverse(
+fn traverse_cut_outs(
     nodes: &[BvhNodeGpu],
     triangles: &[TriangleGpu],
     materials: &[MaterialGpu],
@@ -142,88 +183,131 @@ fn traverse(
     t_max: f32,
     stop_at_first: bool,
 ) -> Option<Hit> {
-    let inv_dir = ray.inv_dir();
-    let mut best_t = t_max;
-    let mut best = Hit {
-        t: t_max,
-        triangle: 0,
-        u: 0.0,
-        v: 0.0,
-    };
-    let mut found = false;
-    let mut stack_node = [0u32; STACK_SIZE];
-    let mut stack_t = [0.0f32; STACK_SIZE];
-    let mut sp = 0usize;
-
-    let root = nodes[0];
-    let mut node_index = match intersect_aabb(
-        ray.origin,
-        inv_dir,
-        root.min.truncate(),
-        root.max.truncate(),
-        t_min,
-        best_t,
-    ) {
-        Some(_) => 0,
-        None => NO_NODE,
-    };
-
+    let mut t = Traversal::new(nodes, ray, t_min, t_max);
     loop {
-        if node_index == NO_NODE {
-            if sp == 0 {
+        let candidate = t.advance::<true>(nodes, triangles, ray, t_min, stop_at_first);
+        if candidate.triangle == NO_NODE || (stop_at_first && t.found()) {
+            break;
+        }
+        let tri = triangles[candidate.triangle as usize];
+        if !in_hole(
+            &tri,
+            candidate.triangle,
+            materials,
+            attrs,
+            images,
+            image_count,
+            candidate.u,
+            candidate.v,
+        ) {
+            t.accept(candidate);
+            if stop_at_first {
                 break;
             }
-            sp -= 1;
-            if stack_t[sp] < best_t {
-                node_index = stack_node[sp];
-            }
-            continue;
         }
-        let node = nodes[node_index as usize];
-        let count = node.info.x;
-        let first = node.info.y;
-        node_index = NO_NODE;
-        if count == 0 {
-            let a = nodes[first as usize];
-            let b = nodes[first.wrapping_add(1) as usize];
-            let ta = intersect_aabb(
-                ray.origin,
-                inv_dir,
-                a.min.truncate(),
-                a.max.truncate(),
-                t_min,
-                best_t,
-            );
-            let tb = intersect_aabb(
-                ray.origin,
-                inv_dir,
-                b.min.truncate(),
-                b.max.truncate(),
-                t_min,
-                best_t,
-            );
-            match (ta, tb) {
-                (Some(ta), Some(tb)) => {
-                    let (near, far, t_far) = if ta <= tb {
-                        (first, first.wrapping_add(1), tb)
-                    } else {
-                        (first.wrapping_add(1), first, ta)
-                    };
-                    if sp < STACK_SIZE {
-                        stack_node[sp] = far;
-                        stack_t[sp] = t_far;
-                        sp += 1;
-                    }
-                    node_index = near;
-                }
-                (Some(_), None) => node_index = first,
-                (None, Some(_)) => node_index = first.wrapping_add(1),
-                (None, None) => {}
-            }
+    }
+    t.result()
+}
+
+/// The state of one BVH query, resumable after a cut-out candidate: the
+/// closest hit so far, the node stack and the current leaf's remaining
+/// triangles. `repr(C)` with 4-byte fields only, so that rust-gpu's layout
+/// of this function-local struct is one naga accepts.
+#[repr(C)]
+struct Traversal {
+    /// The closest hit accepted so far; `triangle` = [`NO_NODE`] (and `t`
+    /// = the query's `t_max`) before the first.
+    best: Hit,
+    stack_node: [u32; STACK_SIZE],
+    stack_t: [f32; STACK_SIZE],
+    sp: u32,
+    node_index: u32,
+    /// Triangles of the current leaf still to test: `[leaf_next, leaf_end)`.
+    leaf_next: u32,
+    leaf_end: u32,
+}
+
+impl Traversal {
+    /// A query for `ray` over `(t_min, t_max)`, at the root when the ray
+    /// meets its box, finished otherwise.
+    #[inline]
+    fn new(nodes: &[BvhNodeGpu], ray: &Ray, t_min: f32, t_max: f32) -> Self {
+        let root = nodes[0];
+        let node_index = match intersect_aabb(
+            ray.origin,
+            ray.inv_dir(),
+            root.min.truncate(),
+            root.max.truncate(),
+            t_min,
+            t_max,
+        ) {
+            Some(_) => 0,
+            None => NO_NODE,
+        };
+        Traversal {
+            best: Hit {
+                t: t_max,
+                triangle: NO_NODE,
+                u: 0.0,
+                v: 0.0,
+            },
+            stack_node: [0u32; STACK_SIZE],
+            stack_t: [0.0f32; STACK_SIZE],
+            sp: 0,
+            node_index,
+            leaf_next: 0,
+            leaf_end: 0,
+        }
+    }
+
+    /// Whether a hit has been accepted.
+    #[inline]
+    fn found(&self) -> bool {
+        self.best.triangle != NO_NODE
+    }
+
+    /// Makes `hit` the closest so far.
+    #[inline]
+    fn accept(&mut self, hit: Hit) {
+        self.best = hit;
+    }
+
+    /// The closest hit accepted, if any.
+    #[inline]
+    fn result(&self) -> Option<Hit> {
+        if self.found() {
+            Some(self.best)
         } else {
-            let mut i = 0u32;
-            while i < count {
-                let index = first.wrapping_add(i);
+            None
+        }
+    }
+
+    /// Runs the node loop until the tree is exhausted, a hit is accepted
+    /// with `stop_at_first`, or (with `CUT_OUTS`) a [`CUT_OUT`] triangle is
+    /// hit: that hit is returned as a candidate for the caller to test and
+    /// [`accept`](Self::accept). Returns a hit with `triangle == NO_NODE`
+    /// otherwise. Opaque hits are accepted here; without `CUT_OUTS` every
+    /// triangle is opaque.
+    #[inline]
+    fn advance<const CUT_OUTS: bool>(
+        &mut self,
+        nodes: &[BvhNodeGpu],
+        triangles: &[TriangleGpu],
+        ray: &Ray,
+        t_min: f32,
+        stop_at_first: bool,
+    ) -> Hit {
+        let inv_dir = ray.inv_dir();
+        let mut candidate = Hit {
+            t: 0.0,
+            triangle: NO_NODE,
+            u: 0.0,
+            v: 0.0,
+        };
+        loop {
+            while self.leaf_next < self.leaf_end {
+                let index = self.leaf_next;
+                self.leaf_next += 1;
                 let tri = triangles[index as usize];
                 if let Some(h) = intersect_triangle(
                     ray,
@@ -231,34 +315,83 @@ fn traverse(
                     tri.v1.truncate(),
                     tri.v2.truncate(),
                     t_min,
-                    best_t,
+                    self.best.t,
                 ) {
-                    if tri.v2.w == CUT_OUT
-                        && in_hole(&tri, index, materials, attrs, images, image_count, h.u, h.v)
-                    {
-                        i += 1;
-                        continue;
-                    }
-                    best_t = h.t;
-                    best = Hit {
+                    let hit = Hit {
                         t: h.t,
                         triangle: index,
                         u: h.u,
                         v: h.v,
                     };
-                    found = true;
+                    if CUT_OUTS && tri.v2.w == CUT_OUT {
+                        candidate = hit;
+                        break;
+                    }
+                    self.accept(hit);
                     if stop_at_first {
-                        return Some(best);
+                        return candidate;
                     }
                 }
-                i += 1;
+            }
+            if candidate.triangle != NO_NODE {
+                return candidate;
+            }
+            if self.node_index == NO_NODE {
+                if self.sp == 0 {
+                    return candidate;
+                }
+                self.sp -= 1;
+                if self.stack_t[self.sp as usize] < self.best.t {
+                    self.node_index = self.stack_node[self.sp as usize];
+                }
+                continue;
+            }
+            let node = nodes[self.node_index as usize];
+            let count = node.info.x;
+            let first = node.info.y;
+            self.node_index = NO_NODE;
+            if count == 0 {
+                let a = nodes[first as usize];
+                let b = nodes[first.wrapping_add(1) as usize];
+                let ta = intersect_aabb(
+                    ray.origin,
+                    inv_dir,
+                    a.min.truncate(),
+                    a.max.truncate(),
+                    t_min,
+                    self.best.t,
+                );
+                let tb = intersect_aabb(
+                    ray.origin,
+                    inv_dir,
+                    b.min.truncate(),
+                    b.max.truncate(),
+                    t_min,
+                    self.best.t,
+                );
+                match (ta, tb) {
+                    (Some(ta), Some(tb)) => {
+                        let (near, far, t_far) = if ta <= tb {
+                            (first, first.wrapping_add(1), tb)
+                        } else {
+                            (first.wrapping_add(1), first, ta)
+                        };
+                        if (self.sp as usize) < STACK_SIZE {
+                            self.stack_node[self.sp as usize] = far;
+                            self.stack_t[self.sp as usize] = t_far;
+                            self.sp += 1;
+                        }
+                        self.node_index = near;
+                    }
+                    (Some(_), None) => self.node_index = first,
+                    (None, Some(_)) => self.node_index = first.wrapping_add(1),
+                    (None, None) => {}
+                }
+            } else {
+                self.leaf_next = first;
+                self.leaf_end = first.wrapping_add(count);
             }
         }
-    }
-    if found {
-        Some(best)
-    } else {
-        None
     }
 }
 
@@ -380,9 +513,57 @@ mod tests {
         materials[1].alpha.y = 0.25;
         assert_eq!(closest(&materials, &tris, 0.75), Some(7.0));
         assert!(!blocked(&materials, 0.75));
+        // One leaf holding all four triangles: the traversal resumes after
+        // each dropped candidate within the leaf, whatever the order.
+        let leaf = [node(Vec3::new(0.0, 0.0, -2.0), Vec3::new(1.0, 1.0, 0.0), 4, 0)];
+        for order in [[0usize, 1, 2, 3], [2, 3, 0, 1], [2, 0, 3, 1]] {
+            let t: Vec<TriangleGpu> = order.iter().map(|&i| tris[i]).collect();
+            let a: Vec<TriangleAttrGpu> = order.iter().map(|&i| attrs[i]).collect();
+            let hit = closest_hit(
+                &leaf,
+                &t,
+                &materials,
+                &a,
+                &images,
+                1,
+                &down(0.75),
+                0.0,
+                f32::INFINITY,
+            );
+            assert_eq!(hit.map(|h| h.t), Some(7.0), "order {order:?}");
+            assert!(!any_hit(
+                &leaf,
+                &t,
+                &materials,
+                &a,
+                &images,
+                1,
+                &down(0.75),
+                0.0,
+                6.0
+            ));
+            assert!(any_hit(
+                &leaf,
+                &t,
+                &materials,
+                &a,
+                &images,
+                1,
+                &down(0.75),
+                0.0,
+                8.0
+            ));
+        }
         // Unflagged triangles are not tested (opaque).
         let (_, opaque) = two_planes();
         assert_eq!(closest(&materials, &opaque, 0.25), Some(5.0));
+        // The opaque queries ignore the flag: the hole is a surface again.
+        let ray = down(0.25);
+        assert_eq!(
+            closest_hit_opaque(&nodes, &tris, &ray, 0.0, f32::INFINITY).map(|h| h.t),
+            Some(5.0)
+        );
+        assert!(any_hit_opaque(&nodes, &tris, &ray, 0.0, 6.0));
     }
 
     #[test]
@@ -392,5 +573,9 @@ mod tests {
         let ray = Ray::new(Vec3::new(0.7, 0.2, 1.0), -Vec3::Z);
         let hit = closest_hit(&nodes, &tris, &[], &[], &[], 0, &ray, 0.0, f32::INFINITY).expect("hit");
         assert!((hit.t - 1.0).abs() < 1e-6 && hit.triangle >= 2);
+        assert_eq!(
+            closest_hit_opaque(&nodes, &tris, &ray, 0.0, f32::INFINITY),
+            Some(hit)
+        );
     }
 }

@@ -76,7 +76,7 @@ pub fn trace_pixel_dithered(
         let numbers = PathNumbers::from_stream(stream, pixel)
             .with_first_bsdf(Vec2::new(frac01(dither.x + rx), frac01(dither.y + ry)));
         let mut rays = 0u32;
-        sum += trace_sample_with(
+        sum += trace_sample_with::<{ crate::trace_variant::FULL }>(
             params,
             &[],
             numbers,

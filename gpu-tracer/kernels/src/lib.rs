@@ -9,7 +9,8 @@
 //! - [`camera`] primary rays, [`intersect`] ray-triangle and ray-box tests,
 //!   [`bvh`] BVH2 traversal, [`sampling`] warps, [`numbers`] where a path's numbers come
 //!   from (seed stream or a-priori sampler), [`trace`] the path tracer
-//!   ([`trace_pixel`] is what the trace entry point runs per pixel),
+//!   ([`trace_pixel`] is what the trace entry point runs per pixel,
+//!   [`trace_variant`] its basic variant for plain scenes),
 //!   [`lights`] next-event estimation's emitter choice and light samples
 //!   (emissive triangles, point, spot and directional lights),
 //!   [`geometry`] triangle normals and ray offsets, [`mis`] the power heuristic,
@@ -87,8 +88,12 @@ pub mod surface_features;
 pub mod texture;
 pub mod texture_filter;
 pub mod trace;
+pub mod trace_variant;
 pub mod vertex_normal;
 
 pub use accumulate::accumulate_pixel;
 pub use gbuffer::gbuffer_pixel;
-pub use trace::{trace_pixel, trace_pixel_counted, trace_sample, DIMS_PER_SAMPLE};
+pub use trace::{
+    trace_pixel, trace_pixel_counted, trace_pixel_counted_variant, trace_pixel_variant, trace_sample,
+    DIMS_PER_SAMPLE,
+};

@@ -115,6 +115,72 @@ pub fn select_emitter_reusing(emitters: &[EmitterGpu], count: u32, u: Vec2) -> (
     (index, Vec2::new(x, u.y))
 }
 
+/// [`sample_emitter`] for an emissive triangle (`e.kind` =
+/// [`EMITTER_TRIANGLE`]) whose material has no emission texture: its
+/// radiance is the material's emission factor. What the basic trace variant
+/// ([`crate::trace_variant`]) samples; the same sample, bit for bit, as
+/// [`sample_emitter`] on such a triangle.
+#[inline]
+pub fn sample_triangle_emitter(
+    e: &EmitterGpu,
+    origin: Vec3,
+    u: Vec2,
+    triangles: &[TriangleGpu],
+    materials: &[MaterialGpu],
+) -> LightSample {
+    sample_triangle::<false>(e, origin, u, triangles, materials, &[], &[], 0)
+}
+
+/// A light sample on emissive triangle `e` (module docs of
+/// [`sample_emitter`]), its radiance read through the material's emission
+/// texture when `TEXTURED`, the emission factor alone otherwise.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn sample_triangle<const TEXTURED: bool>(
+    e: &EmitterGpu,
+    origin: Vec3,
+    u: Vec2,
+    triangles: &[TriangleGpu],
+    materials: &[MaterialGpu],
+    attrs: &[TriangleAttrGpu],
+    images: &[u32],
+    image_count: u32,
+) -> LightSample {
+    if e.pdf <= 0.0 {
+        return LightSample::NONE;
+    }
+    let lt = triangles[e.triangle as usize];
+    let (l0, l1, l2) = (lt.v0.truncate(), lt.v1.truncate(), lt.v2.truncate());
+    let (light_normal, light_area) = normal_and_area(l0, l1, l2);
+    let b = sample_triangle_barycentrics(u);
+    let q = l0 + (l1 - l0) * b.x + (l2 - l0) * b.y;
+    let to_light = q - origin;
+    let dist2 = to_light.length_squared();
+    let dist = libm::sqrtf(dist2);
+    if dist <= 0.0 {
+        return LightSample::NONE;
+    }
+    let wi = to_light / dist;
+    let cos_light = -wi.dot(light_normal);
+    if cos_light <= 0.0 {
+        return LightSample::NONE;
+    }
+    let material = &materials[lt.v0.w as u32 as usize];
+    let radiance = if TEXTURED {
+        let light_uv = triangle_uv(&attrs[e.triangle as usize], b.x, b.y);
+        surface_emission(material, images, image_count, light_uv)
+    } else {
+        material.emission.truncate()
+    };
+    LightSample {
+        wi,
+        t_max: dist - 2.0 * surface_offset(q),
+        radiance,
+        pdf: e.pdf * dist2 / (light_area * cos_light),
+        mis: true,
+    }
+}
+
 /// A light sample from emitter `e` (one entry of the emitter list) for the
 /// shading point `origin` (already offset from its surface), with `u` in
 /// `[0, 1)^2` (after [`select_emitter_reusing`]). `environment` is the
@@ -141,31 +207,16 @@ pub fn sample_emitter(
         return LightSample::NONE;
     }
     if e.kind == EMITTER_TRIANGLE {
-        let lt = triangles[e.triangle as usize];
-        let (l0, l1, l2) = (lt.v0.truncate(), lt.v1.truncate(), lt.v2.truncate());
-        let (light_normal, light_area) = normal_and_area(l0, l1, l2);
-        let b = sample_triangle_barycentrics(u);
-        let q = l0 + (l1 - l0) * b.x + (l2 - l0) * b.y;
-        let to_light = q - origin;
-        let dist2 = to_light.length_squared();
-        let dist = libm::sqrtf(dist2);
-        if dist <= 0.0 {
-            return LightSample::NONE;
-        }
-        let wi = to_light / dist;
-        let cos_light = -wi.dot(light_normal);
-        if cos_light <= 0.0 {
-            return LightSample::NONE;
-        }
-        let light_uv = triangle_uv(&attrs[e.triangle as usize], b.x, b.y);
-        let material = &materials[lt.v0.w as u32 as usize];
-        return LightSample {
-            wi,
-            t_max: dist - 2.0 * surface_offset(q),
-            radiance: surface_emission(material, images, params.image_count, light_uv),
-            pdf: e.pdf * dist2 / (light_area * cos_light),
-            mis: true,
-        };
+        return sample_triangle::<true>(
+            e,
+            origin,
+            u,
+            triangles,
+            materials,
+            attrs,
+            images,
+            params.image_count,
+        );
     }
     if e.kind == EMITTER_ENVIRONMENT {
         let map = params.environment_map;

@@ -86,8 +86,33 @@ impl Shading {
         normal: Vec3,
         wo: Vec3,
     ) -> Self {
-        let albedo = surface_albedo_filtered(material, images, image_count, uv, width);
-        let glossy = material.model.x == MODEL_METALLIC_ROUGHNESS;
+        Self::at_variant::<true>(material, images, image_count, uv, width, normal, wo)
+    }
+
+    /// [`Shading::at_filtered`] for one trace variant
+    /// ([`crate::trace_variant`]): with `FULL`, exactly
+    /// [`Shading::at_filtered`]; without, the material read as an
+    /// untextured Lambertian one (its albedo factor): the same value, bit
+    /// for bit, for such a material. (One constructor for both, so that no
+    /// `Shading` value is chosen between branches: rust-gpu would lay such
+    /// a variable out in a way naga refuses.)
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    pub fn at_variant<const FULL: bool>(
+        material: &MaterialGpu,
+        images: &[u32],
+        image_count: u32,
+        uv: Vec2,
+        width: f32,
+        normal: Vec3,
+        wo: Vec3,
+    ) -> Self {
+        let albedo = if FULL {
+            surface_albedo_filtered(material, images, image_count, uv, width)
+        } else {
+            material.albedo.truncate()
+        };
+        let glossy = FULL && material.model.x == MODEL_METALLIC_ROUGHNESS;
         let frame = Frame::from_normal(normal);
         let (mut bsdf, mut wo_local) = (MetallicRoughness::new(albedo, 0.0, 1.0), Vec3::Z);
         if glossy {

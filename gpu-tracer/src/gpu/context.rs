@@ -2,6 +2,7 @@
 
 use super::GpuError;
 use bytemuck::Pod;
+use std::sync::OnceLock;
 use wgpu::util::DeviceExt;
 
 /// The committed SPIR-V module of the `kernels` crate, built by rust-gpu
@@ -178,6 +179,86 @@ impl Gpu {
         }
     }
 
+    /// A bind group layout and a pipeline layout of that one group:
+    /// binding 0 a uniform buffer, bindings `1..=writable.len()` storage
+    /// buffers, read-write where `writable[i - 1]`. For entry points that
+    /// share bind groups ([`Gpu::bind_with`], [`Gpu::lazy_pipeline`]).
+    pub fn buffer_layout(
+        &self,
+        label: &str,
+        writable: &[bool],
+    ) -> (wgpu::BindGroupLayout, wgpu::PipelineLayout) {
+        let compute = wgpu::ShaderStages::COMPUTE;
+        let buffer = |ty| wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        };
+        let mut entries = vec![wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: compute,
+            ty: buffer(wgpu::BufferBindingType::Uniform),
+            count: None,
+        }];
+        entries.extend(
+            writable
+                .iter()
+                .enumerate()
+                .map(|(i, &w)| wgpu::BindGroupLayoutEntry {
+                    binding: i as u32 + 1,
+                    visibility: compute,
+                    ty: buffer(wgpu::BufferBindingType::Storage { read_only: !w }),
+                    count: None,
+                }),
+        );
+        let group = self
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                entries: &entries,
+            });
+        let layout = self
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(label),
+                bind_group_layouts: &[Some(&group)],
+                immediate_size: 0,
+            });
+        (group, layout)
+    }
+
+    /// A pipeline of entry point `entry` with the explicit `layout`
+    /// ([`Gpu::buffer_layout`]), compiled on the first
+    /// [`LazyPipeline::get`]: for kernels a run may not need (the full
+    /// trace kernel takes seconds to compile on lavapipe).
+    pub fn lazy_pipeline(&self, entry: &'static str, layout: &wgpu::PipelineLayout) -> LazyPipeline {
+        LazyPipeline {
+            entry,
+            device: self.device.clone(),
+            module: self.module.clone(),
+            layout: layout.clone(),
+            pipeline: OnceLock::new(),
+        }
+    }
+
+    /// A bind group of `buffers` (binding `i` = `buffers[i]`, whole
+    /// buffers) for the bind group layout `group`.
+    pub fn bind_with(&self, group: &wgpu::BindGroupLayout, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
+        self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: group,
+            entries: &entries,
+        })
+    }
+
     /// A storage buffer initialised with `data` (at least one element is
     /// allocated: wgpu refuses empty bindings). Usable as copy source and
     /// destination.
@@ -219,19 +300,7 @@ impl Gpu {
     /// A bind group for `pipeline`'s group 0 with `buffers` at bindings
     /// `0..buffers.len()`, in order.
     pub fn bind(&self, pipeline: &wgpu::ComputePipeline, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
-        let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: b.as_entire_binding(),
-            })
-            .collect();
-        self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        })
+        self.bind_with(&pipeline.get_bind_group_layout(0), buffers)
     }
 
     /// Copies `len` elements of `buffer` back to the host (blocking).
@@ -287,4 +356,42 @@ impl Gpu {
 /// Workgroups needed to cover `n` invocations with `size` per group.
 pub fn groups(n: u32, size: u32) -> u32 {
     n.div_ceil(size)
+}
+
+/// A compute pipeline compiled on first use ([`Gpu::lazy_pipeline`]).
+#[derive(Debug)]
+pub struct LazyPipeline {
+    entry: &'static str,
+    device: wgpu::Device,
+    module: wgpu::ShaderModule,
+    layout: wgpu::PipelineLayout,
+    pipeline: OnceLock<wgpu::ComputePipeline>,
+}
+
+impl LazyPipeline {
+    /// The pipeline, compiled now if it has not been yet.
+    ///
+    /// # Errors
+    /// [`GpuError::Validation`] if wgpu rejects it (then the next call
+    /// tries again).
+    pub fn get(&self) -> Result<&wgpu::ComputePipeline, GpuError> {
+        if let Some(p) = self.pipeline.get() {
+            return Ok(p);
+        }
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let pipeline = self
+            .device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(self.entry),
+                layout: Some(&self.layout),
+                module: &self.module,
+                entry_point: Some(self.entry),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Validation(format!("pipeline {}: {e}", self.entry)));
+        }
+        Ok(self.pipeline.get_or_init(|| pipeline))
+    }
 }

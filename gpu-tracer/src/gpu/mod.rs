@@ -9,7 +9,7 @@ mod reproject;
 mod timer;
 mod trace;
 
-pub use context::{groups, Gpu, KERNELS_SPV, REQUIRE_GPU_ENV};
+pub use context::{groups, Gpu, LazyPipeline, KERNELS_SPV, REQUIRE_GPU_ENV};
 pub use filter::{FilterPipelines, FrameFilterGpu};
 pub use headless::{prepare_headless_environment, RUNTIME_DIR_ENV};
 pub use permute::{PermuteMode, PermutePipelines, SeedPermuter};
@@ -36,6 +36,9 @@ pub enum GpuError {
     Input(sampler_core::Error),
     /// A filter setting or buffer that does not fit ([`crate::filter`]).
     Filter(crate::error::Error),
+    /// A kernel asked for a scene it cannot render
+    /// ([`Tracer::set_variant`]).
+    Unsupported(String),
 }
 
 impl fmt::Display for GpuError {
@@ -47,6 +50,7 @@ impl fmt::Display for GpuError {
             GpuError::Readback(e) => write!(f, "GPU read-back failed: {e}"),
             GpuError::Input(e) => write!(f, "bad input: {e}"),
             GpuError::Filter(e) => write!(f, "bad filter input: {e}"),
+            GpuError::Unsupported(e) => write!(f, "unsupported: {e}"),
         }
     }
 }

@@ -1,19 +1,26 @@
 //! The path-tracing, G-buffer and accumulation passes on the GPU.
 
-use super::context::{groups, Gpu};
+use super::context::{groups, Gpu, LazyPipeline};
 use super::timer::PassTimer;
 use super::GpuError;
-use crate::scene::SceneGpu;
+use crate::scene::{SceneGpu, TraceVariant};
 use glam::{UVec2, Vec4};
 use kernels::abi::{
-    GBufferGpu, TraceParams, ACCUMULATE_ENTRY, FEATURES_ENTRY, GBUFFER_ENTRY, MOTION_ENTRY, TRACE_ENTRY,
-    TRACE_WORKGROUP,
+    GBufferGpu, TraceParams, ACCUMULATE_ENTRY, FEATURES_ENTRY, GBUFFER_ENTRY, MOTION_ENTRY,
+    TRACE_BASIC_ENTRY, TRACE_ENTRY, TRACE_WORKGROUP,
 };
 
 /// The trace, G-buffer and accumulate pipelines, created once per device.
+/// The trace kernel's two variants (`kernels::trace_variant`) share one
+/// bind group layout and are compiled on first use: a run of plain scenes
+/// never pays for the full kernel's compilation (seconds on lavapipe).
 #[derive(Debug)]
 pub struct TracePipelines {
-    trace: wgpu::ComputePipeline,
+    /// Bind group layout of both trace variants (the bindings of
+    /// `kernels::abi::TRACE_ENTRY`).
+    trace_group: wgpu::BindGroupLayout,
+    trace: LazyPipeline,
+    trace_basic: LazyPipeline,
     gbuffer: wgpu::ComputePipeline,
     motion: wgpu::ComputePipeline,
     features: wgpu::ComputePipeline,
@@ -21,18 +28,36 @@ pub struct TracePipelines {
 }
 
 impl TracePipelines {
-    /// Creates the pipelines from the kernels module.
+    /// Creates the pipelines from the kernels module (the trace variants
+    /// when first asked for, [`TracePipelines::trace`]).
     ///
     /// # Errors
     /// [`GpuError::Validation`] if wgpu rejects one.
     pub fn new(gpu: &Gpu) -> Result<Self, GpuError> {
+        // Bindings 1-10 (kernels::abi): only the colour (6) is written.
+        let mut writable = [false; 10];
+        writable[5] = true;
+        let (trace_group, layout) = gpu.buffer_layout("trace", &writable);
         Ok(TracePipelines {
-            trace: gpu.pipeline(TRACE_ENTRY)?,
+            trace_group,
+            trace: gpu.lazy_pipeline(TRACE_ENTRY, &layout),
+            trace_basic: gpu.lazy_pipeline(TRACE_BASIC_ENTRY, &layout),
             gbuffer: gpu.pipeline(GBUFFER_ENTRY)?,
             motion: gpu.pipeline(MOTION_ENTRY)?,
             features: gpu.pipeline(FEATURES_ENTRY)?,
             accumulate: gpu.pipeline(ACCUMULATE_ENTRY)?,
         })
+    }
+
+    /// The trace pipeline of `variant`, compiled now if it has not been.
+    ///
+    /// # Errors
+    /// [`GpuError::Validation`] if wgpu rejects it.
+    pub fn trace(&self, variant: TraceVariant) -> Result<&wgpu::ComputePipeline, GpuError> {
+        match variant {
+            TraceVariant::Full => self.trace.get(),
+            TraceVariant::Basic => self.trace_basic.get(),
+        }
     }
 }
 
@@ -117,6 +142,8 @@ pub struct Tracer {
     accumulate_bg: wgpu::BindGroup,
     motion: Option<MotionPass>,
     features_bg: Option<wgpu::BindGroup>,
+    /// Which trace kernel [`Tracer::encode_trace`] runs.
+    variant: TraceVariant,
 }
 
 /// The motion pass's ping-pong visibility buffers (`width * height`
@@ -136,7 +163,12 @@ impl Tracer {
     /// their layout into the parameters) and allocates the accumulation
     /// buffer and the G-buffer for `params`' size. `seeds` is the seed
     /// buffer the trace pass reads (`params.padded_width` wide); `color`
-    /// (from [`Tracer::color_buffer`]) receives each frame.
+    /// (from [`Tracer::color_buffer`]) receives each frame. Runs the trace
+    /// kernel variant the scene fits ([`SceneGpu::trace_variant`]),
+    /// compiling it if `pipelines` has not yet.
+    ///
+    /// # Errors
+    /// [`GpuError::Validation`] if the trace pipeline does not compile.
     pub fn new(
         gpu: &Gpu,
         pipelines: &TracePipelines,
@@ -144,7 +176,7 @@ impl Tracer {
         params: &TraceParams,
         seeds: &wgpu::Buffer,
         color: wgpu::Buffer,
-    ) -> Self {
+    ) -> Result<Self, GpuError> {
         let n = (params.width * params.height) as usize;
         let (params, table) = crate::sampler_data::with_frame_points(params);
         let params_buf = gpu.uniform("trace params", &params);
@@ -155,6 +187,8 @@ impl Tracer {
         write_frame_points(gpu, &keys, &table);
         let accum = gpu.storage_zeroed::<Vec4>("accumulation", n);
         let gbuffer = gpu.storage_zeroed::<GBufferGpu>("g-buffer", n);
+        let variant = scene.trace_variant();
+        pipelines.trace(variant)?;
         let scene = SceneBuffers::upload(gpu, scene);
         let (trace_bg, gbuffer_bg) = Self::scene_bind_groups(
             gpu,
@@ -167,7 +201,7 @@ impl Tracer {
             &gbuffer,
         );
         let accumulate_bg = gpu.bind(&pipelines.accumulate, &[&params_buf, &color, &accum]);
-        Tracer {
+        Ok(Tracer {
             width: params.width,
             height: params.height,
             params: params_buf,
@@ -182,7 +216,8 @@ impl Tracer {
             accumulate_bg,
             motion: None,
             features_bg: None,
-        }
+            variant,
+        })
     }
 
     /// Sets up the feature pass ([`encode_features`](Self::encode_features))
@@ -274,8 +309,8 @@ impl Tracer {
         keys: &wgpu::Buffer,
         gbuffer: &wgpu::Buffer,
     ) -> (wgpu::BindGroup, wgpu::BindGroup) {
-        let trace = gpu.bind(
-            &pipelines.trace,
+        let trace = gpu.bind_with(
+            &pipelines.trace_group,
             &[
                 params,
                 &s.nodes,
@@ -311,10 +346,21 @@ impl Tracer {
     /// previous positions; materials and images are those of the first
     /// upload): rewrites the geometry buffers where the sizes match, else
     /// uploads every buffer anew and rebuilds the bind groups.
-    pub fn update_scene(&mut self, gpu: &Gpu, pipelines: &TracePipelines, scene: &SceneGpu) {
+    ///
+    /// # Errors
+    /// [`GpuError::Validation`] if the trace variant the new pose needs
+    /// does not compile.
+    pub fn update_scene(
+        &mut self,
+        gpu: &Gpu,
+        pipelines: &TracePipelines,
+        scene: &SceneGpu,
+    ) -> Result<(), GpuError> {
+        self.variant = scene.trace_variant();
+        pipelines.trace(self.variant)?;
         if SceneBuffers::counts(scene) == self.scene.counts {
             self.scene.write_pose(gpu, scene);
-            return;
+            return Ok(());
         }
         self.scene = SceneBuffers::upload(gpu, scene);
         let (trace_bg, gbuffer_bg) = Self::scene_bind_groups(
@@ -329,6 +375,38 @@ impl Tracer {
         );
         self.trace_bg = trace_bg;
         self.gbuffer_bg = gbuffer_bg;
+        Ok(())
+    }
+
+    /// The trace kernel [`Tracer::encode_trace`] runs: the scene's
+    /// [`SceneGpu::trace_variant`] unless [`Tracer::set_variant`] chose.
+    pub fn variant(&self) -> TraceVariant {
+        self.variant
+    }
+
+    /// Runs the trace pass with `variant` from now on (until the next
+    /// [`Tracer::update_scene`]): [`TraceVariant::Full`] always renders
+    /// correctly (slower on lavapipe, for comparisons);
+    /// [`TraceVariant::Basic`] only for a scene that fits it.
+    ///
+    /// # Errors
+    /// [`GpuError::Unsupported`] for [`TraceVariant::Basic`] on a scene
+    /// [`SceneGpu::fits_basic_trace`] refuses (it would render wrongly);
+    /// [`GpuError::Validation`] if the variant's pipeline does not compile.
+    pub fn set_variant(
+        &mut self,
+        pipelines: &TracePipelines,
+        scene: &SceneGpu,
+        variant: TraceVariant,
+    ) -> Result<(), GpuError> {
+        if variant == TraceVariant::Basic && !scene.fits_basic_trace() {
+            return Err(GpuError::Unsupported(
+                crate::error::Error::UnfitTraceVariant.to_string(),
+            ));
+        }
+        pipelines.trace(variant)?;
+        self.variant = variant;
+        Ok(())
     }
 
     /// A frame colour buffer for a `width x height` frame, to pass to
@@ -349,13 +427,23 @@ impl Tracer {
     }
 
     /// Encodes the trace pass (optionally timed as `timer` span `span`).
+    ///
+    /// # Panics
+    /// If `pipelines` cannot compile the trace variant that compiled when
+    /// this tracer was made (a different device or module).
     pub fn encode_trace(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         pipelines: &TracePipelines,
         timer: Option<(&PassTimer, u32)>,
     ) {
-        self.encode(encoder, &pipelines.trace, &self.trace_bg, timer);
+        // Compiled by `new`, `update_scene` or `set_variant` on these or
+        // other pipelines of the same module: a failure here would be a
+        // shader that compiled once and no longer does.
+        let pipeline = pipelines
+            .trace(self.variant)
+            .unwrap_or_else(|e| panic!("the trace pipeline compiled before: {e}"));
+        self.encode(encoder, pipeline, &self.trace_bg, timer);
     }
 
     /// Encodes the G-buffer pass (optionally timed as `timer` span `span`):

@@ -43,6 +43,7 @@ mod mips;
 mod queries;
 mod settings;
 mod tangent;
+mod trace_variant;
 mod vertex_normals;
 
 pub use buffers::{SceneGpu, MAX_MATERIALS, MAX_TRIANGLES};
@@ -52,6 +53,7 @@ pub use image_pack::MAX_IMAGE_WORDS;
 pub use light::{Light, LightKind};
 pub use material::{Alpha, Bsdf, Filter, Image, Material, NormalTexture, TextureRef, UvTransform, Wrap};
 pub use settings::{screen_sobol_max_spp, TraceSettings, ZSOBOL_MAX_SPP};
+pub use trace_variant::TraceVariant;
 pub use vertex_normals::{usable_normals, MIN_NORMAL_LENGTH};
 
 use glam::{Vec2, Vec3};
