@@ -12,7 +12,9 @@
 //! Prints each scene's median trace time, the rays its frame traces
 //! (camera, continuation and shadow rays: every BVH query, counted by the
 //! CPU renderer on the same frame with white seeds, `kernels::trace_pixel_counted`),
-//! the time per ray and its ratio to the Cornell box's: issue 30's goal is
+//! the time per ray and its ratio to the Cornell box's first row. Each
+//! scene runs on the smallest trace kernel that renders it exactly
+//! (`kernels::trace_variant`), and again on the full kernel. Issue 30's goal is
 //! <= 1.5x per path vertex for the glossy and the outdoor scene on
 //! lavapipe. `ROUNDS=N` sets the rounds (default 5; a lavapipe frame takes
 //! seconds); `--test` runs one.
@@ -21,7 +23,7 @@ use glam::Vec4;
 use gpu_tracer::cornell::{cornell_box, cornell_glossy};
 use gpu_tracer::gpu::{Gpu, PassTimer, PermutePipelines, SeedPermuter, TracePipelines, Tracer};
 use gpu_tracer::outdoor::{sun_and_sky, SKY};
-use gpu_tracer::{cpu, SceneGpu, TraceSettings};
+use gpu_tracer::{cpu, SceneGpu, TraceSettings, TraceVariant};
 use sampler_core::FrameLayout;
 
 const WIDTH: u32 = 1280;
@@ -51,6 +53,7 @@ fn main() {
         sampler_core::defaults::tables_64(),
     );
     let mut rows = Vec::new();
+    let mut tracers = Vec::new();
     for (name, scene, sky) in scenes {
         let scene = SceneGpu::build(&scene).expect("scene");
         let mut settings = TraceSettings::new(WIDTH, HEIGHT);
@@ -64,16 +67,24 @@ fn main() {
         let gpu_color = Tracer::color_buffer(&gpu, WIDTH, HEIGHT);
         let permuter = SeedPermuter::new(&gpu, &pp, layout, &tile, &tables, &gpu_color).expect("permuter");
         let tracer = Tracer::new(&gpu, &tp, &scene, &params, &permuter.seeds, gpu_color).expect("tracer");
+        let smallest = tracer.variant();
         permuter.set_frame(&gpu, 1);
         let mut e = gpu.device.create_command_encoder(&Default::default());
         permuter.encode_seed_init(&mut e, &pp);
         gpu.queue.submit([e.finish()]);
-        rows.push((name, rays, tracer, Vec::new()));
+        tracers.push((scene, tracer));
+        let t = tracers.len() - 1;
+        rows.push((name, rays, t, smallest, Vec::new()));
+        if smallest != TraceVariant::Full {
+            rows.push((name, rays, t, TraceVariant::Full, Vec::new()));
+        }
     }
     let timer = PassTimer::new(&gpu, 1);
     // Round 0 warms every pipeline up and is not counted.
     for round in 0..=rounds {
-        for (_, _, tracer, ms) in rows.iter_mut() {
+        for (_, _, k, variant, ms) in rows.iter_mut() {
+            let (scene, tracer) = &mut tracers[*k];
+            tracer.set_variant(&tp, scene, *variant).expect("variant");
             let t = common::time_trace(&gpu, tracer, &tp, timer.as_ref());
             if round > 0 {
                 ms.push(t);
@@ -86,16 +97,17 @@ fn main() {
     );
     println!("timing: {}", common::timing_name(timer.as_ref()));
     println!(
-        "{:<16} {:>10} {:>12} {:>10} {:>22}",
-        "scene", "median ms", "rays/frame", "ns/ray", "per ray, x cornell"
+        "{:<16} {:<11} {:>10} {:>12} {:>10} {:>22}",
+        "scene", "kernel", "median ms", "rays/frame", "ns/ray", "per ray, x cornell"
     );
     let per_ray: Vec<f64> = rows
         .iter_mut()
-        .map(|(_, rays, _, ms)| common::median(ms) * 1e6 / *rays as f64)
+        .map(|(_, rays, _, _, ms)| common::median(ms) * 1e6 / *rays as f64)
         .collect();
-    for ((name, rays, _, ms), ns) in rows.iter_mut().zip(&per_ray) {
+    for ((name, rays, _, variant, ms), ns) in rows.iter_mut().zip(&per_ray) {
         println!(
-            "{name:<16} {:>10.3} {rays:>12} {ns:>10.3} {:>21.3}x",
+            "{name:<16} {:<11} {:>10.3} {rays:>12} {ns:>10.3} {:>21.3}x",
+            variant.name(),
             common::median(ms),
             ns / per_ray[0]
         );

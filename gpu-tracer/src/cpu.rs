@@ -1,7 +1,7 @@
 //! The CPU renderer: the kernels' own per-pixel functions run with rayon.
 //!
 //! [`render_frame`] calls `kernels::trace_pixel` (through `trace_pixel_counted_variant`, the variant the GPU
-//! runs for the scene) for every visible pixel, exactly as the GPU's `trace_cs` (or `trace_basic_cs`) does, so the two agree up to
+//! runs for the scene) for every visible pixel, exactly as the GPU's `trace_cs` (or its smaller variants) does, so the two agree up to
 //! floating-point differences between the host's and the device's math
 //! libraries. Rows are distributed over the current rayon pool (use
 //! `ThreadPool::install` to choose the thread count).
@@ -45,13 +45,12 @@ pub fn render_frame(
 
 /// [`render_frame`] with the trace kernel's `variant`
 /// (`kernels::trace_variant`): [`TraceVariant::Full`] renders any scene,
-/// [`TraceVariant::Basic`] the scenes that fit it, with the same colours
+/// the smaller variants the scenes that fit them, with the same colours
 /// bit for bit.
 ///
 /// # Errors
-/// As [`render_frame`]; [`Error::UnfitTraceVariant`] for
-/// [`TraceVariant::Basic`] on a scene it cannot render
-/// ([`SceneGpu::fits_basic_trace`]).
+/// As [`render_frame`]; [`Error::UnfitTraceVariant`] for a variant on a
+/// scene it cannot render ([`SceneGpu::fits_trace_variant`]).
 pub fn render_frame_variant(
     scene: &SceneGpu,
     params: &TraceParams,
@@ -60,12 +59,15 @@ pub fn render_frame_variant(
     variant: TraceVariant,
 ) -> Result<u64> {
     check_params(scene, params)?;
-    if variant == TraceVariant::Basic && !scene.fits_basic_trace() {
-        return Err(Error::UnfitTraceVariant);
+    if !scene.fits_trace_variant(variant) {
+        return Err(Error::UnfitTraceVariant {
+            variant: variant.name(),
+        });
     }
     let trace = match variant {
         TraceVariant::Full => trace_pixel_counted_variant::<{ trace_variant::FULL }>,
         TraceVariant::Basic => trace_pixel_counted_variant::<{ trace_variant::BASIC }>,
+        TraceVariant::Untextured => trace_pixel_counted_variant::<{ trace_variant::UNTEXTURED }>,
     };
     let (width, stride) = (params.width as usize, params.padded_width as usize);
     let pixels = width * params.height as usize;

@@ -204,9 +204,12 @@ pub enum Error {
         /// The cause.
         source: ImageWriteError,
     },
-    /// The basic trace variant (`kernels::trace_variant`) was asked for a
-    /// scene that uses what it leaves out.
-    UnfitTraceVariant,
+    /// A smaller trace kernel variant (`kernels::trace_variant`) was asked
+    /// for a scene that uses what it leaves out.
+    UnfitTraceVariant {
+        /// The variant's name (`TraceVariant::name`).
+        variant: &'static str,
+    },
 }
 
 /// Cause of an [`Error::ImageWrite`].
@@ -315,10 +318,11 @@ impl fmt::Display for Error {
                 f,
                 "invalid frame size {width}x{height} with seed stride {padded_width} (sizes must be >= 1 and the stride >= the width)"
             ),
-            Error::UnfitTraceVariant => write!(
+            Error::UnfitTraceVariant { variant } => write!(
                 f,
-                "the basic trace variant cannot render this scene (it uses textures, cut-outs, vertex normals, \
-                 glossy materials, punctual lights or an environment map): use the full variant"
+                "the {variant} trace kernel cannot render this scene: it uses features that kernel leaves out \
+                 (textures, cut-outs, vertex normals, glossy materials, punctual lights or an environment map); \
+                 the full kernel renders any scene"
             ),
             Error::InvalidParameter { name, value, expected } => {
                 write!(f, "invalid {name} = {value}: expected {expected}")

@@ -27,12 +27,15 @@ fn kernels_pipelines_and_bind_groups_validate() {
     let mut tracer = Tracer::new(&gpu, &tp, &scene, &params, &permuter.seeds, color).expect("tracer");
     let mut e = gpu.device.create_command_encoder(&Default::default());
     tracer.encode_trace(&mut e, &tp, None);
-    // Both trace kernel variants, through the one bind group.
+    // Every trace kernel variant, through the one bind group.
     assert_eq!(tracer.variant(), gpu_tracer::TraceVariant::Basic);
-    tracer
-        .set_variant(&tp, &scene, gpu_tracer::TraceVariant::Full)
-        .expect("full trace variant");
-    tracer.encode_trace(&mut e, &tp, None);
+    for variant in [
+        gpu_tracer::TraceVariant::Untextured,
+        gpu_tracer::TraceVariant::Full,
+    ] {
+        tracer.set_variant(&tp, &scene, variant).expect("trace variant");
+        tracer.encode_trace(&mut e, &tp, None);
+    }
     tracer.encode_accumulate(&mut e, &tp);
     // The trace bind group holds bindings 0..=7 (7 = screen-space Sobol keys):
     // auto layouts reject a group with a binding the shader lacks or without

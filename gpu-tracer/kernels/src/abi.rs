@@ -15,7 +15,7 @@
 //!
 //! | entry point | binding | kind | contents |
 //! |---|---|---|---|
-//! | [`TRACE_ENTRY`], [`TRACE_BASIC_ENTRY`] | 0 | uniform | [`TraceParams`] |
+//! | [`TRACE_ENTRY`], [`TRACE_UNTEXTURED_ENTRY`], [`TRACE_BASIC_ENTRY`] | 0 | uniform | [`TraceParams`] |
 //! | | 1 | storage, read | `[BvhNodeGpu]`, root at index 0 |
 //! | | 2 | storage, read | `[TriangleGpu]`, in BVH leaf order |
 //! | | 3 | storage, read | `[MaterialGpu]` |
@@ -64,6 +64,10 @@ pub const TRACE_ENTRY: &str = "entry::trace_cs";
 /// the same bindings, for scenes without textures, cut-outs, vertex
 /// normals, glossy materials, punctual lights or environment maps.
 pub const TRACE_BASIC_ENTRY: &str = "entry::trace_basic_cs";
+/// Name of the untextured variant of [`TRACE_ENTRY`]
+/// (`crate::trace_variant`): the same bindings, for scenes without
+/// textures, normal maps or cut-outs.
+pub const TRACE_UNTEXTURED_ENTRY: &str = "entry::trace_untextured_cs";
 /// Name of the accumulation entry point (one invocation per visible pixel).
 pub const ACCUMULATE_ENTRY: &str = "entry::accumulate_cs";
 /// Name of the G-buffer entry point (one invocation per visible pixel):

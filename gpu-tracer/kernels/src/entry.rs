@@ -95,6 +95,46 @@ pub fn trace_basic_cs(
     color[id.y.wrapping_mul(params.width).wrapping_add(id.x) as usize] = value;
 }
 
+/// [`TRACE_UNTEXTURED_ENTRY`](crate::abi::TRACE_UNTEXTURED_ENTRY):
+/// [`trace_cs`] compiled as the untextured variant
+/// ([`crate::trace_variant`]): the same bindings and, on a scene that fits
+/// it, the same colours bit for bit.
+#[allow(clippy::too_many_arguments)]
+#[spirv(compute(threads(8, 8)))]
+pub fn trace_untextured_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &TraceParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] nodes: &[BvhNodeGpu],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] triangles: &[TriangleGpu],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] materials: &[MaterialGpu],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] emitters: &[EmitterGpu],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] seeds: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] color: &mut [Vec4],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] keys: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 8)] attrs: &[TriangleAttrGpu],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] images: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 10)] environment: &[f32],
+) {
+    if id.x >= params.width || id.y >= params.height {
+        return;
+    }
+    let seed = seeds[id.y.wrapping_mul(params.padded_width).wrapping_add(id.x) as usize];
+    let value = trace_pixel_variant::<{ trace_variant::UNTEXTURED }>(
+        params,
+        UVec2::new(id.x, id.y),
+        seed,
+        keys,
+        nodes,
+        triangles,
+        materials,
+        emitters,
+        attrs,
+        images,
+        environment,
+    );
+    color[id.y.wrapping_mul(params.width).wrapping_add(id.x) as usize] = value;
+}
+
 /// [`ACCUMULATE_ENTRY`](crate::abi::ACCUMULATE_ENTRY): one invocation per
 /// visible pixel; folds frame `params.frame`'s colour into the running mean
 /// (`accumulate_pixel`). Invocations outside the frame do nothing.

@@ -26,6 +26,7 @@ use crate::environment::environment_texel;
 use crate::geometry::{normal_and_area, surface_offset};
 use crate::sampling::{sample_triangle_barycentrics, sample_uniform_cone, Frame};
 use crate::surface::{surface_emission, triangle_uv};
+use crate::trace_variant::{FULL, SHADING, TEXTURES};
 use glam::{Vec2, Vec3};
 use sampler_core::distributions::environment::sample_environment;
 
@@ -115,28 +116,13 @@ pub fn select_emitter_reusing(emitters: &[EmitterGpu], count: u32, u: Vec2) -> (
     (index, Vec2::new(x, u.y))
 }
 
-/// [`sample_emitter`] for an emissive triangle (`e.kind` =
-/// [`EMITTER_TRIANGLE`]) whose material has no emission texture: its
-/// radiance is the material's emission factor. What the basic trace variant
-/// ([`crate::trace_variant`]) samples; the same sample, bit for bit, as
-/// [`sample_emitter`] on such a triangle.
-#[inline]
-pub fn sample_triangle_emitter(
-    e: &EmitterGpu,
-    origin: Vec3,
-    u: Vec2,
-    triangles: &[TriangleGpu],
-    materials: &[MaterialGpu],
-) -> LightSample {
-    sample_triangle::<false>(e, origin, u, triangles, materials, &[], &[], 0)
-}
-
 /// A light sample on emissive triangle `e` (module docs of
 /// [`sample_emitter`]), its radiance read through the material's emission
-/// texture when `TEXTURED`, the emission factor alone otherwise.
+/// texture when `FEATURES` has [`TEXTURES`], the emission factor alone
+/// otherwise.
 #[allow(clippy::too_many_arguments)]
 #[inline]
-fn sample_triangle<const TEXTURED: bool>(
+fn sample_triangle<const FEATURES: u32>(
     e: &EmitterGpu,
     origin: Vec3,
     u: Vec2,
@@ -166,7 +152,7 @@ fn sample_triangle<const TEXTURED: bool>(
         return LightSample::NONE;
     }
     let material = &materials[lt.v0.w as u32 as usize];
-    let radiance = if TEXTURED {
+    let radiance = if FEATURES & TEXTURES != 0 {
         let light_uv = triangle_uv(&attrs[e.triangle as usize], b.x, b.y);
         surface_emission(material, images, image_count, light_uv)
     } else {
@@ -203,11 +189,42 @@ pub fn sample_emitter(
     params: &TraceParams,
     environment: &[f32],
 ) -> LightSample {
+    sample_emitter_variant::<FULL>(
+        e,
+        origin,
+        u,
+        triangles,
+        materials,
+        attrs,
+        images,
+        params,
+        environment,
+    )
+}
+
+/// [`sample_emitter`] for the trace variant of `FEATURES`
+/// ([`crate::trace_variant`]): without [`TEXTURES`] an emissive
+/// triangle's radiance is its emission factor, without [`SHADING`] every
+/// emitter is taken for an emissive triangle. The same sample, bit for
+/// bit, on the emitters of a scene the variant fits.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn sample_emitter_variant<const FEATURES: u32>(
+    e: &EmitterGpu,
+    origin: Vec3,
+    u: Vec2,
+    triangles: &[TriangleGpu],
+    materials: &[MaterialGpu],
+    attrs: &[TriangleAttrGpu],
+    images: &[u32],
+    params: &TraceParams,
+    environment: &[f32],
+) -> LightSample {
     if e.pdf <= 0.0 {
         return LightSample::NONE;
     }
-    if e.kind == EMITTER_TRIANGLE {
-        return sample_triangle::<true>(
+    if FEATURES & SHADING == 0 || e.kind == EMITTER_TRIANGLE {
+        return sample_triangle::<FEATURES>(
             e,
             origin,
             u,

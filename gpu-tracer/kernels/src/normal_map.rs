@@ -46,6 +46,7 @@ use crate::abi::{MaterialGpu, TriangleAttrGpu, TEXEL_LINEAR, TEXTURE_NONE};
 use crate::sampling::Frame;
 use crate::surface::texture_uv;
 use crate::texture::sample_image;
+use crate::trace_variant::{FULL, SHADING, TEXTURES};
 use crate::vertex_normal::{has_vertex_normals, interpolated_normal};
 use glam::{Vec2, Vec3, Vec4};
 
@@ -115,14 +116,50 @@ pub fn shading_normal(
     bary: Vec2,
     wo: Vec3,
 ) -> Vec3 {
-    let (smooth, base) = if has_vertex_normals(attr) {
+    shading_normal_variant::<FULL>(
+        material,
+        images,
+        image_count,
+        uv,
+        attr,
+        edges,
+        front,
+        facing,
+        bary,
+        wo,
+    )
+}
+
+/// [`shading_normal`] for the trace variant of `FEATURES`
+/// ([`crate::trace_variant`]): without [`TEXTURES`] no normal map is read,
+/// without [`SHADING`] no vertex normals; `facing` itself without either.
+/// The same normal, bit for bit, for a triangle and material the variant
+/// fits.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn shading_normal_variant<const FEATURES: u32>(
+    material: &MaterialGpu,
+    images: &[u32],
+    image_count: u32,
+    uv: Vec2,
+    attr: &TriangleAttrGpu,
+    edges: (Vec3, Vec3),
+    front: Vec3,
+    facing: Vec3,
+    bary: Vec2,
+    wo: Vec3,
+) -> Vec3 {
+    if FEATURES == 0 {
+        return facing;
+    }
+    let (smooth, base) = if FEATURES & SHADING != 0 && has_vertex_normals(attr) {
         let s = interpolated_normal(attr, bary.x, bary.y, front);
         (s, if facing.dot(front) < 0.0 { -s } else { s })
     } else {
         (front, facing)
     };
     let m = material.normal;
-    if m.x == TEXTURE_NONE {
+    if FEATURES & TEXTURES == 0 || m.x == TEXTURE_NONE {
         return if base.dot(wo) > 0.0 { base } else { facing };
     }
     let uv = texture_uv(m.y, &material.normal_uv, uv);

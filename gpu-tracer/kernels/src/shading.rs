@@ -38,6 +38,7 @@ use crate::abi::{MaterialGpu, MODEL_METALLIC_ROUGHNESS};
 use crate::bsdf::{to_local, BsdfSample, MetallicRoughness};
 use crate::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere, Frame};
 use crate::surface::{surface_albedo_filtered, surface_metallic_roughness_filtered};
+use crate::trace_variant::{FULL, SHADING, TEXTURES};
 use core::f32::consts::FRAC_1_PI;
 use glam::{Vec2, Vec3};
 
@@ -86,19 +87,19 @@ impl Shading {
         normal: Vec3,
         wo: Vec3,
     ) -> Self {
-        Self::at_variant::<true>(material, images, image_count, uv, width, normal, wo)
+        Self::at_variant::<FULL>(material, images, image_count, uv, width, normal, wo)
     }
 
-    /// [`Shading::at_filtered`] for one trace variant
-    /// ([`crate::trace_variant`]): with `FULL`, exactly
-    /// [`Shading::at_filtered`]; without, the material read as an
-    /// untextured Lambertian one (its albedo factor): the same value, bit
-    /// for bit, for such a material. (One constructor for both, so that no
-    /// `Shading` value is chosen between branches: rust-gpu would lay such
-    /// a variable out in a way naga refuses.)
+    /// [`Shading::at_filtered`] for the trace variant of `FEATURES`
+    /// ([`crate::trace_variant`]): without [`TEXTURES`] the material's
+    /// factors stand for its textures, without [`SHADING`] it is read as
+    /// Lambertian: the same value, bit for bit, for a material the variant
+    /// fits. (One constructor for every variant, so that no `Shading` value
+    /// is chosen between branches: rust-gpu would lay such a variable out
+    /// in a way naga refuses.)
     #[allow(clippy::too_many_arguments)]
     #[inline]
-    pub fn at_variant<const FULL: bool>(
+    pub fn at_variant<const FEATURES: u32>(
         material: &MaterialGpu,
         images: &[u32],
         image_count: u32,
@@ -107,16 +108,21 @@ impl Shading {
         normal: Vec3,
         wo: Vec3,
     ) -> Self {
-        let albedo = if FULL {
+        let textured = FEATURES & TEXTURES != 0;
+        let albedo = if textured {
             surface_albedo_filtered(material, images, image_count, uv, width)
         } else {
             material.albedo.truncate()
         };
-        let glossy = FULL && material.model.x == MODEL_METALLIC_ROUGHNESS;
+        let glossy = FEATURES & SHADING != 0 && material.model.x == MODEL_METALLIC_ROUGHNESS;
         let frame = Frame::from_normal(normal);
         let (mut bsdf, mut wo_local) = (MetallicRoughness::new(albedo, 0.0, 1.0), Vec3::Z);
         if glossy {
-            let mr = surface_metallic_roughness_filtered(material, images, image_count, uv, width);
+            let mr = if textured {
+                surface_metallic_roughness_filtered(material, images, image_count, uv, width)
+            } else {
+                Vec2::new(material.pbr.x, material.pbr.y)
+            };
             bsdf = MetallicRoughness::new(albedo, mr.x, mr.y);
             wo_local = to_local(&frame, wo);
         }

@@ -7,11 +7,11 @@ use crate::scene::{SceneGpu, TraceVariant};
 use glam::{UVec2, Vec4};
 use kernels::abi::{
     GBufferGpu, TraceParams, ACCUMULATE_ENTRY, FEATURES_ENTRY, GBUFFER_ENTRY, MOTION_ENTRY,
-    TRACE_BASIC_ENTRY, TRACE_ENTRY, TRACE_WORKGROUP,
+    TRACE_BASIC_ENTRY, TRACE_ENTRY, TRACE_UNTEXTURED_ENTRY, TRACE_WORKGROUP,
 };
 
 /// The trace, G-buffer and accumulate pipelines, created once per device.
-/// The trace kernel's two variants (`kernels::trace_variant`) share one
+/// The trace kernel's variants (`kernels::trace_variant`) share one
 /// bind group layout and are compiled on first use: a run of plain scenes
 /// never pays for the full kernel's compilation (seconds on lavapipe).
 #[derive(Debug)]
@@ -21,6 +21,7 @@ pub struct TracePipelines {
     trace_group: wgpu::BindGroupLayout,
     trace: LazyPipeline,
     trace_basic: LazyPipeline,
+    trace_untextured: LazyPipeline,
     gbuffer: wgpu::ComputePipeline,
     motion: wgpu::ComputePipeline,
     features: wgpu::ComputePipeline,
@@ -42,6 +43,7 @@ impl TracePipelines {
             trace_group,
             trace: gpu.lazy_pipeline(TRACE_ENTRY, &layout),
             trace_basic: gpu.lazy_pipeline(TRACE_BASIC_ENTRY, &layout),
+            trace_untextured: gpu.lazy_pipeline(TRACE_UNTEXTURED_ENTRY, &layout),
             gbuffer: gpu.pipeline(GBUFFER_ENTRY)?,
             motion: gpu.pipeline(MOTION_ENTRY)?,
             features: gpu.pipeline(FEATURES_ENTRY)?,
@@ -57,6 +59,7 @@ impl TracePipelines {
         match variant {
             TraceVariant::Full => self.trace.get(),
             TraceVariant::Basic => self.trace_basic.get(),
+            TraceVariant::Untextured => self.trace_untextured.get(),
         }
     }
 }
@@ -386,12 +389,12 @@ impl Tracer {
 
     /// Runs the trace pass with `variant` from now on (until the next
     /// [`Tracer::update_scene`]): [`TraceVariant::Full`] always renders
-    /// correctly (slower on lavapipe, for comparisons);
-    /// [`TraceVariant::Basic`] only for a scene that fits it.
+    /// correctly (slower on lavapipe, for comparisons); the smaller ones
+    /// only a scene that fits them.
     ///
     /// # Errors
-    /// [`GpuError::Unsupported`] for [`TraceVariant::Basic`] on a scene
-    /// [`SceneGpu::fits_basic_trace`] refuses (it would render wrongly);
+    /// [`GpuError::Unsupported`] for a variant on a scene
+    /// [`SceneGpu::fits_trace_variant`] refuses (it would render wrongly);
     /// [`GpuError::Validation`] if the variant's pipeline does not compile.
     pub fn set_variant(
         &mut self,
@@ -399,9 +402,12 @@ impl Tracer {
         scene: &SceneGpu,
         variant: TraceVariant,
     ) -> Result<(), GpuError> {
-        if variant == TraceVariant::Basic && !scene.fits_basic_trace() {
+        if !scene.fits_trace_variant(variant) {
             return Err(GpuError::Unsupported(
-                crate::error::Error::UnfitTraceVariant.to_string(),
+                crate::error::Error::UnfitTraceVariant {
+                    variant: variant.name(),
+                }
+                .to_string(),
             ));
         }
         pipelines.trace(variant)?;

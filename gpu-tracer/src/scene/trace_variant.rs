@@ -1,49 +1,77 @@
 //! Which trace kernel variant renders a scene exactly
-//! (`kernels::trace_variant`): the basic one where the scene uses none of
-//! what it leaves out, the full one otherwise.
+//! (`kernels::trace_variant`): the smallest whose features cover what the
+//! scene uses.
 
 use super::SceneGpu;
 use kernels::trace_variant::{
-    attr_fits_basic, emitter_fits_basic, environment_fits_basic, material_fits_basic,
+    emitter_fits, environment_fits, material_fits, triangle_fits, BASIC, FULL, UNTEXTURED,
 };
 
-/// The trace kernel's two variants (`kernels::trace_variant`).
+/// The trace kernel's variants (`kernels::trace_variant`), smallest first.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TraceVariant {
-    /// Every material, light and surface feature: correct for any scene.
-    Full,
     /// Lambertian untextured materials without cut-outs, flat-shaded
     /// triangles, emissive triangles, no environment map: the same colours
-    /// as [`TraceVariant::Full`] bit for bit on a scene that fits
-    /// ([`SceneGpu::fits_basic_trace`]), from a smaller kernel (3-4x faster
-    /// on lavapipe, `BENCHMARKS.md`).
+    /// as [`TraceVariant::Full`] bit for bit on a scene that fits, from the
+    /// smallest kernel (5x faster on lavapipe, 2.9x on an NVIDIA H200,
+    /// `BENCHMARKS.md`).
     Basic,
+    /// Everything but texture lookups: metallic-roughness materials,
+    /// vertex normals, punctual lights and environment maps, no texture,
+    /// normal map or alpha cut-out.
+    Untextured,
+    /// Every material, light and surface feature: correct for any scene.
+    Full,
+}
+
+impl TraceVariant {
+    /// The variants, smallest first.
+    pub const ALL: [TraceVariant; 3] = [TraceVariant::Basic, TraceVariant::Untextured, TraceVariant::Full];
+
+    /// The kernel's feature set (`kernels::trace_variant::{BASIC,
+    /// UNTEXTURED, FULL}`).
+    pub fn features(self) -> u32 {
+        match self {
+            TraceVariant::Basic => BASIC,
+            TraceVariant::Untextured => UNTEXTURED,
+            TraceVariant::Full => FULL,
+        }
+    }
+
+    /// The name used in messages and bench rows.
+    pub fn name(self) -> &'static str {
+        match self {
+            TraceVariant::Basic => "basic",
+            TraceVariant::Untextured => "untextured",
+            TraceVariant::Full => "full",
+        }
+    }
 }
 
 impl SceneGpu {
-    /// Whether the basic trace variant renders this scene exactly: every
-    /// material Lambertian, untextured and without cut-out, no triangle
-    /// flagged as cut-out or carrying vertex normals, every emitter an
-    /// emissive triangle, no environment map.
-    pub fn fits_basic_trace(&self) -> bool {
+    /// Whether the trace kernel `variant` renders this scene exactly
+    /// (`kernels::trace_variant`: every material, triangle, emitter and
+    /// the environment fit its feature set). Always true for
+    /// [`TraceVariant::Full`].
+    pub fn fits_trace_variant(&self, variant: TraceVariant) -> bool {
+        let f = variant.features();
         let emitters = &self.emitters[..(self.emitter_count as usize).min(self.emitters.len())];
-        self.materials.iter().all(material_fits_basic)
+        self.materials.iter().all(|m| material_fits(f, m))
             && self
                 .triangles
                 .iter()
                 .zip(&self.attrs)
-                .all(|(t, a)| attr_fits_basic(t, a))
-            && emitters.iter().all(emitter_fits_basic)
-            && environment_fits_basic(&self.environment_map)
+                .all(|(t, a)| triangle_fits(f, t, a))
+            && emitters.iter().all(|e| emitter_fits(f, e))
+            && environment_fits(f, &self.environment_map)
     }
 
-    /// The fastest trace variant that renders this scene exactly.
+    /// The smallest trace variant that renders this scene exactly.
     pub fn trace_variant(&self) -> TraceVariant {
-        if self.fits_basic_trace() {
-            TraceVariant::Basic
-        } else {
-            TraceVariant::Full
-        }
+        TraceVariant::ALL
+            .into_iter()
+            .find(|&v| self.fits_trace_variant(v))
+            .unwrap_or(TraceVariant::Full)
     }
 }
 
@@ -55,81 +83,108 @@ mod tests {
     use glam::Vec3;
 
     #[test]
-    fn the_cornell_box_fits_the_basic_variant_and_each_feature_takes_it_out() {
+    fn each_feature_takes_a_scene_to_the_variant_that_has_it() {
         let scene = SceneGpu::build(&cornell_box()).unwrap();
         assert_eq!(scene.trace_variant(), TraceVariant::Basic);
 
         let mut glossy = scene.clone();
         glossy.materials[0].model.x = kernels::abi::MODEL_METALLIC_ROUGHNESS;
-        assert_eq!(glossy.trace_variant(), TraceVariant::Full);
+        assert_eq!(glossy.trace_variant(), TraceVariant::Untextured);
 
         let mut textured = scene.clone();
         textured.materials[0].textures.x = 0;
-        assert!(!textured.fits_basic_trace());
+        assert_eq!(textured.trace_variant(), TraceVariant::Full);
 
         let mut normal_mapped = scene.clone();
         normal_mapped.materials[0].normal.x = 0;
-        assert!(!normal_mapped.fits_basic_trace());
+        assert_eq!(normal_mapped.trace_variant(), TraceVariant::Full);
 
         let mut cut_out = scene.clone();
         cut_out.triangles[3].v2.w = kernels::abi::CUT_OUT;
-        assert!(!cut_out.fits_basic_trace());
+        assert_eq!(cut_out.trace_variant(), TraceVariant::Full);
 
         let mut smooth = scene.clone();
         smooth.attrs[5].normal0 = glam::Vec4::Y;
-        assert!(!smooth.fits_basic_trace());
+        assert_eq!(smooth.trace_variant(), TraceVariant::Untextured);
 
         let mut env = scene.clone();
         env.environment_map.width = 4;
-        assert!(!env.fits_basic_trace());
+        assert_eq!(env.trace_variant(), TraceVariant::Untextured);
 
         let mut lit = cornell_box();
         lit.lights
             .push(Light::point("bulb", Vec3::new(278.0, 500.0, 278.0), 1.0e5));
-        assert_eq!(SceneGpu::build(&lit).unwrap().trace_variant(), TraceVariant::Full);
+        assert_eq!(
+            SceneGpu::build(&lit).unwrap().trace_variant(),
+            TraceVariant::Untextured
+        );
+        assert!((0..3).all(|i| scene.fits_trace_variant(TraceVariant::ALL[i])));
     }
 
-    /// On the Cornell box the basic variant renders what the full one
-    /// does, bit for bit, with every sampler (the seed stream and the
-    /// a-priori samplers draw different numbers at every step it skips);
-    /// on scenes it cannot render it is refused.
+    /// Every variant a scene fits renders what the full one does, bit for
+    /// bit, with every sampler (the seed stream and the a-priori samplers
+    /// draw different numbers at every step a variant skips): the Cornell
+    /// box (basic), the glossy box and the sun and sky (untextured); a
+    /// variant is refused for a scene it does not fit.
     #[test]
-    fn the_basic_variant_renders_the_cornell_box_bit_for_bit() {
+    fn every_variant_a_scene_fits_renders_it_bit_for_bit() {
         use crate::cpu::{render_frame_variant, white_seeds};
         use crate::error::Error;
         use crate::TraceSettings;
         use kernels::abi::{SAMPLER_KRONECKER, SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS, SAMPLER_SPATIOTEMPORAL};
-        let scene = SceneGpu::build(&cornell_box()).unwrap();
         let (w, h) = (24u32, 18u32);
         let seeds = white_seeds(w, h, 3);
-        for sampler in [
-            SAMPLER_SEEDS,
-            SAMPLER_SCREEN_SOBOL,
-            SAMPLER_SPATIOTEMPORAL,
-            SAMPLER_SPATIOTEMPORAL | SAMPLER_KRONECKER,
-        ] {
-            let mut settings = TraceSettings::new(w, h);
-            settings.spp = 2;
-            settings.sampler = sampler;
-            for frame in [0, 5] {
-                let params = scene.trace_params(&settings, frame).unwrap();
-                let mut full = vec![glam::Vec4::ZERO; (w * h) as usize];
-                let mut basic = full.clone();
-                let rays_full =
-                    render_frame_variant(&scene, &params, &seeds, &mut full, TraceVariant::Full).unwrap();
-                let rays_basic =
-                    render_frame_variant(&scene, &params, &seeds, &mut basic, TraceVariant::Basic).unwrap();
-                assert!(full.iter().any(|c| c.x > 0.0), "a black frame proves nothing");
-                assert_eq!(full, basic, "sampler {sampler:#x}, frame {frame}");
-                assert_eq!(rays_full, rays_basic);
+        let scenes = [
+            ("cornell", cornell_box(), TraceVariant::Basic),
+            (
+                "cornell-glossy",
+                crate::cornell::cornell_glossy(),
+                TraceVariant::Untextured,
+            ),
+            (
+                "sun-and-sky",
+                crate::outdoor::sun_and_sky(),
+                TraceVariant::Untextured,
+            ),
+        ];
+        for (name, scene, smallest) in scenes {
+            let scene = SceneGpu::build(&scene).unwrap();
+            assert_eq!(scene.trace_variant(), smallest, "{name}");
+            for sampler in [
+                SAMPLER_SEEDS,
+                SAMPLER_SCREEN_SOBOL,
+                SAMPLER_SPATIOTEMPORAL,
+                SAMPLER_SPATIOTEMPORAL | SAMPLER_KRONECKER,
+            ] {
+                let mut settings = TraceSettings::new(w, h);
+                settings.spp = 2;
+                settings.sampler = sampler;
+                let params = scene.trace_params(&settings, 5).unwrap();
+                let render = |variant| {
+                    let mut color = vec![glam::Vec4::ZERO; (w * h) as usize];
+                    render_frame_variant(&scene, &params, &seeds, &mut color, variant)
+                        .map(|rays| (color, rays))
+                };
+                let full = render(TraceVariant::Full).unwrap();
+                assert!(
+                    full.0.iter().any(|c| c.x > 0.0),
+                    "{name}: a black frame proves nothing"
+                );
+                for variant in TraceVariant::ALL {
+                    if scene.fits_trace_variant(variant) {
+                        assert!(
+                            render(variant).unwrap() == full,
+                            "{name}, {}, sampler {sampler:#x}",
+                            variant.name()
+                        );
+                    } else {
+                        assert!(matches!(
+                            render(variant),
+                            Err(Error::UnfitTraceVariant { variant: v }) if v == variant.name()
+                        ));
+                    }
+                }
             }
         }
-        let glossy = SceneGpu::build(&crate::cornell::cornell_glossy()).unwrap();
-        let params = glossy.trace_params(&TraceSettings::new(w, h), 0).unwrap();
-        let mut color = vec![glam::Vec4::ZERO; (w * h) as usize];
-        assert!(matches!(
-            render_frame_variant(&glossy, &params, &seeds, &mut color, TraceVariant::Basic),
-            Err(Error::UnfitTraceVariant)
-        ));
     }
 }

@@ -58,8 +58,8 @@ use crate::environment::{environment_mis_weight, environment_radiance};
 use crate::footprint::{cone_footprint, pixel_spread, primary_footprint};
 use crate::geometry::offset_point;
 use crate::intersect::Ray;
-use crate::lights::{sample_emitter, sample_triangle_emitter};
-use crate::normal_map::shading_normal;
+use crate::lights::sample_emitter_variant;
+use crate::normal_map::shading_normal_variant;
 use crate::shading::Shading;
 use crate::surface::{has_textures, surface_emission_filtered, triangle_uv};
 use crate::trace_variant;
@@ -108,16 +108,17 @@ pub fn trace_pixel(
     )
 }
 
-/// [`trace_pixel`] compiled as one of the two variants of
-/// [`crate::trace_variant`]: `FULL` = [`trace_variant::FULL`] is [`trace_pixel`];
-/// [`BASIC`](crate::trace_variant::BASIC) leaves out textures, cut-outs,
-/// vertex and normal maps, the metallic-roughness model, lights other than
-/// emissive triangles and the environment map, and returns the same value
-/// bit for bit on scenes that use none of them (and a wrong one on others:
-/// the host checks, [`crate::trace_variant`]).
+/// [`trace_pixel`] compiled as one of the variants of
+/// [`crate::trace_variant`]: `FEATURES` = [`trace_variant::FULL`] is
+/// [`trace_pixel`]; a smaller set leaves out what its features do not
+/// name ([`trace_variant::TEXTURES`]: textures, normal maps, cut-outs;
+/// [`trace_variant::SHADING`]: the metallic-roughness model, vertex
+/// normals, lights other than emissive triangles, the environment map) and
+/// returns the same value bit for bit on scenes that use none of it (and a
+/// wrong one on others: the host checks, [`crate::trace_variant`]).
 #[allow(clippy::too_many_arguments)]
 #[inline]
-pub fn trace_pixel_variant<const FULL: bool>(
+pub fn trace_pixel_variant<const FEATURES: u32>(
     params: &TraceParams,
     pixel: UVec2,
     seed: u32,
@@ -130,7 +131,7 @@ pub fn trace_pixel_variant<const FULL: bool>(
     images: &[u32],
     environment: &[f32],
 ) -> Vec4 {
-    trace_pixel_counted_variant::<FULL>(
+    trace_pixel_counted_variant::<FEATURES>(
         params,
         pixel,
         seed,
@@ -178,11 +179,11 @@ pub fn trace_pixel_counted(
     )
 }
 
-/// [`trace_pixel_counted`] as one of the two variants
+/// [`trace_pixel_counted`] as one of the variants
 /// ([`trace_pixel_variant`]).
 #[allow(clippy::too_many_arguments)]
 #[inline]
-pub fn trace_pixel_counted_variant<const FULL: bool>(
+pub fn trace_pixel_counted_variant<const FEATURES: u32>(
     params: &TraceParams,
     pixel: UVec2,
     seed: u32,
@@ -201,7 +202,7 @@ pub fn trace_pixel_counted_variant<const FULL: bool>(
     let mut s = 0u32;
     while s < spp {
         let numbers = PathNumbers::new(params, pixel, seed, s);
-        sum += trace_sample_with::<FULL>(
+        sum += trace_sample_with::<FEATURES>(
             params,
             keys,
             numbers,
@@ -256,11 +257,12 @@ pub fn trace_sample(
 
 /// One path sample (as [`trace_sample`]) drawing its numbers from
 /// `numbers`; `keys` is the screen-space Sobol key buffer. Adds the rays it
-/// traces to `rays`. `FULL = false` is the basic variant
-/// ([`crate::trace_variant`]): every step it leaves out is marked `FULL`.
+/// traces to `rays`. `FEATURES` is the variant's feature set
+/// ([`crate::trace_variant`]): every step a variant leaves out tests
+/// `TEXTURED` or `SHADED` below.
 #[allow(clippy::too_many_arguments)]
 #[inline]
-pub(crate) fn trace_sample_with<const FULL: bool>(
+pub(crate) fn trace_sample_with<const FEATURES: u32>(
     params: &TraceParams,
     keys: &[u32],
     numbers: PathNumbers,
@@ -273,6 +275,10 @@ pub(crate) fn trace_sample_with<const FULL: bool>(
     environment: &[f32],
     rays: &mut u32,
 ) -> Vec3 {
+    // The variant's features (constants once compiled: the branches they
+    // guard vanish from the smaller variants).
+    let textured = FEATURES & trace_variant::TEXTURES != 0;
+    let shaded = FEATURES & trace_variant::SHADING != 0;
     let max_depth = params.max_depth.min(MAX_DEPTH_LIMIT);
     let pixel = numbers.pixel;
     let jitter = numbers.jitter(params, keys);
@@ -289,7 +295,7 @@ pub(crate) fn trace_sample_with<const FULL: bool>(
     while depth < max_depth {
         // f32::MAX, not INFINITY: naga rejects infinite literals in SPIR-V.
         *rays += 1;
-        let hit = if FULL {
+        let hit = if textured {
             closest_hit(
                 nodes,
                 triangles,
@@ -307,7 +313,7 @@ pub(crate) fn trace_sample_with<const FULL: bool>(
         let hit = match hit {
             Some(h) => h,
             None => {
-                if FULL {
+                if shaded {
                     let weight = environment_mis_weight(params, environment, ray.dir, bsdf_pdf);
                     radiance += throughput * environment_radiance(params, environment, ray.dir) * weight;
                 } else {
@@ -327,7 +333,7 @@ pub(crate) fn trace_sample_with<const FULL: bool>(
         // filtered over the pixel's footprint (`crate::footprint`).
         // Later hits: filtered over the path's ray cone there.
         cone_width += hit.t * cone_spread;
-        let (uv, footprint) = if !FULL || !has_textures(&material) {
+        let (uv, footprint) = if !textured || !has_textures(&material) {
             (hit_uv, 0.0)
         } else if depth == 0 {
             primary_footprint(params, pixel, (v0, v1, v2), attr, hit_uv, hit.t)
@@ -337,7 +343,7 @@ pub(crate) fn trace_sample_with<const FULL: bool>(
         let cos_out = -ray.dir.dot(geo_normal);
 
         // Emission found by the BSDF sample (or seen from the camera).
-        let emission = if FULL {
+        let emission = if textured {
             surface_emission_filtered(&material, images, params.image_count, uv, footprint)
         } else {
             material.emission.truncate()
@@ -358,23 +364,19 @@ pub(crate) fn trace_sample_with<const FULL: bool>(
         // it (`crate::normal_map`), the geometric `normal` stays for
         // offsets and for what lies below the surface.
         let normal = if cos_out > 0.0 { geo_normal } else { -geo_normal };
-        let shading_normal = if !FULL {
-            normal
-        } else {
-            shading_normal(
-                &material,
-                images,
-                params.image_count,
-                uv,
-                attr,
-                (v1 - v0, v2 - v0),
-                geo_normal,
-                normal,
-                Vec2::new(hit.u, hit.v),
-                -ray.dir,
-            )
-        };
-        let shading = Shading::at_variant::<FULL>(
+        let shading_normal = shading_normal_variant::<FEATURES>(
+            &material,
+            images,
+            params.image_count,
+            uv,
+            attr,
+            (v1 - v0, v2 - v0),
+            geo_normal,
+            normal,
+            Vec2::new(hit.u, hit.v),
+            -ray.dir,
+        );
+        let shading = Shading::at_variant::<FEATURES>(
             &material,
             images,
             params.image_count,
@@ -390,21 +392,17 @@ pub(crate) fn trace_sample_with<const FULL: bool>(
         if params.emitter_count > 0 && depth + 2 <= max_depth && shading.reflects() {
             let (index, u_point) = select_emitter_reusing(emitters, params.emitter_count, u_light);
             let emitter = &emitters[index as usize];
-            let light = if FULL {
-                sample_emitter(
-                    emitter,
-                    origin,
-                    u_point,
-                    triangles,
-                    materials,
-                    attrs,
-                    images,
-                    params,
-                    environment,
-                )
-            } else {
-                sample_triangle_emitter(emitter, origin, u_point, triangles, materials)
-            };
+            let light = sample_emitter_variant::<FEATURES>(
+                emitter,
+                origin,
+                u_point,
+                triangles,
+                materials,
+                attrs,
+                images,
+                params,
+                environment,
+            );
             if light.is_some() {
                 // Above the geometric surface, and the BSDF's cosine against
                 // the shading normal (the same number without a normal map).
@@ -419,7 +417,7 @@ pub(crate) fn trace_sample_with<const FULL: bool>(
                     };
                     *rays += 1;
                     let shadow = Ray::new(origin, light.wi);
-                    let blocked = if FULL {
+                    let blocked = if textured {
                         any_hit(
                             nodes,
                             triangles,
