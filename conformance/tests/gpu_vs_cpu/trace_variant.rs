@@ -15,7 +15,7 @@ use sampler_core::FrameLayout;
 /// `trace_untextured_cs`, which refuses the basic variant.
 #[test]
 fn the_smaller_trace_kernels_match_the_full_one() {
-    let Some(gpu) = Gpu::for_test("the_basic_trace_kernel_matches_the_full_one") else {
+    let Some(gpu) = Gpu::for_test("the_smaller_trace_kernels_match_the_full_one") else {
         return;
     };
     let scene = SceneGpu::build(&cornell_box()).unwrap();
