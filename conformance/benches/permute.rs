@@ -40,6 +40,13 @@
 //! REPROJECT_ONLY=1 cargo bench -p conformance --bench permute
 //! ```
 //!
+//! `TEMPORAL_ONLY=1` runs only the temporally blue permutation's step beside
+//! `permute_frame` (module `temporal`, issue 29):
+//!
+//! ```text
+//! TEMPORAL_ONLY=1 cargo bench -p conformance --bench permute
+//! ```
+//!
 //! The feature-aware permutation (`permute_frame_features`, issue 14) runs
 //! on a frame of seven surfaces (vertical bands, a disc, creases; the bench
 //! prints how many of its blocks hold more than one group) and on a frame
@@ -51,6 +58,9 @@ use conformance::fixtures::{banded_features, random_table, random_tile};
 use sampler_core::*;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
+
+#[path = "permute/temporal.rs"]
+mod temporal;
 
 const WIDTH: u32 = 1920;
 const HEIGHT: u32 = 1080;
@@ -308,6 +318,9 @@ fn main() {
     let quick = std::env::args().any(|a| a == "--test");
     let rounds = if quick { 1 } else { ROUNDS };
     let reproject_only = std::env::var_os("REPROJECT_ONLY").is_some_and(|v| v == "1");
+    if std::env::var_os("TEMPORAL_ONLY").is_some_and(|v| v == "1") {
+        return temporal::run(rounds, &mut vec![0u64; EVICT_BYTES / 8]);
+    }
     let layout = FrameLayout::new(WIDTH, HEIGHT, BLOCK, TILE).unwrap();
     let tile_values = random_tile(TILE, 1, false);
     let tile = DitherTile::new(TILE, &tile_values).unwrap();

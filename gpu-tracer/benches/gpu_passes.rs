@@ -6,7 +6,11 @@
 //! 1.5 px at the back wall), and the feature-aware permutation (the
 //! tracer's feature pass, the grouped sort, the inverse + cut retarget),
 //! and the real-time filters (`taa`, `gauss`, `atrous`, `taa+atrous`) on the
-//! traced frame and its G-buffer.
+//! traced frame and its G-buffer; and the temporally blue permutation
+//! (`--mode temporal`: the same sorting and retargeting kernels bound on the
+//! frame's slice and table of the default 128x128x64 target) beside the
+//! walk's sort + retarget with the 128x128 tile, all in each frame's
+//! submission. `GPU_PASSES_ROUNDS=N` measures `N` frames instead of 15.
 //!
 //! ```text
 //! cargo bench -p gpu-tracer --bench gpu_passes
@@ -38,7 +42,14 @@ fn median(v: &mut [f64]) -> f64 {
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--test");
-    let rounds = if quick { 1 } else { 15 };
+    let rounds = match std::env::var("GPU_PASSES_ROUNDS")
+        .ok()
+        .and_then(|r| r.parse().ok())
+    {
+        Some(r) if !quick => r,
+        _ if quick => 1,
+        _ => 15,
+    };
     let gpu = match Gpu::new() {
         Ok(g) => g,
         Err(e) => {
@@ -80,16 +91,32 @@ fn main() {
         featured.features().expect("enabled"),
         &featured.intensity,
     );
-    permuter.set_frame(&gpu, 0);
-    let mut e = gpu.device.create_command_encoder(&Default::default());
-    permuter.encode_seed_init(&mut e, &pp);
-    featured.encode_seed_init(&mut e, &pp);
-    gpu.queue.submit([e.finish()]);
+    // The temporal permutation and the walk's with the same 128x128 tile.
+    let layout128 = FrameLayout::new(WIDTH, HEIGHT, 4, 128).expect("layout");
+    let (tile128, tables128) = (
+        sampler_core::defaults::tile_128(),
+        sampler_core::defaults::tables_128(),
+    );
+    let permuter128 = |gpu: &Gpu| {
+        SeedPermuter::new(gpu, &pp, layout128, &tile128, &tables128, &tracer.color).expect("permuter")
+    };
+    let (mut temporal, walk128) = (permuter128(&gpu), permuter128(&gpu));
+    let target = sampler_core::defaults::stbn_128_slice_tables();
+    temporal
+        .enable_temporal(&gpu, &pp, &target)
+        .expect("temporal target");
+    for p in [&permuter, &featured, &temporal, &walk128] {
+        p.set_frame(&gpu, 0);
+        let mut e = gpu.device.create_command_encoder(&Default::default());
+        p.encode_seed_init(&mut e, &pp);
+        gpu.queue.submit([e.finish()]);
+    }
 
-    let timer = PassTimer::new(&gpu, 9);
+    let timer = PassTimer::new(&gpu, 13);
     let (mut trace_ms, mut sort_ms, mut retarget_ms, mut gbuffer_ms) = (vec![], vec![], vec![], vec![]);
     let (mut motion_ms, mut reproject_ms) = (vec![], vec![]);
     let (mut features_ms, mut fsort_ms, mut fretarget_ms) = (vec![], vec![], vec![]);
+    let (mut tsort_ms, mut tretarget_ms, mut wsort_ms, mut wretarget_ms) = (vec![], vec![], vec![], vec![]);
     for t in 0..rounds + 1 {
         scene
             .set_cameras(&camera(t), &camera(t.saturating_sub(1)))
@@ -97,6 +124,7 @@ fn main() {
         tracer.set_params(&gpu, &scene.trace_params(&settings, t).expect("params"));
         permuter.set_frame(&gpu, t);
         featured.set_frame(&gpu, t);
+        walk128.set_frame(&gpu, t);
         let times = match &timer {
             Some(timer) => {
                 let mut e = gpu.device.create_command_encoder(&Default::default());
@@ -108,6 +136,16 @@ fn main() {
                 permuter.encode_step(&mut e, &pp, t, PermuteMode::Permute, Some((timer, 1)));
                 tracer.encode_features(&mut e, &tp, Some((timer, 6)));
                 featured.encode_step(&mut e, &pp, t, PermuteMode::Permute, Some((timer, 7)));
+                // The two 128-tile permutations, in alternating order from frame to frame.
+                let (first, second) = if t % 2 == 0 { (9, 11) } else { (11, 9) };
+                temporal.encode_intensity(&mut e, &pp);
+                walk128.encode_intensity(&mut e, &pp);
+                for span in [first, second] {
+                    match span {
+                        9 => temporal.encode_step(&mut e, &pp, t, PermuteMode::Temporal, Some((timer, 9))),
+                        _ => walk128.encode_step(&mut e, &pp, t, PermuteMode::Permute, Some((timer, 11))),
+                    }
+                }
                 timer.resolve(&mut e);
                 gpu.queue.submit([e.finish()]);
                 timer.read_ms(&gpu).expect("timestamps")
@@ -130,13 +168,17 @@ fn main() {
                 run(&|e| reprojector.encode(e, &rp, None));
                 run(&|e| tracer.encode_features(e, &tp, None));
                 run(&|e| featured.encode_step(e, &pp, t, PermuteMode::Permute, None));
+                run(&|e| temporal.encode_step(e, &pp, t, PermuteMode::Temporal, None));
+                run(&|e| walk128.encode_step(e, &pp, t, PermuteMode::Permute, None));
                 let mut e = gpu.device.create_command_encoder(&Default::default());
                 tracer.encode_motion(&mut e, &tp, None);
                 let start = Instant::now();
                 gpu.queue.submit([e.finish()]);
                 gpu.wait().expect("wait");
                 ms.push(start.elapsed().as_secs_f64() * 1e3);
-                vec![ms[0], ms[2], 0.0, ms[3], ms[7], ms[4], ms[5], ms[6], 0.0]
+                vec![
+                    ms[0], ms[2], 0.0, ms[3], ms[9], ms[4], ms[5], ms[6], 0.0, ms[7], 0.0, ms[8], 0.0,
+                ]
             }
         };
         if t > 0 {
@@ -149,6 +191,10 @@ fn main() {
             features_ms.push(times[6]);
             fsort_ms.push(times[7]);
             fretarget_ms.push(times[8]);
+            tsort_ms.push(times[9]);
+            tretarget_ms.push(times[10]);
+            wsort_ms.push(times[11]);
+            wretarget_ms.push(times[12]);
         }
     }
     // The filters, each chain on the traced frame and G-buffer (copied into
@@ -222,6 +268,18 @@ fn main() {
         ("feature pass", median(&mut features_ms)),
         ("feature-aware sort", median(&mut fsort_ms)),
         ("feature-aware retarget", median(&mut fretarget_ms)),
+        ("128 tile: sort", median(&mut wsort_ms)),
+        ("128 tile: retarget", median(&mut wretarget_ms)),
+        (
+            "128 tile: sort + retarget",
+            median(&mut wsort_ms) + median(&mut wretarget_ms),
+        ),
+        ("temporal: sort", median(&mut tsort_ms)),
+        ("temporal: retarget", median(&mut tretarget_ms)),
+        (
+            "temporal: sort + retarget",
+            median(&mut tsort_ms) + median(&mut tretarget_ms),
+        ),
     ] {
         println!("{name:<28} {ms:>10.3} {:>13.2}%", 100.0 * ms / tr);
     }

@@ -146,17 +146,21 @@ struct RenderArgs {
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..))]
     frames: u32,
     /// How seeds change between frames: `white`, `sort`, `permute` (default
-    /// with the seed stream and the other samplers) or `hold` (default with
-    /// `--sampler spatiotemporal`, the only sampler it takes: each pixel's
-    /// shift stays with it, and follows the motion with reprojection).
+    /// with the seed stream and the other samplers), `temporal` (sort
+    /// against slice `t mod 64` of the default spatiotemporal mask, retarget
+    /// to the next slice: blue in time too; 128 tile, no `--features`) or
+    /// `hold` (default with `--sampler spatiotemporal`, the only sampler it
+    /// takes: each pixel's shift stays with it, and follows the motion with
+    /// reprojection).
     #[arg(long, value_enum)]
     mode: Option<ModeArg>,
     /// Block side of the sorting pass in pixels (2..=8).
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(2..=8))]
     block: u32,
-    /// Side of the baked dither tile: 64 or 128.
-    #[arg(long, default_value_t = 64, value_parser = parse_tile)]
-    tile: u32,
+    /// Side of the baked dither tile: 64 or 128 (default 64; 128, the
+    /// only side it takes, with `--mode temporal`).
+    #[arg(long, value_parser = parse_tile)]
+    tile: Option<u32>,
     /// Maximum path length in segments.
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=MAX_DEPTH_LIMIT as i64))]
     max_depth: u32,
@@ -200,6 +204,9 @@ enum ModeArg {
     /// Nothing between frames; the spatiotemporal sampler's homes follow the
     /// motion with reprojection.
     Hold,
+    /// Sorting against the frame's slice of the default spatiotemporal mask
+    /// + retargeting to the next slice (blue in time).
+    Temporal,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -374,11 +381,11 @@ fn render(args: RenderArgs) -> Result<()> {
             "--mode hold keeps every pixel's numbers from frame to frame: only --sampler spatiotemporal, \
              which advances its own sequence every frame, can use it"
         ),
-            (Some(m @ (ModeArg::Sort | ModeArg::Permute)), true) => {
+            (Some(m @ (ModeArg::Sort | ModeArg::Permute | ModeArg::Temporal)), true) => {
                 bail!(
             "--mode {} has nothing to permute with --sampler spatiotemporal, which draws every number \
              itself: use --mode hold (its default) or white",
-            if matches!(m, ModeArg::Sort) { "sort" } else { "permute" }
+            m.to_possible_value().map(|v| v.get_name().to_owned()).unwrap_or_default()
         )
             }
             (Some(m), _) => m,
@@ -410,7 +417,12 @@ fn render(args: RenderArgs) -> Result<()> {
             prepare_out_dir(dir)?;
         }
     }
-    let tile = TileChoice::from_side(args.tile).context("tile must be 64 or 128")?;
+    let temporal = matches!(mode, ModeArg::Temporal);
+    let side = args.tile.unwrap_or(if temporal { 128 } else { 64 });
+    if temporal && side != 128 {
+        bail!("--mode temporal sorts against the 128x128 slices of the default spatiotemporal mask: use --tile 128 (its default)");
+    }
+    let tile = TileChoice::from_side(side).context("tile must be 64 or 128")?;
     let job = RenderJob {
         settings,
         frames: args.frames,
@@ -419,12 +431,32 @@ fn render(args: RenderArgs) -> Result<()> {
             ModeArg::Sort => PermuteMode::Sort,
             ModeArg::Permute => PermuteMode::Permute,
             ModeArg::Hold => PermuteMode::Hold,
+            ModeArg::Temporal => PermuteMode::Temporal,
         },
         block: args.block,
         tile,
         salt: 0,
     };
-    job.layout()?;
+    let want_gbuffer = args.save_aovs || filtering;
+    let moves = sequence.timeline().moves();
+    let reproject = match args.reproject {
+        Some(OnOff::On) => true,
+        Some(OnOff::Off) => false,
+        None => moves,
+    };
+    let features = args.features == OnOff::On;
+    let options = SequenceOptions {
+        gbuffer: want_gbuffer,
+        reproject,
+        features,
+        feature_key: match args.feature_key {
+            FeatureKeyArg::Demodulated => FeatureKey::Demodulated,
+            FeatureKeyArg::Raw => FeatureKey::Raw,
+            FeatureKeyArg::History => FeatureKey::HistoryResidual,
+        },
+    };
+    // Settings the mode cannot take fail here, before any work.
+    job.validate(&options)?;
 
     let gpu = match args.device {
         DeviceArg::Cpu => None,
@@ -464,25 +496,7 @@ fn render(args: RenderArgs) -> Result<()> {
     );
     let start = Instant::now();
     let (w, h) = (args.width, args.height);
-    let want_gbuffer = args.save_aovs || filtering;
     let mut last_filtered: Vec<glam::Vec4> = Vec::new();
-    let moves = sequence.timeline().moves();
-    let reproject = match args.reproject {
-        Some(OnOff::On) => true,
-        Some(OnOff::Off) => false,
-        None => moves,
-    };
-    let features = args.features == OnOff::On;
-    let options = SequenceOptions {
-        gbuffer: want_gbuffer,
-        reproject,
-        features,
-        feature_key: match args.feature_key {
-            FeatureKeyArg::Demodulated => FeatureKey::Demodulated,
-            FeatureKeyArg::Raw => FeatureKey::Raw,
-            FeatureKeyArg::History => FeatureKey::HistoryResidual,
-        },
-    };
     let mut save_error: Option<anyhow::Error> = None;
     let mut on_frame = |f: &FrameView<'_>| {
         if save_error.is_some() {

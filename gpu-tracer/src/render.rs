@@ -14,7 +14,7 @@ use crate::timeline::SceneSequence;
 use glam::{UVec2, Vec4};
 use kernels::abi::{GBufferGpu, SAMPLER_FOLLOW_HOMES, SAMPLER_KIND_MASK, SAMPLER_SPATIOTEMPORAL};
 use sampler_core::sequences::spatiotemporal::write_initial_homes;
-use sampler_core::{DitherTile, FeatureThresholds, FrameLayout, RetargetTables};
+use sampler_core::{DitherTile, FeatureThresholds, FrameLayout, RetargetTables, SliceTables};
 use std::fmt;
 
 /// Which baked dither tile (and its retarget tables) the permutation uses.
@@ -86,13 +86,24 @@ pub struct SequenceOptions {
     /// with `FeatureThresholds::DEFAULT`): sort keys with the albedo divided
     /// out, blocks sorted in groups of one surface, retarget moves cut at
     /// edges, all from each frame's G-buffer. [`PermuteMode::Permute`]
-    /// only; the GPU runs the same code (`SeedPermuter::enable_features`).
+    /// only (ignored by the walk's other modes, refused with
+    /// [`PermuteMode::Temporal`]); the GPU runs the same code (`SeedPermuter::enable_features`).
     pub features: bool,
     /// The sort key of the feature-aware permutation
     /// ([`FeatureKey`]; demodulated by default). The GPU computes the
     /// demodulated key only and refuses the others.
     pub feature_key: FeatureKey,
 }
+
+/// What [`RenderJob::prepare`] hands the loops: layout, padded settings,
+/// tile, tables, and the temporal target of [`PermuteMode::Temporal`].
+type Prepared = (
+    FrameLayout,
+    TraceSettings,
+    DitherTile<'static>,
+    RetargetTables<'static>,
+    Option<SliceTables<'static>>,
+);
 
 /// Receives every frame of a sequence render.
 pub type SequenceCallback<'a> = dyn FnMut(&FrameView<'_>) + 'a;
@@ -200,33 +211,55 @@ impl RenderJob {
         )?)
     }
 
-    /// Validates the job and returns its layout, trace settings (padded to
-    /// the layout), tile and tables.
-    fn prepare(
-        &self,
-    ) -> Result<
-        (
-            FrameLayout,
-            TraceSettings,
-            DitherTile<'static>,
-            RetargetTables<'static>,
-        ),
-        RenderError,
-    > {
+    /// Checks the job with `options` before any work: its layout, and the
+    /// settings its mode needs. [`PermuteMode::Hold`] needs the
+    /// spatiotemporal sampler; [`PermuteMode::Temporal`] needs the 128x128
+    /// tile (the side of `sampler_core::defaults::stbn_128`, whose slices
+    /// it sorts against), a sampler that reads the seeds (not the
+    /// spatiotemporal one), and no feature-aware permutation (whose passes
+    /// read the walk's tables); it takes seed reprojection as
+    /// [`PermuteMode::Permute`] does.
+    ///
+    /// # Errors
+    /// [`RenderError::NoFrames`], [`RenderError::Layout`],
+    /// [`RenderError::Incompatible`] naming the setting.
+    pub fn validate(&self, options: &SequenceOptions) -> Result<FrameLayout, RenderError> {
         if self.frames == 0 {
             return Err(RenderError::NoFrames);
         }
         let layout = self.layout()?;
         let spatiotemporal = self.settings.sampler & SAMPLER_KIND_MASK == SAMPLER_SPATIOTEMPORAL;
-        if self.mode == PermuteMode::Hold && !spatiotemporal {
-            return Err(RenderError::Incompatible(
+        let incompatible = |what: &str| Err(RenderError::Incompatible(what.into()));
+        match self.mode {
+            PermuteMode::Hold if !spatiotemporal => incompatible(
                 "the hold mode keeps every pixel's numbers from frame to frame; only the spatiotemporal \
-                 sampler, which advances its own sequence every frame, can use it"
-                    .into(),
-            ));
+                 sampler, which advances its own sequence every frame, can use it",
+            ),
+            PermuteMode::Temporal if self.tile != TileChoice::Tile128 => incompatible(
+                "the temporal mode sorts against the 128x128 slices of the default spatiotemporal mask: \
+                 it needs the 128 tile",
+            ),
+            PermuteMode::Temporal if spatiotemporal => incompatible(
+                "the temporal mode permutes seeds, and the spatiotemporal sampler draws every number \
+                 itself: use another sampler",
+            ),
+            PermuteMode::Temporal if options.features => incompatible(
+                "the feature-aware permutation reads the walk's retarget tables, not the temporal \
+                 mode's slice tables: use it with the permute mode",
+            ),
+            _ => Ok(layout),
         }
+    }
+
+    /// Validates the job ([`validate`](Self::validate)) and returns its
+    /// layout, trace settings (padded to the layout), tile and tables, and
+    /// with [`PermuteMode::Temporal`] its target.
+    fn prepare(&self, options: &SequenceOptions) -> Result<Prepared, RenderError> {
+        let layout = self.validate(options)?;
         let (tile, tables) = self.tile.load();
-        Ok((layout, self.settings_for(&layout), tile, tables))
+        let temporal =
+            (self.mode == PermuteMode::Temporal).then(sampler_core::defaults::stbn_128_slice_tables);
+        Ok((layout, self.settings_for(&layout), tile, tables, temporal))
     }
 
     /// The trace settings of this job on `layout`: padded to it, and with
@@ -280,7 +313,7 @@ pub fn render_sequence_cpu(
     options: SequenceOptions,
     mut on_frame: impl FnMut(&FrameView<'_>),
 ) -> Result<RenderOutput, RenderError> {
-    let (layout, settings, tile, tables) = job.prepare()?;
+    let (layout, settings, tile, tables, temporal) = job.prepare(&options)?;
     let n = layout.pixel_count();
     let reproject = options.reproject && job.mode != PermuteMode::White;
     let features = options.features && job.mode == PermuteMode::Permute;
@@ -363,6 +396,11 @@ pub fn render_sequence_cpu(
                 sampler_core::permute_frame(&layout, t, &color, &tile, &tables, &seeds, &mut next)?;
                 std::mem::swap(&mut seeds, &mut next);
             }
+            PermuteMode::Temporal => {
+                let target = temporal.as_ref().expect("prepared for the temporal mode");
+                sampler_core::permute_frame_temporal(&layout, t, &color, target, &seeds, &mut next)?;
+                std::mem::swap(&mut seeds, &mut next);
+            }
         }
     }
     Ok(RenderOutput {
@@ -431,7 +469,7 @@ pub fn render_sequence_gpu(
     mut on_submit: impl FnMut(u32),
     mut on_frame: Option<&mut SequenceCallback<'_>>,
 ) -> Result<RenderOutput, RenderError> {
-    let (layout, settings, tile, tables) = job.prepare()?;
+    let (layout, settings, tile, tables, temporal) = job.prepare(&options)?;
     let reproject = options.reproject && job.mode != PermuteMode::White;
     let features = options.features && job.mode == PermuteMode::Permute;
     if features && options.feature_key != FeatureKey::Demodulated {
@@ -449,6 +487,9 @@ pub fn render_sequence_gpu(
     let mut permuter = SeedPermuter::new(gpu, &permute_pipelines, layout, &tile, &tables, &color)?;
     if features {
         permuter.enable_features(gpu, &permute_pipelines, &FeatureThresholds::DEFAULT);
+    }
+    if let Some(target) = &temporal {
+        permuter.enable_temporal(gpu, &permute_pipelines, target)?;
     }
     let mut tracer = Tracer::new(
         gpu,
@@ -602,6 +643,59 @@ mod tests {
         }
         assert_eq!(frames[0][0], frames[1][0]);
         assert_ne!(frames[0][3], frames[1][3]);
+    }
+
+    /// The temporal mode renders on the CPU: its first frame is the
+    /// permutation's (the same white seeds), later ones differ (another
+    /// sorting target), and it refuses the 64 tile, the feature-aware
+    /// permutation and the spatiotemporal sampler before any work.
+    #[test]
+    fn temporal_mode_renders_and_refuses_what_it_cannot_take() {
+        let scene = SceneGpu::build(&cornell_box()).unwrap();
+        let mut frames = [Vec::new(), Vec::new()];
+        for (k, mode) in [PermuteMode::Permute, PermuteMode::Temporal]
+            .into_iter()
+            .enumerate()
+        {
+            let job = RenderJob {
+                tile: TileChoice::Tile128,
+                ..job(kernels::abi::SAMPLER_SEEDS, mode)
+            };
+            render_cpu(&scene, &job, |_, c| frames[k].push(c.to_vec())).unwrap();
+        }
+        assert_eq!(frames[0][0], frames[1][0]);
+        assert_ne!(frames[0][2], frames[1][2]);
+        let temporal = job(kernels::abi::SAMPLER_SEEDS, PermuteMode::Temporal);
+        let features = SequenceOptions {
+            features: true,
+            ..SequenceOptions::default()
+        };
+        let tile128 = RenderJob {
+            tile: TileChoice::Tile128,
+            ..temporal
+        };
+        let spatiotemporal = RenderJob {
+            tile: TileChoice::Tile128,
+            ..job(SAMPLER_SPATIOTEMPORAL, PermuteMode::Temporal)
+        };
+        for (job, options, says) in [
+            (temporal, SequenceOptions::default(), "128 tile"),
+            (tile128, features, "feature-aware"),
+            (
+                spatiotemporal,
+                SequenceOptions::default(),
+                "spatiotemporal sampler",
+            ),
+        ] {
+            let e = job.validate(&options).unwrap_err();
+            assert!(
+                matches!(e, RenderError::Incompatible(_)) && e.to_string().contains(says),
+                "{e}"
+            );
+        }
+        let mut sequence = SceneSequence::still(&scene, 20);
+        let e = render_sequence_cpu(&mut sequence, &tile128, features, |_| panic!("rendered")).unwrap_err();
+        assert!(e.to_string().contains("feature-aware"), "{e}");
     }
 
     /// The hold mode with a sampler that reads the seeds is refused before

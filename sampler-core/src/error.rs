@@ -37,6 +37,11 @@ pub enum Buffer {
     EnvironmentTexels,
     /// One frame's spatiotemporal sequence points: `2 * samples * pairs` words.
     SamplePoints,
+    /// The slices of a temporal sorting target: `depth * tile * tile` ranks.
+    TemporalSlices,
+    /// The slice-to-slice retarget tables of a temporal sorting target:
+    /// `depth * tile * tile` packed offsets.
+    TemporalTables,
 }
 
 impl fmt::Display for Buffer {
@@ -57,6 +62,8 @@ impl fmt::Display for Buffer {
             Buffer::DistributionTable => "distribution table",
             Buffer::EnvironmentTexels => "environment texel buffer",
             Buffer::SamplePoints => "spatiotemporal point table",
+            Buffer::TemporalSlices => "temporal target slices",
+            Buffer::TemporalTables => "temporal target retarget tables",
         })
     }
 }

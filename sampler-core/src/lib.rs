@@ -18,12 +18,12 @@
 //! |---|---|---|
 //! | [`limits`], [`error`] | the size limits every input is checked against; the crate's [`Error`] | |
 //! | [`sequences`] | R1/R2/R_d ([`sequences::r2`]), the tile's offset walk ([`sequences::walk`]), seeds and random streams ([`sequences::seed`]), Sobol ([`sequences::sobol`]), Owen scrambling ([`sequences::owen`]), the a-priori screen-space samplers ([`sequences::screen_sobol`], [`sequences::zsobol`]) and the spatiotemporal one ([`sequences::spatiotemporal`]) | [`walk_offset`], [`initial_seed`], [`RandomStream`], [`ScreenSobolKeys::sample`], [`zsobol_sample`] |
-//! | [`permutation`] | the seed permutation: frame layout, dither tile, sorting pass ([`permutation::sort`]), retargeting pass ([`permutation::retarget`]), the frame passes and their CPU fast path ([`permutation::frame`]) | [`permute_frame`], [`permute_frame_rows`], [`sort_block_in_frame`], [`retarget_pixel`] |
+//! | [`permutation`] | the seed permutation: frame layout, dither tile, sorting pass ([`permutation::sort`]), retargeting pass ([`permutation::retarget`]), the frame passes and their CPU fast path ([`permutation::frame`]), the temporally blue permutation ([`permutation::temporal`]) | [`permute_frame`], [`permute_frame_temporal`], [`permute_frame_rows`], [`sort_block_in_frame`], [`retarget_pixel`] |
 //! | [`reprojection`] | bijective reprojection of seeds along motion vectors, on the CPU and as GPU passes ([`reprojection::passes`]) | [`reproject_frame`] |
 //! | [`features`] | the feature-aware permutation: sort within one surface, never retarget across an edge ([`features::surface`], [`features::permute`]) | [`permute_frame_features`], [`same_surface`] |
 //! | [`masks`] | spatiotemporal (STBN-style) and filter-adapted blue-noise masks | [`SpatiotemporalMask`] |
 //! | [`distributions`] | piecewise-constant 1D/2D distributions sampled by inverse CDF from caller-provided tables ([`distributions::piecewise`]), importance sampling of equirectangular environment maps ([`distributions::environment`]) | [`Distribution1d`], [`Distribution2d`], [`EnvironmentMap`] |
-//! | `defaults` (feature `defaults`) | the baked tiles, tables, masks and sampler keys | `defaults::tile_64`, `defaults::tables_64`, `defaults::stbn_128`, `defaults::screen_sobol_keys` |
+//! | `defaults` (feature `defaults`) | the baked tiles, tables, masks and sampler keys | `defaults::tile_64`, `defaults::tables_64`, `defaults::stbn_128`, `defaults::stbn_128_slice_tables`, `defaults::screen_sobol_keys` |
 //! | `bake` (feature `bake`, host only) | the generators of that data: void-and-cluster, spatiotemporal and filter-adapted masks, exact retarget tables, sampler keys | `bake::bake_mask`, `bake::bake_stbn`, `bake::bake_retarget_table` |
 //!
 //! Everything a shader needs is `u32`/`f32` arithmetic with `wrapping_*`
@@ -88,6 +88,7 @@ pub use permutation::retarget::{
     pack_offset, retarget_destination, unpack_offset, RetargetTable, RetargetTables, IDENTITY_PACKED,
 };
 pub use permutation::sort::{intensity_key, luma, sort_block, Intensity, DEFAULT_BLOCK, MAX_BLOCK_PIXELS};
+pub use permutation::temporal::{permute_frame_temporal, SliceTables};
 pub use reprojection::{reproject_frame, ReprojectStats, CLAIM_NONE};
 pub use sequences::owen::{owen_scramble, owen_sobol, owen_sobol_u32, shuffle_index};
 pub use sequences::r2::{r1, r2, Rd};

@@ -141,9 +141,7 @@ impl Study {
                 method == Method::TemporalSortAdvance,
                 &mut on_frame,
             )?,
-            Method::TemporalPermute => {
-                render_temporal_permute(self, sampler_core::defaults::stbn_128(), &mut on_frame)?
-            }
+            Method::TemporalPermute => render_temporal_permute(self, &mut on_frame)?,
             Method::DitherFilterAdapted => {
                 render_dither(self, sampler_core::defaults::filter_adapted_128(), &mut on_frame)?
             }

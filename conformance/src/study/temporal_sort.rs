@@ -3,34 +3,30 @@
 //! seeds are sorted so that their values rank like slice `t + 1` of a
 //! spatiotemporal mask (STBN: blue in space and along time at every pixel),
 //! read toroidally at an offset that moves once per cycle of the mask's slices
-//! (`walk_offset(cycle)`). Consecutive slices are not shifts of one tile, so
-//! there is no retarget table between them: the sort targets the next slice
-//! directly, and seeds never leave their block.
+//! (`walk_offset(cycle)`). The sort targets the next slice directly, and
+//! seeds never leave their block.
 //!
-//! [`render_temporal_permute`] adds what the walk's permutation has: after
-//! sorting against slice `t`, an exact radius-bounded retarget table between
-//! slices `t` and `t + 1` (`sampler_core::bake::bake_retarget_between`, the
-//! mask's 64 tables baked when the study starts) moves seeds across block
-//! borders, so a block's set of seeds changes over time (offset 0, so the
-//! arrangement repeats every 64 frames).
+//! [`render_temporal_permute`] adds what the walk's permutation has, and is
+//! the tracer's `temporal` mode (`PermuteMode::Temporal`,
+//! `sampler_core::permute_frame_temporal`): after sorting against slice
+//! `t`, an exact radius-bounded retarget table between slices `t` and
+//! `t + 1` (`sampler_core::defaults::stbn_128_slice_tables`) moves seeds
+//! across block borders, so a block's set of seeds changes over time (offset
+//! 0, so the arrangement repeats every 64 frames).
 //!
 //! With fixed streams (`SEED_MODE_FIXED`) a block's values repeat every frame
 //! and only their arrangement changes: each pixel takes, over frames, the
 //! block's values in the order the mask's ranks give it, blue in time. With
 //! advancing streams (`SEED_MODE_ADVANCE`) the values change every frame, so
-//! the sort ranks on values that no longer hold. The study measures both.
+//! the sort ranks on values that no longer hold. The study measures both
+//! for the sort alone, and the temporal permutation with fixed streams.
 
 use super::setup::Study;
 use anyhow::Result;
-use glam::UVec2;
 use glam::Vec4;
-use gpu_tracer::cpu;
+use gpu_tracer::{cpu, PermuteMode, RenderJob, TileChoice};
 use kernels::abi::{SEED_MODE_ADVANCE, SEED_MODE_FIXED};
-use rayon::prelude::*;
-use sampler_core::bake::bake_retarget_between;
-use sampler_core::{
-    retarget_pixel_at_offset, sort_block_at_offset, walk_offset, DitherTile, FrameLayout, SpatiotemporalMask,
-};
+use sampler_core::{sort_block_at_offset, walk_offset, FrameLayout, SpatiotemporalMask};
 
 /// Side of the layout's tile for `mask`: its width, which must equal its height.
 fn mask_side(mask: &SpatiotemporalMask<'_>) -> Result<u32> {
@@ -113,109 +109,42 @@ fn setup(
     let mut settings = c.settings();
     settings.seed_mode = seed_mode;
     settings.padded_width = layout.padded_width();
-    Ok((layout, settings, slice_ranks(mask, side)))
+    Ok((layout, settings, slice_ranks(mask)))
 }
 
 /// The ranks of every slice of `mask`, slice-major.
-fn slice_ranks(mask: &SpatiotemporalMask<'_>, side: u32) -> Vec<Vec<u32>> {
+fn slice_ranks(mask: &SpatiotemporalMask<'_>) -> Vec<Vec<u32>> {
     (0..mask.depth())
-        .map(|z| {
-            (0..side * side)
-                .map(|i| mask.rank(i % side, i / side, z))
-                .collect()
-        })
+        .map(|z| sampler_core::bake::slice_ranks(mask, z))
         .collect()
 }
 
-/// One step of [`render_temporal_permute`]: every block of `seeds` sorted
-/// against `slice` (ranks of the frame's target, offset 0) into `sorted`,
-/// then scattered by `table` (to the next slice) into `next`. A permutation of
-/// the seeds: none lost, none repeated.
-pub fn temporal_permute_step(
-    params: &sampler_core::FrameParams,
-    values: &[Vec4],
-    slice: &[u32],
-    table: &[u32],
-    seeds: &[u32],
-    sorted: &mut [u32],
-    next: &mut [u32],
-) {
-    sorted.copy_from_slice(seeds);
-    for by in 0..params.blocks_y() {
-        for bx in 0..params.blocks_x() {
-            sort_block_at_offset(params, UVec2::ZERO, bx, by, values, slice, seeds, sorted);
-        }
-    }
-    for i in 0..params.seed_count() {
-        retarget_pixel_at_offset(params, UVec2::ZERO, i, table, sorted, next);
-    }
-}
-
-/// Renders `study.config.frames` frames with fixed streams, sorting every
-/// block against slice `t` of `mask` and retargeting to slice `t + 1` after
+/// Renders `study.config.frames` frames with fixed streams in the tracer's
+/// temporal mode (128 tile, the default mask's slice tables): sorting every
+/// block against slice `t mod 64` and retargeting to slice `t + 1` after
 /// frame `t` (module docs); calls `on_frame(t, colour)` for each frame.
 ///
 /// # Errors
-/// Rendering errors; a mask whose slices are not square; a table that cannot be baked.
-pub fn render_temporal_permute(
-    study: &Study,
-    mask: SpatiotemporalMask<'_>,
-    on_frame: &mut impl FnMut(u32, &[Vec4]),
-) -> Result<()> {
-    let (layout, settings, slices) = setup(study, &mask, SEED_MODE_FIXED)?;
-    let (side, depth) = (mask.width(), mask.depth() as usize);
-    let tables: Vec<Vec<u32>> = (0..depth)
-        .into_par_iter()
-        .map(|z| {
-            let a = DitherTile::new(side, &slices[z])?;
-            let b = DitherTile::new(side, &slices[(z + 1) % depth])?;
-            Ok(bake_retarget_between(&a, &b, 0)?)
-        })
-        .collect::<Result<_>>()?;
-    let params = layout.params(0);
-    let mut sorted = vec![0u32; layout.seed_count()];
-    run_frames(study, &layout, &settings, on_frame, |t, color, seeds, next| {
-        let z = t as usize % depth;
-        temporal_permute_step(&params, color, &slices[z], &tables[z], seeds, &mut sorted, next);
-    })
+/// Rendering errors.
+pub fn render_temporal_permute(study: &Study, on_frame: &mut impl FnMut(u32, &[Vec4])) -> Result<()> {
+    let c = &study.config;
+    let mut settings = c.settings();
+    settings.seed_mode = SEED_MODE_FIXED;
+    let job = RenderJob {
+        settings,
+        frames: c.frames,
+        mode: PermuteMode::Temporal,
+        block: c.block,
+        tile: TileChoice::Tile128,
+        salt: c.salt,
+    };
+    gpu_tracer::render_cpu(&study.scene, &job, on_frame)?;
+    Ok(())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Sort and retarget between two slices of the default mask keep the seeds
-    /// a permutation, on a frame that is not a multiple of the tile.
-    #[test]
-    fn a_temporal_step_is_a_permutation() {
-        let mask = sampler_core::defaults::stbn_128();
-        let slices = slice_ranks(&mask, 128);
-        let (a, b) = (
-            DitherTile::new(128, &slices[5]).unwrap(),
-            DitherTile::new(128, &slices[6]).unwrap(),
-        );
-        let table = bake_retarget_between(&a, &b, 0).unwrap();
-        let layout = FrameLayout::new(150, 70, 4, 128).unwrap();
-        let params = layout.params(0);
-        let values: Vec<Vec4> = (0..layout.pixel_count())
-            .map(|i| Vec4::splat(sampler_core::random_f32(i as u32, 7)))
-            .collect();
-        let seeds: Vec<u32> = (0..layout.seed_count() as u32).collect();
-        let (mut sorted, mut next) = (vec![0; seeds.len()], vec![u32::MAX; seeds.len()]);
-        temporal_permute_step(
-            &params,
-            &values,
-            &slices[5],
-            &table,
-            &seeds,
-            &mut sorted,
-            &mut next,
-        );
-        let mut check = next.clone();
-        check.sort_unstable();
-        assert_eq!(check, seeds, "seeds lost or repeated");
-        assert_ne!(next, seeds, "nothing moved");
-    }
 
     #[test]
     fn the_default_stbn_mask_has_square_slices_of_a_tile_side() {

@@ -262,3 +262,49 @@ fn feature_aware_permutation_kernels_match_the_cpu_bit_for_bit() {
         assert_ne!(cpu_next, plain, "{w}x{h}: the features must change something");
     }
 }
+
+/// The temporal mode on the GPU (`sort_cs` and `retarget_cs` bound on the
+/// frame's slice and table of the default target) against
+/// `sampler_core::permute_frame_temporal`: identical seeds after every frame
+/// of a run that crosses the wrap from slice 63 to slice 0, with a walk
+/// step in between on the same permuter (the walk's buffers stay intact),
+/// and whatever frame the parameters were last set to (the temporal passes
+/// bind frame 0's).
+#[test]
+fn temporal_kernels_match_the_cpu_bit_for_bit_across_the_wrap() {
+    let Some(gpu) = Gpu::for_test("temporal_kernels_match_the_cpu_bit_for_bit_across_the_wrap") else {
+        return;
+    };
+    let pipelines = PermutePipelines::new(&gpu).expect("pipelines");
+    let target = defaults::stbn_128_slice_tables();
+    let (tile, tables) = (defaults::tile_128(), defaults::tables_128());
+    let layout = FrameLayout::new(150, 70, 4, 128).unwrap();
+    let color = gpu.storage_zeroed::<Vec4>("colour", layout.pixel_count());
+    let mut permuter = SeedPermuter::new(&gpu, &pipelines, layout, &tile, &tables, &color).unwrap();
+    permuter.enable_temporal(&gpu, &pipelines, &target).unwrap();
+    let mut seeds: Vec<u32> = (0..layout.seed_count() as u32)
+        .map(|i| hash_u32(i ^ 29))
+        .collect();
+    permuter.upload_seeds(&gpu, &seeds).unwrap();
+    let mut next = vec![0; seeds.len()];
+    for frame in [61u32, 62, 63, 64, 65] {
+        let values = intensities(layout.pixel_count(), frame);
+        permuter.upload_intensity(&gpu, &values).unwrap();
+        let mode = if frame == 62 {
+            permuter.set_frame(&gpu, frame);
+            permute_frame(&layout, frame, &values, &tile, &tables, &seeds, &mut next).unwrap();
+            PermuteMode::Permute
+        } else {
+            permuter.set_frame(&gpu, frame.wrapping_mul(7919));
+            permute_frame_temporal(&layout, frame, &values, &target, &seeds, &mut next).unwrap();
+            PermuteMode::Temporal
+        };
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        permuter.encode_step(&mut encoder, &pipelines, frame, mode, None);
+        gpu.queue.submit([encoder.finish()]);
+        let got = permuter.read_seeds(&gpu).unwrap();
+        assert_ne!(next, seeds, "frame {frame} must move seeds");
+        assert_eq!(got, next, "frame {frame} ({mode:?}) on {}", gpu.describe());
+        std::mem::swap(&mut seeds, &mut next);
+    }
+}

@@ -6,6 +6,7 @@ mod filter;
 mod headless;
 mod permute;
 mod reproject;
+mod temporal;
 mod timer;
 mod trace;
 

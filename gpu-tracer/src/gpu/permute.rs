@@ -3,6 +3,7 @@
 //! frames.
 
 use super::context::Gpu;
+use super::temporal::{PermuterParts, TemporalPasses};
 use super::timer::PassTimer;
 use super::GpuError;
 use kernels::permute_entry::{
@@ -11,8 +12,8 @@ use kernels::permute_entry::{
 };
 use sampler_core::features::permute::JUMP_ROUNDS;
 use sampler_core::{
-    step_index, DitherTile, FeatureThresholds, FrameLayout, FrameParams, RetargetTables, SurfaceFeature,
-    STEP_COUNT,
+    step_index, DitherTile, FeatureThresholds, FrameLayout, FrameParams, RetargetTables, SliceTables,
+    SurfaceFeature, STEP_COUNT,
 };
 
 /// How seeds change between frames.
@@ -30,6 +31,15 @@ pub enum PermuteMode {
     /// (`kernels::abi::SAMPLER_FOLLOW_HOMES`), not seeds: it draws every
     /// number itself and advances its own sequence every frame.
     Hold,
+    /// The temporally blue permutation (`sampler_core::permute_frame_temporal`):
+    /// after frame `t`, the sorting pass ranks against slice `t mod D` of a
+    /// spatiotemporal mask and the retargeting pass moves seeds to slice
+    /// `t + 1` with the exact table between them, both at tile offset 0.
+    /// Needs [`SeedPermuter::enable_temporal`]; the tile side is the mask's
+    /// (128 for the default one). The feature-aware permutation does not
+    /// apply (its passes read the walk's tables); seed reprojection moves
+    /// the seeds before the trace as in [`Permute`](Self::Permute).
+    Temporal,
 }
 
 /// The compute pipelines of the permutation (plain and feature-aware), created once per device.
@@ -85,6 +95,7 @@ pub struct SeedPermuter {
     tile: wgpu::Buffer,
     tables: Vec<wgpu::Buffer>,
     features: Option<FeaturePasses>,
+    temporal: Option<TemporalPasses>,
 }
 
 /// The buffers and bind groups of the feature-aware passes
@@ -150,6 +161,7 @@ impl SeedPermuter {
             tile: tile_buf,
             tables: table_bufs,
             features: None,
+            temporal: None,
         })
     }
 
@@ -223,6 +235,31 @@ impl SeedPermuter {
         });
     }
 
+    /// Enables [`PermuteMode::Temporal`] with `target` (its slices and
+    /// tables uploaded once; module `temporal` of `gpu` says how they are
+    /// bound).
+    ///
+    /// # Errors
+    /// [`GpuError::Input`] if the target's tile differs from the layout's;
+    /// [`GpuError::Validation`] if a slice cannot be bound at the device's
+    /// storage offset alignment (tiles below 8x8).
+    pub fn enable_temporal(
+        &mut self,
+        gpu: &Gpu,
+        pipelines: &PermutePipelines,
+        target: &SliceTables<'_>,
+    ) -> Result<(), GpuError> {
+        let buffers = PermuterParts {
+            sort: &pipelines.sort,
+            retarget: &pipelines.retarget,
+            intensity: &self.intensity,
+            seeds: &self.seeds,
+            scratch: &self.scratch,
+        };
+        self.temporal = Some(TemporalPasses::new(gpu, &self.layout, target, buffers)?);
+        Ok(())
+    }
+
     /// The surface-feature buffer of the feature-aware permutation, if
     /// [`enable_features`](Self::enable_features) was called.
     pub fn features(&self) -> Option<&wgpu::Buffer> {
@@ -292,6 +329,12 @@ impl SeedPermuter {
     /// [`PermuteMode::White`], which needs `frame + 1` (the salt).
     /// `timer` (if any, with its first span index) records the sort pass as
     /// that span and the retarget pass as the next.
+    /// [`PermuteMode::Temporal`] ignores the frame parameters (its passes
+    /// bind frame 0's) and uses slice and table `frame mod D`.
+    ///
+    /// # Panics
+    /// With [`PermuteMode::Temporal`] if
+    /// [`enable_temporal`](Self::enable_temporal) was not called.
     pub fn encode_step(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -328,6 +371,22 @@ impl SeedPermuter {
                 pass.set_pipeline(&pipelines.retarget_features);
                 pass.set_bind_group(0, &f.retarget_bg[step], &[]);
                 pass.dispatch_workgroups(x, y, 1);
+            }
+            PermuteMode::Temporal => {
+                let passes = self
+                    .temporal
+                    .as_ref()
+                    .expect("PermuteMode::Temporal needs SeedPermuter::enable_temporal");
+                let z = (frame % passes.depth) as usize;
+                let blocks = params.blocks_x() * params.blocks_y();
+                dispatch(encoder, &pipelines.sort, &passes.sort_bg[z], blocks, timer);
+                dispatch(
+                    encoder,
+                    &pipelines.retarget,
+                    &passes.retarget_bg[z],
+                    params.seed_count(),
+                    timer.map(|(t, span)| (t, span + 1)),
+                );
             }
             PermuteMode::Sort | PermuteMode::Permute => {
                 let blocks = params.blocks_x() * params.blocks_y();

@@ -9,6 +9,10 @@
 //!   `i * 4 * W * W`; one packed `u32` offset per texel, row-major.
 //! - spatiotemporal `.bin`: one `u16` per-slice rank per texel, slice-major
 //!   then row-major.
+//! - slice tables `.bin`: the tables from each slice of a spatiotemporal
+//!   mask to the next (the last to the first), table `z` first at byte
+//!   `z * 2 * W * W`; one packed offset per texel as a `u16` (the packing's
+//!   bits 16..32 are zero), row-major.
 //! - screen-space sampler keys `.bin`: one `u32` key per texel, in
 //!   `ScreenSobolLayout::key_index` order (spp level, then dimension pair, then
 //!   row-major).
@@ -24,11 +28,11 @@
 use anyhow::{bail, ensure, Context, Result};
 use rayon::prelude::*;
 use sampler_core::bake::{
-    bake_filter_adapted, bake_key_tile, bake_mask, bake_retarget_table_with, bake_stbn, no_progress,
-    FilterAdaptedParams, FilterCombine, KeyParams, MaskParams, RetargetBake, SpatialFilter, StbnParams,
-    SwapReport, TemporalFilter, DISPLACEMENT_COST, MAX_MASK_SIDE,
+    bake_filter_adapted, bake_key_tile, bake_mask, bake_retarget_table_with, bake_slice_table, bake_stbn,
+    no_progress, FilterAdaptedParams, FilterCombine, KeyParams, MaskParams, RetargetBake, SpatialFilter,
+    StbnParams, SwapReport, TemporalFilter, DISPLACEMENT_COST, MAX_MASK_SIDE,
 };
-use sampler_core::{DitherTile, ScreenSobolLayout, STEP_COUNT};
+use sampler_core::{DitherTile, ScreenSobolLayout, SpatiotemporalMask, STEP_COUNT};
 use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -105,16 +109,20 @@ pub enum DefaultSet {
     Keys,
     /// `filter_adapted_128x128x64.bin`.
     FilterAdapted,
+    /// `stbn_128x128x64_tables.bin`: the retarget tables between
+    /// consecutive slices of the STBN mask (baked from its recorded seed).
+    StbnTables,
 }
 
 impl DefaultSet {
     /// Every set, in the order `defaults` writes them.
-    pub const ALL: [DefaultSet; 5] = [
+    pub const ALL: [DefaultSet; 6] = [
         DefaultSet::Tile64,
         DefaultSet::Tile128,
         DefaultSet::Stbn,
         DefaultSet::Keys,
         DefaultSet::FilterAdapted,
+        DefaultSet::StbnTables,
     ];
 
     /// File names this set writes.
@@ -125,6 +133,7 @@ impl DefaultSet {
             DefaultSet::Stbn => &["stbn_128x128x64.bin"],
             DefaultSet::Keys => &["screen_sobol_keys_64.bin"],
             DefaultSet::FilterAdapted => &["filter_adapted_128x128x64.bin"],
+            DefaultSet::StbnTables => &["stbn_128x128x64_tables.bin"],
         }
     }
 }
@@ -518,6 +527,25 @@ pub fn bake_default_stbn(report: Report<'_>) -> Result<Vec<u8>> {
     encode_u16(&bake_stbn(&params, report)?)
 }
 
+/// Bakes the retarget tables between consecutive slices of the default
+/// spatiotemporal mask (itself baked from its recorded seed, as
+/// [`bake_default_stbn`]), one rayon task per slice: their `u16` bytes,
+/// table `z` (slice `z` to `z + 1`, the last to slice 0) first at byte
+/// `z * 2 * 128 * 128`.
+///
+/// # Errors
+/// Propagated bake errors (none for the recorded parameters).
+pub fn bake_default_stbn_tables(report: Report<'_>) -> Result<Vec<u8>> {
+    let bytes = bake_default_stbn(report)?;
+    let (width, height, depth) = DEFAULT_STBN_SIZE;
+    let mask = SpatiotemporalMask::new(width, height, depth, &bytes)?;
+    let tables = (0..depth)
+        .into_par_iter()
+        .map(|z| bake_slice_table(&mask, z).map_err(anyhow::Error::from))
+        .collect::<Result<Vec<_>>>()?;
+    encode_u16(&tables.concat())
+}
+
 /// Bakes one default set: `(file name, bytes)` pairs, plus the retarget
 /// bakes (for reporting energies; empty for the STBN set).
 ///
@@ -544,6 +572,7 @@ pub fn bake_default_set(set: DefaultSet, report: Report<'_>) -> Result<(NamedFil
             let mask = bake_filter_adapted(&default_filter_adapted_params(), report)?;
             (vec![(files[0], encode_u16(&mask.ranks)?)], Vec::new())
         }
+        DefaultSet::StbnTables => (vec![(files[0], bake_default_stbn_tables(report)?)], Vec::new()),
     })
 }
 

@@ -65,6 +65,16 @@ fn default_filter_adapted_regenerates_byte_for_byte() {
     check_defaults(&["filter-adapted"], &scratch("filter-adapted"));
 }
 
+/// The STBN bake and its 64 slice tables (28 s in the test profile on 2
+/// busy cores, 41 s for `bake defaults` in release under a parallel build):
+/// ignored, run with `cargo test -p bake -- --ignored`. Conformance's `temporal_permutation` test compares
+/// the first and last tables with a fresh bake on every run.
+#[test]
+#[ignore = "slow (about 30 s): the STBN bake and 64 assignment solves"]
+fn default_stbn_slice_tables_regenerate_byte_for_byte() {
+    check_defaults(&["stbn-tables"], &scratch("stbn-tables"));
+}
+
 #[test]
 fn filter_adapted_writes_ranks_slices_and_exr() {
     let dir = scratch("filter-adapted-small");

@@ -9,6 +9,9 @@
 //!   an exact sparse assignment problem ([`solve_assignment`], auction with
 //!   epsilon scaling), following the convention of
 //!   [`retarget`](crate::permutation::retarget).
+//! - [`bake_slice_tables`]: the tables between consecutive slices of a
+//!   spatiotemporal mask, for the temporally blue permutation
+//!   ([`temporal`](crate::permutation::temporal)).
 //! - [`anneal_retarget_table`]: the paper's simulated annealing from the
 //!   identity, kept as a baseline for comparison only.
 //! - [`bake_sampler_keys`] / [`bake_key_tile`]: per-pixel keys of the
@@ -45,6 +48,7 @@ mod kronecker_search;
 mod retarget_bake;
 mod shift_quality;
 mod shift_tile;
+mod slice_tables;
 mod stbn;
 mod swap;
 mod threshold_swap;
@@ -78,6 +82,7 @@ pub use shift_quality::{field_quality, FieldQuality};
 pub use shift_tile::{
     bake_shift_tile, pack_shift, refine_shift_tile_words, unpack_shift, ShiftTile, ShiftTileParams,
 };
+pub use slice_tables::{bake_slice_table, bake_slice_tables, slice_ranks, slices_packed};
 pub use stbn::{bake_stbn, StbnParams};
 pub use swap::SwapReport;
 pub use vector_stbn::{bake_vector_stbn, VectorKind, VectorStbn, VectorStbnParams};

@@ -36,6 +36,13 @@ impl<'a> DitherTile<'a> {
         Ok(DitherTile { tile_log2, values })
     }
 
+    /// Rewraps values that [`new`](Self::new)'s checks hold for (a slice of
+    /// an already validated volume): no check but the length, in debug builds.
+    pub(crate) fn from_checked(tile_log2: u32, values: &'a [u32]) -> Self {
+        debug_assert_eq!(values.len(), 1usize << (2 * tile_log2));
+        DitherTile { tile_log2, values }
+    }
+
     /// Tile side in texels.
     pub fn tile(&self) -> u32 {
         1 << self.tile_log2

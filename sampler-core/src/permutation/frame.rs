@@ -166,7 +166,7 @@ pub fn retarget_pixel_at_offset(
     seeds_out[(d.y * params.padded_width + d.x) as usize] = seeds_in[seed_index as usize];
 }
 
-fn check_common<T>(
+pub(crate) fn check_common<T>(
     layout: &FrameLayout,
     tile: &DitherTile<'_>,
     intensities: &[T],
@@ -343,29 +343,46 @@ fn permute_frame_with<T: Intensity>(
     }
     let params = layout.params(frame);
     let table = tables.table(step_index(frame, params.tile_log2));
-    let (values, cached) = (tile.values(), crate::permutation::cpu::applies(&params));
+    permute_checked(
+        &params,
+        intensities,
+        tile.values(),
+        table,
+        seeds_in,
+        seeds_out,
+        dispatch,
+    );
+    Ok(())
+}
+
+/// Sorting + retargeting of the whole frame `params` (tile offset
+/// `walk_offset(params.frame)`) with `table`, buffers already checked: the
+/// CPU fast path where it applies (with the run-time instruction set when
+/// `dispatch`), else [`permute_block`] per block. Identical output either way.
+pub(crate) fn permute_checked<T: Intensity>(
+    params: &FrameParams,
+    intensities: &[T],
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+    dispatch: bool,
+) {
+    let cached = crate::permutation::cpu::applies(params);
     if cached && dispatch {
-        crate::permutation::cpu::permute_blocks_cached(
-            &params,
-            intensities,
-            values,
-            table,
-            seeds_in,
-            seeds_out,
-        );
+        crate::permutation::cpu::permute_blocks_cached(params, intensities, tile, table, seeds_in, seeds_out);
     } else if cached {
         crate::permutation::cpu::permute_blocks_portable(
-            &params,
+            params,
             intensities,
-            values,
+            tile,
             table,
             seeds_in,
             seeds_out,
         );
     } else {
-        permute_blocks(&params, intensities, values, table, seeds_in, seeds_out);
+        permute_blocks(params, intensities, tile, table, seeds_in, seeds_out);
     }
-    Ok(())
 }
 
 /// The general CPU path of [`permute_frame`] (any block and tile size; see

@@ -14,6 +14,10 @@
 //!   per-block / per-seed functions the GPU kernels call
 //!   ([`sort_block_in_frame`](crate::sort_block_in_frame),
 //!   [`retarget_pixel`](crate::retarget_pixel)).
+//! - [`temporal`]: the temporally blue permutation, whose sorting target is
+//!   slice `t mod D` of a spatiotemporal mask and whose tables move seeds
+//!   from one slice to the next ([`permute_frame_temporal`](crate::permute_frame_temporal),
+//!   [`SliceTables`](crate::SliceTables)).
 //! - `cpu` (private): the CPU fast path behind `permute_frame`, with run-time
 //!   choice of AVX-512 / AVX2 / SSE2 ([`Isa`](crate::Isa)) and the banded form
 //!   for thread pools ([`permute_frame_rows`](crate::permute_frame_rows)).
@@ -28,3 +32,4 @@ pub mod frame;
 pub mod layout;
 pub mod retarget;
 pub mod sort;
+pub mod temporal;

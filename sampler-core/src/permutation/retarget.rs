@@ -95,6 +95,20 @@ impl<'a> RetargetTable<'a> {
     /// two texels move to the same place (the first texel receiving zero or
     /// several seeds is reported).
     pub fn new(tile: u32, packed: &'a [u32]) -> Result<Self, Error> {
+        let table = Self::new_bounded(tile, packed)?;
+        table.check_bijective()?;
+        Ok(table)
+    }
+
+    /// [`new`](Self::new) without the bijection check (about 170 reads a
+    /// texel): sizes and every offset's radius are checked, which is all
+    /// the passes' memory safety rests on; that the table is a permutation
+    /// is the caller's promise (compiled-in data whose tests check it). A
+    /// table that is not would lose and duplicate seeds.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new), except [`Error::RetargetNotBijective`].
+    pub(crate) fn new_bounded(tile: u32, packed: &'a [u32]) -> Result<Self, Error> {
         let log2 = tile_log2(tile).ok_or(Error::TileSize { tile })?;
         let n = (tile as usize) * (tile as usize);
         if packed.len() != n {
@@ -113,12 +127,18 @@ impl<'a> RetargetTable<'a> {
                 });
             }
         }
-        let table = RetargetTable {
+        Ok(RetargetTable {
             tile_log2: log2,
             packed,
-        };
-        table.check_bijective()?;
-        Ok(table)
+        })
+    }
+
+    /// Rewraps a slice that [`new`](Self::new) or [`new_bounded`](Self::new_bounded)
+    /// accepted before (for types that validate many tables once and hand
+    /// them out per frame): no check but the length, in debug builds.
+    pub(crate) fn from_checked(tile_log2: u32, packed: &'a [u32]) -> Self {
+        debug_assert_eq!(packed.len(), 1usize << (2 * tile_log2));
+        RetargetTable { tile_log2, packed }
     }
 
     /// Tile side in texels.

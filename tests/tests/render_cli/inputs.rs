@@ -91,6 +91,15 @@ fn bad_input_fails_with_a_clear_message_and_writes_nothing() {
             vec!["--sampler", "spatiotemporal", "--mode", "permute"],
             "nothing to permute with --sampler spatiotemporal",
         ),
+        (vec!["--mode", "temporal", "--tile", "64"], "use --tile 128"),
+        (
+            vec!["--mode", "temporal", "--features", "on"],
+            "feature-aware permutation reads the walk's retarget tables",
+        ),
+        (
+            vec!["--sampler", "spatiotemporal", "--mode", "temporal"],
+            "--mode temporal has nothing to permute with --sampler spatiotemporal",
+        ),
         (vec!["--out", file.to_str().unwrap()], "not a directory"),
         (
             vec!["--out", under_file.to_str().unwrap()],

@@ -8,7 +8,7 @@ use std::path::Path;
 #[test]
 fn cpu_render_writes_every_image_for_every_mode() {
     let exe = tracer();
-    for mode in ["white", "sort", "permute"] {
+    for mode in ["white", "sort", "permute", "temporal"] {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("nested/out");
         let o = run(
@@ -135,6 +135,31 @@ fn feature_aware_permutation_renders_on_cpu_and_gpu() {
             continue;
         }
         assert!(o.status.success() && t.contains("features on"), "{device}: {t}");
+        assert_eq!(png_size(&out.join("mean.png")), (24, 16));
+    }
+}
+
+/// `--mode temporal` on the CPU and the GPU: a 128 tile by default, and
+/// the mode named in the summary.
+#[test]
+fn temporal_mode_renders_on_cpu_and_gpu() {
+    let exe = tracer();
+    let dir = tempfile::tempdir().unwrap();
+    for device in ["cpu", "gpu"] {
+        let out = dir.path().join(device);
+        let args = [
+            "render", "--width", "24", "--height", "16", "--frames", "3", "--mode", "temporal", "--device",
+            device, "--out",
+        ];
+        let o = run(&exe, &[&args[..], &[out.to_str().unwrap()]].concat());
+        let t = text(&o);
+        if device == "gpu" && !o.status.success() {
+            assert!(t.contains("no GPU adapter"), "{t}");
+            assert!(!gpu_required(), "BLUENOISE_REQUIRE_GPU=1 and no GPU: {t}");
+            eprintln!("SKIPPED (GPU temporal mode): {t}");
+            continue;
+        }
+        assert!(o.status.success() && t.contains("Temporal mode"), "{device}: {t}");
         assert_eq!(png_size(&out.join("mean.png")), (24, 16));
     }
 }

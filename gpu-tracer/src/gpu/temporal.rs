@@ -1,0 +1,152 @@
+//! The temporally blue permutation on the GPU
+//! ([`PermuteMode::Temporal`](super::PermuteMode::Temporal)): the sorting
+//! and retargeting kernels of the walk's permutation, unchanged, with
+//! frame `t`'s tile binding on slice `z = t mod D` of the target and its
+//! table binding on table `z`, at tile offset 0.
+//!
+//! Every slice and every table is uploaded once, into one buffer each
+//! (`D * W * W` words; 4 MiB each for the default 128x128x64 target). Each
+//! slice and each table is then bound where it lies, one bind group per
+//! `z` for each pass (binding ranges at `z * 4 W^2` bytes, a multiple of
+//! every device's storage offset alignment for `W >= 8`): the frame picks
+//! its bind groups as the walk's permutation picks its step's table, with
+//! no copy and no upload per frame, and without overwriting the walk's tile
+//! and table buffers, so the walk's modes keep working on the same
+//! [`SeedPermuter`](super::SeedPermuter). (Copying slice and table into
+//! the bound buffers with `copy_buffer_to_buffer` would also work; it
+//! costs two copies a frame and makes those buffers mean different things
+//! in different modes.)
+//!
+//! The kernels read the walk's offset `walk_offset(params.frame)`; these
+//! bind groups bind their own frame parameters, those of frame 0 (offset
+//! `(0, 0)`), written once, so the caller's `set_frame` does not matter.
+
+use super::context::Gpu;
+use super::GpuError;
+use sampler_core::{FrameLayout, SliceTables};
+use std::num::NonZeroU64;
+
+/// The temporal target on the device and the bind groups of its passes.
+#[derive(Debug)]
+pub(super) struct TemporalPasses {
+    /// Slices of the target (`D * W * W` ranks), bound a slice at a time.
+    _slices: wgpu::Buffer,
+    /// Tables of the target (`D * W * W` packed offsets), bound a table at a time.
+    _tables: wgpu::Buffer,
+    /// Frame 0's parameters (tile offset `(0, 0)`), written once.
+    _params: wgpu::Buffer,
+    /// Per slice `z`: the sort pass against slice `z`.
+    pub sort_bg: Vec<wgpu::BindGroup>,
+    /// Per slice `z`: the retarget pass with table `z` (slice `z` to `z + 1`).
+    pub retarget_bg: Vec<wgpu::BindGroup>,
+    /// Slices of the target (`D`), to pick `z = t mod D`.
+    pub depth: u32,
+}
+
+/// What the temporal passes share with the
+/// [`SeedPermuter`](super::SeedPermuter) they belong to: its buffers and
+/// the walk's sorting and retargeting pipelines.
+pub(super) struct PermuterParts<'a> {
+    /// `sort_cs`.
+    pub sort: &'a wgpu::ComputePipeline,
+    /// `retarget_cs`.
+    pub retarget: &'a wgpu::ComputePipeline,
+    /// Per-pixel sort keys.
+    pub intensity: &'a wgpu::Buffer,
+    /// The seed buffer (sort input, retarget output).
+    pub seeds: &'a wgpu::Buffer,
+    /// The sorted seeds (sort output, retarget input).
+    pub scratch: &'a wgpu::Buffer,
+}
+
+impl TemporalPasses {
+    /// Uploads `target` and builds the bind groups for `layout`.
+    ///
+    /// # Errors
+    /// [`GpuError::Input`] if the target's tile differs from the layout's.
+    pub fn new(
+        gpu: &Gpu,
+        layout: &FrameLayout,
+        target: &SliceTables<'_>,
+        buffers: PermuterParts<'_>,
+    ) -> Result<Self, GpuError> {
+        if target.tile() != layout.tile() {
+            return Err(GpuError::Input(sampler_core::Error::TileSize {
+                tile: target.tile(),
+            }));
+        }
+        let slices = gpu.storage("temporal target slices", target.slices_packed());
+        let tables = gpu.storage("temporal target tables", target.tables_packed());
+        let params = gpu.uniform("frame params (frame 0)", &layout.params(0));
+        let bytes = 4 * u64::from(target.tile()) * u64::from(target.tile());
+        let align = u64::from(gpu.device.limits().min_storage_buffer_offset_alignment);
+        if !bytes.is_multiple_of(align) {
+            return Err(GpuError::Validation(format!(
+                "a {0}x{0} slice ({bytes} bytes) cannot be bound at the device's storage offset alignment ({align} bytes)",
+                target.tile()
+            )));
+        }
+        let sort_bg = (0..target.depth())
+            .map(|z| {
+                let entries = [
+                    whole(&params),
+                    whole(buffers.intensity),
+                    range(&slices, z, bytes),
+                    whole(buffers.seeds),
+                    whole(buffers.scratch),
+                ];
+                bind(gpu, buffers.sort, &entries)
+            })
+            .collect();
+        let retarget_bg = (0..target.depth())
+            .map(|z| {
+                let entries = [
+                    whole(&params),
+                    range(&tables, z, bytes),
+                    whole(buffers.scratch),
+                    whole(buffers.seeds),
+                ];
+                bind(gpu, buffers.retarget, &entries)
+            })
+            .collect();
+        Ok(TemporalPasses {
+            _slices: slices,
+            _tables: tables,
+            _params: params,
+            sort_bg,
+            retarget_bg,
+            depth: target.depth(),
+        })
+    }
+}
+
+/// Entry `z` of `buffer` when it holds entries of `bytes` bytes back to back.
+fn range(buffer: &wgpu::Buffer, z: u32, bytes: u64) -> wgpu::BufferBinding<'_> {
+    wgpu::BufferBinding {
+        buffer,
+        offset: u64::from(z) * bytes,
+        size: NonZeroU64::new(bytes),
+    }
+}
+
+/// All of `buffer`.
+fn whole(buffer: &wgpu::Buffer) -> wgpu::BufferBinding<'_> {
+    buffer.as_entire_buffer_binding()
+}
+
+/// A bind group of `pipeline`'s group 0 with `entries` at bindings 0, 1, ...
+fn bind(gpu: &Gpu, pipeline: &wgpu::ComputePipeline, entries: &[wgpu::BufferBinding<'_>]) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = entries
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: wgpu::BindingResource::Buffer(b.clone()),
+        })
+        .collect();
+    gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("temporal permutation"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    })
+}
