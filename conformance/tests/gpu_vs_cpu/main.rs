@@ -10,7 +10,7 @@
 //! - [`trace`]: traced frames (statistically, and with the same seeds),
 //!   the G-buffer of a textured moving scene, and the feature pass.
 //! - [`reprojection`]: the seed reprojection passes and the motion pass.
-//! - [`trace_variant`]: the basic trace kernel against the full one.
+//! - [`trace_variant`]: the smaller trace kernels against the CPU.
 
 mod permute;
 mod reprojection;
