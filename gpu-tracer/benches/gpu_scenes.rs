@@ -11,7 +11,7 @@
 //!
 //! Prints each scene's median trace time, the rays its frame traces
 //! (camera, continuation and shadow rays: every BVH query, counted by the
-//! CPU renderer on the same frame with white seeds, `kernels::trace_pixel_counted`),
+//! CPU renderer on the same frame with white seeds, `kernels::trace_pixel_counted_variant`),
 //! the time per ray and its ratio to the Cornell box's first row. Each
 //! scene runs on the smallest trace kernel that renders it exactly
 //! (`kernels::trace_variant`), and again on the full kernel. Issue 30's goal is

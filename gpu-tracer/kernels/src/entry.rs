@@ -15,125 +15,75 @@ use glam::{UVec2, UVec3, Vec2, Vec4};
 use sampler_core::SurfaceFeature;
 use spirv_std::spirv;
 
-/// [`TRACE_ENTRY`](crate::abi::TRACE_ENTRY): one invocation per visible
-/// pixel `(id.x, id.y)`; writes the frame colour `trace_pixel(...)` of the
-/// pixel's seed, with the screen-space Sobol keys of binding 7 (read only
-/// when `params.sampler` names `SAMPLER_SCREEN_SOBOL`). Invocations outside the
-/// frame do nothing.
-#[allow(clippy::too_many_arguments)]
-#[spirv(compute(threads(8, 8)))]
-pub fn trace_cs(
-    #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &TraceParams,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] nodes: &[BvhNodeGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] triangles: &[TriangleGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] materials: &[MaterialGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] emitters: &[EmitterGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] seeds: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] color: &mut [Vec4],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] keys: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 8)] attrs: &[TriangleAttrGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] images: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 10)] environment: &[f32],
-) {
-    if id.x >= params.width || id.y >= params.height {
-        return;
-    }
-    let seed = seeds[id.y.wrapping_mul(params.padded_width).wrapping_add(id.x) as usize];
-    let value = trace_pixel_variant::<{ trace_variant::FULL }>(
-        params,
-        UVec2::new(id.x, id.y),
-        seed,
-        keys,
-        nodes,
-        triangles,
-        materials,
-        emitters,
-        attrs,
-        images,
-        environment,
-    );
-    color[id.y.wrapping_mul(params.width).wrapping_add(id.x) as usize] = value;
+/// Defines a trace entry point: one invocation per visible pixel `(id.x,
+/// id.y)`; writes the frame colour of the pixel's seed, traced by the
+/// variant of feature set `$features` ([`trace_pixel_variant`]), with the
+/// a-priori samplers' keys of binding 7. Invocations outside the frame do
+/// nothing. Every variant has the same bindings
+/// ([`TRACE_ENTRY`](crate::abi::TRACE_ENTRY)'s).
+macro_rules! trace_entry {
+    ($(#[$doc:meta])* $name:ident, $features:expr) => {
+        $(#[$doc])*
+        #[allow(clippy::too_many_arguments)]
+        #[spirv(compute(threads(8, 8)))]
+        pub fn $name(
+            #[spirv(global_invocation_id)] id: UVec3,
+            #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &TraceParams,
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] nodes: &[BvhNodeGpu],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] triangles: &[TriangleGpu],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] materials: &[MaterialGpu],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] emitters: &[EmitterGpu],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] seeds: &[u32],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] color: &mut [Vec4],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] keys: &[u32],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 8)] attrs: &[TriangleAttrGpu],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] images: &[u32],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 10)] environment: &[f32],
+        ) {
+            if id.x >= params.width || id.y >= params.height {
+                return;
+            }
+            let seed = seeds[id.y.wrapping_mul(params.padded_width).wrapping_add(id.x) as usize];
+            let value = trace_pixel_variant::<{ $features }>(
+                params,
+                UVec2::new(id.x, id.y),
+                seed,
+                keys,
+                nodes,
+                triangles,
+                materials,
+                emitters,
+                attrs,
+                images,
+                environment,
+            );
+            color[id.y.wrapping_mul(params.width).wrapping_add(id.x) as usize] = value;
+        }
+    };
 }
 
-/// [`TRACE_BASIC_ENTRY`](crate::abi::TRACE_BASIC_ENTRY): [`trace_cs`]
-/// compiled as the basic variant ([`crate::trace_variant`]): the same
-/// bindings and, on a scene that fits it, the same colours bit for bit.
-#[allow(clippy::too_many_arguments)]
-#[spirv(compute(threads(8, 8)))]
-pub fn trace_basic_cs(
-    #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &TraceParams,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] nodes: &[BvhNodeGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] triangles: &[TriangleGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] materials: &[MaterialGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] emitters: &[EmitterGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] seeds: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] color: &mut [Vec4],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] keys: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 8)] attrs: &[TriangleAttrGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] images: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 10)] environment: &[f32],
-) {
-    if id.x >= params.width || id.y >= params.height {
-        return;
-    }
-    let seed = seeds[id.y.wrapping_mul(params.padded_width).wrapping_add(id.x) as usize];
-    let value = trace_pixel_variant::<{ trace_variant::BASIC }>(
-        params,
-        UVec2::new(id.x, id.y),
-        seed,
-        keys,
-        nodes,
-        triangles,
-        materials,
-        emitters,
-        attrs,
-        images,
-        environment,
-    );
-    color[id.y.wrapping_mul(params.width).wrapping_add(id.x) as usize] = value;
-}
+trace_entry!(
+    /// [`TRACE_ENTRY`](crate::abi::TRACE_ENTRY): the full trace kernel,
+    /// `trace_pixel(...)` per pixel, for any scene.
+    trace_cs,
+    trace_variant::FULL
+);
 
-/// [`TRACE_UNTEXTURED_ENTRY`](crate::abi::TRACE_UNTEXTURED_ENTRY):
-/// [`trace_cs`] compiled as the untextured variant
-/// ([`crate::trace_variant`]): the same bindings and, on a scene that fits
-/// it, the same colours bit for bit.
-#[allow(clippy::too_many_arguments)]
-#[spirv(compute(threads(8, 8)))]
-pub fn trace_untextured_cs(
-    #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &TraceParams,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] nodes: &[BvhNodeGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] triangles: &[TriangleGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] materials: &[MaterialGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] emitters: &[EmitterGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] seeds: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] color: &mut [Vec4],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] keys: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 8)] attrs: &[TriangleAttrGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] images: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 10)] environment: &[f32],
-) {
-    if id.x >= params.width || id.y >= params.height {
-        return;
-    }
-    let seed = seeds[id.y.wrapping_mul(params.padded_width).wrapping_add(id.x) as usize];
-    let value = trace_pixel_variant::<{ trace_variant::UNTEXTURED }>(
-        params,
-        UVec2::new(id.x, id.y),
-        seed,
-        keys,
-        nodes,
-        triangles,
-        materials,
-        emitters,
-        attrs,
-        images,
-        environment,
-    );
-    color[id.y.wrapping_mul(params.width).wrapping_add(id.x) as usize] = value;
-}
+trace_entry!(
+    /// [`TRACE_UNTEXTURED_ENTRY`](crate::abi::TRACE_UNTEXTURED_ENTRY): the
+    /// untextured variant ([`crate::trace_variant`]): on a scene that fits
+    /// it, [`trace_cs`]'s colours bit for bit.
+    trace_untextured_cs,
+    trace_variant::UNTEXTURED
+);
+
+trace_entry!(
+    /// [`TRACE_BASIC_ENTRY`](crate::abi::TRACE_BASIC_ENTRY): the basic
+    /// variant ([`crate::trace_variant`]): on a scene that fits it,
+    /// [`trace_cs`]'s colours bit for bit.
+    trace_basic_cs,
+    trace_variant::BASIC
+);
 
 /// [`ACCUMULATE_ENTRY`](crate::abi::ACCUMULATE_ENTRY): one invocation per
 /// visible pixel; folds frame `params.frame`'s colour into the running mean

@@ -94,6 +94,5 @@ pub mod vertex_normal;
 pub use accumulate::accumulate_pixel;
 pub use gbuffer::gbuffer_pixel;
 pub use trace::{
-    trace_pixel, trace_pixel_counted, trace_pixel_counted_variant, trace_pixel_variant, trace_sample,
-    DIMS_PER_SAMPLE,
+    trace_pixel, trace_pixel_counted_variant, trace_pixel_variant, trace_sample, DIMS_PER_SAMPLE,
 };

@@ -147,40 +147,9 @@ pub fn trace_pixel_variant<const FEATURES: u32>(
     .0
 }
 
-/// [`trace_pixel`] and the number of rays it traced (camera, continuation
-/// and shadow rays: every BVH query), for throughput measurements.
-#[allow(clippy::too_many_arguments)]
-#[inline]
-pub fn trace_pixel_counted(
-    params: &TraceParams,
-    pixel: UVec2,
-    seed: u32,
-    keys: &[u32],
-    nodes: &[BvhNodeGpu],
-    triangles: &[TriangleGpu],
-    materials: &[MaterialGpu],
-    emitters: &[EmitterGpu],
-    attrs: &[TriangleAttrGpu],
-    images: &[u32],
-    environment: &[f32],
-) -> (Vec4, u32) {
-    trace_pixel_counted_variant::<{ trace_variant::FULL }>(
-        params,
-        pixel,
-        seed,
-        keys,
-        nodes,
-        triangles,
-        materials,
-        emitters,
-        attrs,
-        images,
-        environment,
-    )
-}
-
-/// [`trace_pixel_counted`] as one of the variants
-/// ([`trace_pixel_variant`]).
+/// [`trace_pixel_variant`] and the number of rays it traced (camera,
+/// continuation and shadow rays: every BVH query), for throughput
+/// measurements.
 #[allow(clippy::too_many_arguments)]
 #[inline]
 pub fn trace_pixel_counted_variant<const FEATURES: u32>(
