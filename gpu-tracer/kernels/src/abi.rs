@@ -26,7 +26,7 @@
 //! | | 8 | storage, read | `[TriangleAttrGpu]` (112 bytes each: texture coordinates, ids, tangent, vertex normals), parallel to binding 2 |
 //! | | 9 | storage, read | images `[u32]` (layout in [`IMAGE_HEADER_WORDS`]), at least one element |
 //! | | 10 | storage, read | environment map `[f32]`: sampling table then texels ([`crate::environment::environment_texel`]), at least one element |
-//! | [`GBUFFER_ENTRY`] | 0 | uniform | [`TraceParams`] (current and previous camera) |
+//! | [`GBUFFER_ENTRY`], [`GBUFFER_UNTEXTURED_ENTRY`] | 0 | uniform | [`TraceParams`] (current and previous camera) |
 //! | | 1 | storage, read | `[BvhNodeGpu]` |
 //! | | 2 | storage, read | `[TriangleGpu]` |
 //! | | 3 | storage, read | `[MaterialGpu]` |
@@ -73,6 +73,11 @@ pub const ACCUMULATE_ENTRY: &str = "entry::accumulate_cs";
 /// Name of the G-buffer entry point (one invocation per visible pixel):
 /// primary visibility through the pixel centre, motion vectors.
 pub const GBUFFER_ENTRY: &str = "entry::gbuffer_cs";
+/// Name of the G-buffer entry point without texture lookups or cut-outs
+/// (`crate::gbuffer::gbuffer_pixel_variant`): the same bindings as
+/// [`GBUFFER_ENTRY`], for scenes the untextured or basic trace kernel
+/// renders.
+pub const GBUFFER_UNTEXTURED_ENTRY: &str = "entry::gbuffer_untextured_cs";
 /// Name of the motion entry point (one invocation per visible pixel): the
 /// seed reprojection's motion vectors from the G-buffer
 /// (`crate::motion::reprojection_motion_pixel`).

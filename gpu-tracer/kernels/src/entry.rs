@@ -6,7 +6,7 @@ use crate::abi::{
     BvhNodeGpu, EmitterGpu, GBufferGpu, MaterialGpu, TraceParams, TriangleAttrGpu, TriangleGpu,
 };
 use crate::accumulate::accumulate_pixel;
-use crate::gbuffer::gbuffer_pixel;
+use crate::gbuffer::gbuffer_pixel_variant;
 use crate::motion::{reprojection_motion_pixel, visibility};
 use crate::surface_features::{demodulated_intensity, surface_feature};
 use crate::trace::trace_pixel_variant;
@@ -102,36 +102,59 @@ pub fn accumulate_cs(
     accum[i] = accumulate_pixel(accum[i], color[i], params.frame);
 }
 
-/// [`GBUFFER_ENTRY`](crate::abi::GBUFFER_ENTRY): one invocation per visible
-/// pixel; writes `gbuffer_pixel(...)`. Invocations outside the frame do
-/// nothing.
-#[allow(clippy::too_many_arguments)]
-#[spirv(compute(threads(8, 8)))]
-pub fn gbuffer_cs(
-    #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &TraceParams,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] nodes: &[BvhNodeGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] triangles: &[TriangleGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] materials: &[MaterialGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] attrs: &[TriangleAttrGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] images: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] previous: &[TriangleGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] gbuffer: &mut [GBufferGpu],
-) {
-    if id.x >= params.width || id.y >= params.height {
-        return;
-    }
-    gbuffer[id.y.wrapping_mul(params.width).wrapping_add(id.x) as usize] = gbuffer_pixel(
-        params,
-        UVec2::new(id.x, id.y),
-        nodes,
-        triangles,
-        materials,
-        attrs,
-        images,
-        previous,
-    );
+/// Defines a G-buffer entry point: one invocation per visible pixel;
+/// writes `gbuffer_pixel_variant::<$features>(...)`. Invocations outside
+/// the frame do nothing. Both variants have the same bindings
+/// ([`GBUFFER_ENTRY`](crate::abi::GBUFFER_ENTRY)'s).
+macro_rules! gbuffer_entry {
+    ($(#[$doc:meta])* $name:ident, $features:expr) => {
+        $(#[$doc])*
+        #[allow(clippy::too_many_arguments)]
+        #[spirv(compute(threads(8, 8)))]
+        pub fn $name(
+            #[spirv(global_invocation_id)] id: UVec3,
+            #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &TraceParams,
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] nodes: &[BvhNodeGpu],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] triangles: &[TriangleGpu],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] materials: &[MaterialGpu],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] attrs: &[TriangleAttrGpu],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] images: &[u32],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] previous: &[TriangleGpu],
+            #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] gbuffer: &mut [GBufferGpu],
+        ) {
+            if id.x >= params.width || id.y >= params.height {
+                return;
+            }
+            gbuffer[id.y.wrapping_mul(params.width).wrapping_add(id.x) as usize] =
+                gbuffer_pixel_variant::<{ $features }>(
+                    params,
+                    UVec2::new(id.x, id.y),
+                    nodes,
+                    triangles,
+                    materials,
+                    attrs,
+                    images,
+                    previous,
+                );
+        }
+    };
 }
+
+gbuffer_entry!(
+    /// [`GBUFFER_ENTRY`](crate::abi::GBUFFER_ENTRY): `gbuffer_pixel(...)`
+    /// per pixel, for any scene.
+    gbuffer_cs,
+    trace_variant::FULL
+);
+
+gbuffer_entry!(
+    /// [`GBUFFER_UNTEXTURED_ENTRY`](crate::abi::GBUFFER_UNTEXTURED_ENTRY):
+    /// the G-buffer without texture lookups or cut-outs
+    /// (`gbuffer_pixel_variant`): on a scene without them, [`gbuffer_cs`]'s
+    /// texels bit for bit.
+    gbuffer_untextured_cs,
+    trace_variant::UNTEXTURED
+);
 
 /// [`MOTION_ENTRY`](crate::abi::MOTION_ENTRY): one invocation per visible
 /// pixel; writes the pixel's visibility for the next frame and its

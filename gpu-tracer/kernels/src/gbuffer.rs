@@ -10,11 +10,12 @@ use crate::abi::{
     BvhNodeGpu, GBufferGpu, MaterialGpu, TraceParams, TriangleAttrGpu, TriangleGpu, GBUFFER_EMITTER,
     GBUFFER_HIT, GBUFFER_NO_HIT, GBUFFER_PREV_IN_FRONT,
 };
-use crate::bvh::closest_hit;
+use crate::bvh::{closest_hit, closest_hit_opaque};
 use crate::camera::{primary_ray, CameraView};
 use crate::footprint::primary_footprint;
 use crate::surface::{has_textures, surface_albedo, surface_albedo_filtered, surface_emission, triangle_uv};
 use crate::trace::normal_and_area;
+use crate::trace_variant::{FULL, TEXTURES};
 use glam::{UVec2, UVec4, Vec2, Vec4};
 
 /// The G-buffer texel of `pixel` (see [`GBufferGpu`] for every field and
@@ -41,21 +42,50 @@ pub fn gbuffer_pixel(
     images: &[u32],
     previous: &[TriangleGpu],
 ) -> GBufferGpu {
+    gbuffer_pixel_variant::<FULL>(
+        params, pixel, nodes, triangles, materials, attrs, images, previous,
+    )
+}
+
+/// [`gbuffer_pixel`] for the kernel variant of `FEATURES`
+/// ([`crate::trace_variant`]; the G-buffer reads no shading normal, light
+/// or glossy lobe, so only [`TEXTURES`] matters): without it, no cut-out
+/// test and the material's albedo and emission factors stand for its
+/// textures. The same texel, bit for bit, on a scene without textures,
+/// normal maps or cut-outs.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn gbuffer_pixel_variant<const FEATURES: u32>(
+    params: &TraceParams,
+    pixel: UVec2,
+    nodes: &[BvhNodeGpu],
+    triangles: &[TriangleGpu],
+    materials: &[MaterialGpu],
+    attrs: &[TriangleAttrGpu],
+    images: &[u32],
+    previous: &[TriangleGpu],
+) -> GBufferGpu {
+    let textured = FEATURES & TEXTURES != 0;
     let (w, h) = (params.width, params.height);
     let ray = primary_ray(params, pixel.x, pixel.y, Vec2::splat(0.5));
     let current = CameraView::current(params);
     let prev = CameraView::previous(params);
-    let hit = match closest_hit(
-        nodes,
-        triangles,
-        materials,
-        attrs,
-        images,
-        params.image_count,
-        &ray,
-        0.0,
-        f32::MAX,
-    ) {
+    let hit = if textured {
+        closest_hit(
+            nodes,
+            triangles,
+            materials,
+            attrs,
+            images,
+            params.image_count,
+            &ray,
+            0.0,
+            f32::MAX,
+        )
+    } else {
+        closest_hit_opaque(nodes, triangles, &ray, 0.0, f32::MAX)
+    };
+    let hit = match hit {
         Some(hit) => hit,
         None => {
             let mut motion = Vec4::ZERO;
@@ -86,14 +116,21 @@ pub fn gbuffer_pixel(
     let normal = if cos_out > 0.0 { geo_normal } else { -geo_normal };
     // The albedo the camera ray's first hit shades with: filtered over the
     // pixel's footprint (`crate::footprint`), as the trace pass reads it.
-    let albedo = if has_textures(&material) {
+    let albedo = if !textured {
+        material.albedo.truncate()
+    } else if has_textures(&material) {
         let (uv_centre, width) = primary_footprint(params, pixel, (v0, v1, v2), &attr, uv, hit.t);
         surface_albedo_filtered(&material, images, params.image_count, uv_centre, width)
     } else {
         surface_albedo(&material, images, params.image_count, uv)
     };
+    let emission = if textured {
+        surface_emission(&material, images, params.image_count, uv)
+    } else {
+        material.emission.truncate()
+    };
     let mut flags = GBUFFER_HIT;
-    if cos_out > 0.0 && surface_emission(&material, images, params.image_count, uv).max_element() > 0.0 {
+    if cos_out > 0.0 && emission.max_element() > 0.0 {
         flags |= GBUFFER_EMITTER;
     }
     let depth = (point - current.origin).dot(current.forward);

@@ -6,8 +6,8 @@ use super::GpuError;
 use crate::scene::{SceneGpu, TraceVariant};
 use glam::{UVec2, Vec4};
 use kernels::abi::{
-    GBufferGpu, TraceParams, ACCUMULATE_ENTRY, FEATURES_ENTRY, GBUFFER_ENTRY, MOTION_ENTRY,
-    TRACE_BASIC_ENTRY, TRACE_ENTRY, TRACE_UNTEXTURED_ENTRY, TRACE_WORKGROUP,
+    GBufferGpu, TraceParams, ACCUMULATE_ENTRY, FEATURES_ENTRY, GBUFFER_ENTRY, GBUFFER_UNTEXTURED_ENTRY,
+    MOTION_ENTRY, TRACE_BASIC_ENTRY, TRACE_ENTRY, TRACE_UNTEXTURED_ENTRY, TRACE_WORKGROUP,
 };
 
 /// The trace, G-buffer and accumulate pipelines, created once per device.
@@ -22,7 +22,10 @@ pub struct TracePipelines {
     trace: LazyPipeline,
     trace_basic: LazyPipeline,
     trace_untextured: LazyPipeline,
-    gbuffer: wgpu::ComputePipeline,
+    /// Bind group layout of both G-buffer variants.
+    gbuffer_group: wgpu::BindGroupLayout,
+    gbuffer: LazyPipeline,
+    gbuffer_untextured: LazyPipeline,
     motion: wgpu::ComputePipeline,
     features: wgpu::ComputePipeline,
     accumulate: wgpu::ComputePipeline,
@@ -39,12 +42,17 @@ impl TracePipelines {
         let mut writable = [false; 10];
         writable[5] = true;
         let (trace_group, layout) = gpu.buffer_layout("trace", &writable);
+        // G-buffer bindings 1-7: only the G-buffer (7) is written.
+        let (gbuffer_group, gbuffer_layout) =
+            gpu.buffer_layout("g-buffer", &[false, false, false, false, false, false, true]);
         Ok(TracePipelines {
             trace_group,
             trace: gpu.lazy_pipeline(TRACE_ENTRY, &layout),
             trace_basic: gpu.lazy_pipeline(TRACE_BASIC_ENTRY, &layout),
             trace_untextured: gpu.lazy_pipeline(TRACE_UNTEXTURED_ENTRY, &layout),
-            gbuffer: gpu.pipeline(GBUFFER_ENTRY)?,
+            gbuffer_group,
+            gbuffer: gpu.lazy_pipeline(GBUFFER_ENTRY, &gbuffer_layout),
+            gbuffer_untextured: gpu.lazy_pipeline(GBUFFER_UNTEXTURED_ENTRY, &gbuffer_layout),
             motion: gpu.pipeline(MOTION_ENTRY)?,
             features: gpu.pipeline(FEATURES_ENTRY)?,
             accumulate: gpu.pipeline(ACCUMULATE_ENTRY)?,
@@ -60,6 +68,19 @@ impl TracePipelines {
             TraceVariant::Full => self.trace.get(),
             TraceVariant::Basic => self.trace_basic.get(),
             TraceVariant::Untextured => self.trace_untextured.get(),
+        }
+    }
+
+    /// The G-buffer pipeline for scenes of trace `variant`: without texture
+    /// lookups unless `variant` is [`TraceVariant::Full`]; compiled now if
+    /// it has not been.
+    ///
+    /// # Errors
+    /// [`GpuError::Validation`] if wgpu rejects it.
+    pub fn gbuffer(&self, variant: TraceVariant) -> Result<&wgpu::ComputePipeline, GpuError> {
+        match variant {
+            TraceVariant::Full => self.gbuffer.get(),
+            TraceVariant::Basic | TraceVariant::Untextured => self.gbuffer_untextured.get(),
         }
     }
 }
@@ -192,6 +213,7 @@ impl Tracer {
         let gbuffer = gpu.storage_zeroed::<GBufferGpu>("g-buffer", n);
         let variant = scene.trace_variant();
         pipelines.trace(variant)?;
+        pipelines.gbuffer(variant)?;
         let scene = SceneBuffers::upload(gpu, scene);
         let (trace_bg, gbuffer_bg) = Self::scene_bind_groups(
             gpu,
@@ -328,8 +350,8 @@ impl Tracer {
                 &s.environment,
             ],
         );
-        let gbuf = gpu.bind(
-            &pipelines.gbuffer,
+        let gbuf = gpu.bind_with(
+            &pipelines.gbuffer_group,
             &[
                 params,
                 &s.nodes,
@@ -361,6 +383,7 @@ impl Tracer {
     ) -> Result<(), GpuError> {
         self.variant = scene.trace_variant();
         pipelines.trace(self.variant)?;
+        pipelines.gbuffer(self.variant)?;
         if SceneBuffers::counts(scene) == self.scene.counts {
             self.scene.write_pose(gpu, scene);
             return Ok(());
@@ -411,6 +434,7 @@ impl Tracer {
             ));
         }
         pipelines.trace(variant)?;
+        pipelines.gbuffer(variant)?;
         self.variant = variant;
         Ok(())
     }
@@ -453,14 +477,22 @@ impl Tracer {
     }
 
     /// Encodes the G-buffer pass (optionally timed as `timer` span `span`):
-    /// fills [`Tracer::gbuffer`] for the current parameters.
+    /// fills [`Tracer::gbuffer`] for the current parameters, without
+    /// texture lookups unless the tracer's variant is the full one
+    /// ([`TracePipelines::gbuffer`]).
+    ///
+    /// # Panics
+    /// As [`Tracer::encode_trace`].
     pub fn encode_gbuffer(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         pipelines: &TracePipelines,
         timer: Option<(&PassTimer, u32)>,
     ) {
-        self.encode(encoder, &pipelines.gbuffer, &self.gbuffer_bg, timer);
+        let pipeline = pipelines
+            .gbuffer(self.variant)
+            .unwrap_or_else(|e| panic!("the G-buffer pipeline compiled before: {e}"));
+        self.encode(encoder, pipeline, &self.gbuffer_bg, timer);
     }
 
     /// Encodes the accumulation of the current colour into the running mean.

@@ -187,4 +187,54 @@ mod tests {
             }
         }
     }
+
+    /// The G-buffer without texture lookups (`gbuffer_untextured_cs`) is
+    /// the full one, bit for bit, on every scene the untextured trace
+    /// kernel fits.
+    #[test]
+    fn the_untextured_gbuffer_matches_the_full_one() {
+        use crate::TraceSettings;
+        use kernels::gbuffer::{gbuffer_pixel, gbuffer_pixel_variant};
+        use kernels::trace_variant::UNTEXTURED;
+        let (w, h) = (32u32, 24u32);
+        for scene in [
+            cornell_box(),
+            crate::cornell::cornell_glossy(),
+            crate::outdoor::sun_and_sky(),
+        ] {
+            let scene = SceneGpu::build(&scene).unwrap();
+            assert!(scene.fits_trace_variant(TraceVariant::Untextured));
+            let params = scene.trace_params(&TraceSettings::new(w, h), 0).unwrap();
+            let mut hits = 0;
+            for y in 0..h {
+                for x in 0..w {
+                    let p = glam::UVec2::new(x, y);
+                    let (s, prev) = (&scene, &scene.previous);
+                    let full = gbuffer_pixel(
+                        &params,
+                        p,
+                        &s.nodes,
+                        &s.triangles,
+                        &s.materials,
+                        &s.attrs,
+                        &s.images,
+                        prev,
+                    );
+                    let lean = gbuffer_pixel_variant::<UNTEXTURED>(
+                        &params,
+                        p,
+                        &s.nodes,
+                        &s.triangles,
+                        &s.materials,
+                        &s.attrs,
+                        &s.images,
+                        prev,
+                    );
+                    assert_eq!(full, lean, "pixel {p}");
+                    hits += (full.ids.w & kernels::abi::GBUFFER_HIT != 0) as u32;
+                }
+            }
+            assert!(hits > 0, "no hit proves nothing");
+        }
+    }
 }
