@@ -25,6 +25,7 @@
 use crate::abi::{BvhNodeGpu, MaterialGpu, TriangleAttrGpu, TriangleGpu, CUT_OUT};
 use crate::intersect::{intersect_aabb, intersect_triangle, Ray};
 use crate::surface::{surface_alpha, triangle_uv};
+use crate::trace_variant::TEXTURES;
 
 /// Entries of the traversal stack, and the largest leaf depth (root = 0)
 /// a tree may have.
@@ -136,6 +137,71 @@ pub fn any_hit_opaque(
     let mut t = Traversal::new(nodes, ray, t_min, t_max);
     t.advance::<false>(nodes, triangles, ray, t_min, true);
     t.found()
+}
+
+/// [`closest_hit`] for the kernel variant of `FEATURES`
+/// ([`crate::trace_variant`]): with [`TEXTURES`] cut-outs are honoured,
+/// without it every triangle is opaque ([`closest_hit_opaque`]).
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn closest_hit_variant<const FEATURES: u32>(
+    nodes: &[BvhNodeGpu],
+    triangles: &[TriangleGpu],
+    materials: &[MaterialGpu],
+    attrs: &[TriangleAttrGpu],
+    images: &[u32],
+    image_count: u32,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> Option<Hit> {
+    if FEATURES & TEXTURES != 0 {
+        closest_hit(
+            nodes,
+            triangles,
+            materials,
+            attrs,
+            images,
+            image_count,
+            ray,
+            t_min,
+            t_max,
+        )
+    } else {
+        closest_hit_opaque(nodes, triangles, ray, t_min, t_max)
+    }
+}
+
+/// [`any_hit`] for the kernel variant of `FEATURES` (as
+/// [`closest_hit_variant`]).
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn any_hit_variant<const FEATURES: u32>(
+    nodes: &[BvhNodeGpu],
+    triangles: &[TriangleGpu],
+    materials: &[MaterialGpu],
+    attrs: &[TriangleAttrGpu],
+    images: &[u32],
+    image_count: u32,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> bool {
+    if FEATURES & TEXTURES != 0 {
+        any_hit(
+            nodes,
+            triangles,
+            materials,
+            attrs,
+            images,
+            image_count,
+            ray,
+            t_min,
+            t_max,
+        )
+    } else {
+        any_hit_opaque(nodes, triangles, ray, t_min, t_max)
+    }
 }
 
 /// Whether barycentrics `(u, v)` of triangle `index` (flagged [`CUT_OUT`])

@@ -10,7 +10,7 @@ use crate::abi::{
     BvhNodeGpu, GBufferGpu, MaterialGpu, TraceParams, TriangleAttrGpu, TriangleGpu, GBUFFER_EMITTER,
     GBUFFER_HIT, GBUFFER_NO_HIT, GBUFFER_PREV_IN_FRONT,
 };
-use crate::bvh::{closest_hit, closest_hit_opaque};
+use crate::bvh::closest_hit_variant;
 use crate::camera::{primary_ray, CameraView};
 use crate::footprint::primary_footprint;
 use crate::surface::{has_textures, surface_albedo, surface_albedo_filtered, surface_emission, triangle_uv};
@@ -70,21 +70,17 @@ pub fn gbuffer_pixel_variant<const FEATURES: u32>(
     let ray = primary_ray(params, pixel.x, pixel.y, Vec2::splat(0.5));
     let current = CameraView::current(params);
     let prev = CameraView::previous(params);
-    let hit = if textured {
-        closest_hit(
-            nodes,
-            triangles,
-            materials,
-            attrs,
-            images,
-            params.image_count,
-            &ray,
-            0.0,
-            f32::MAX,
-        )
-    } else {
-        closest_hit_opaque(nodes, triangles, &ray, 0.0, f32::MAX)
-    };
+    let hit = closest_hit_variant::<FEATURES>(
+        nodes,
+        triangles,
+        materials,
+        attrs,
+        images,
+        params.image_count,
+        &ray,
+        0.0,
+        f32::MAX,
+    );
     let hit = match hit {
         Some(hit) => hit,
         None => {

@@ -52,7 +52,7 @@ pub use crate::numbers::*;
 use crate::abi::{
     BvhNodeGpu, EmitterGpu, MaterialGpu, TraceParams, TriangleAttrGpu, TriangleGpu, MAX_DEPTH_LIMIT,
 };
-use crate::bvh::{any_hit, any_hit_opaque, closest_hit, closest_hit_opaque};
+use crate::bvh::{any_hit_variant, closest_hit_variant};
 use crate::camera::primary_ray;
 use crate::environment::{environment_mis_weight, environment_radiance};
 use crate::footprint::{cone_footprint, pixel_spread, primary_footprint};
@@ -228,7 +228,7 @@ pub fn trace_sample(
 /// `numbers`; `keys` is the screen-space Sobol key buffer. Adds the rays it
 /// traces to `rays`. `FEATURES` is the variant's feature set
 /// ([`crate::trace_variant`]): every step a variant leaves out tests
-/// `TEXTURED` or `SHADED` below.
+/// `textured` or `shaded` below or goes through a `_variant` function.
 #[allow(clippy::too_many_arguments)]
 #[inline]
 pub(crate) fn trace_sample_with<const FEATURES: u32>(
@@ -264,21 +264,17 @@ pub(crate) fn trace_sample_with<const FEATURES: u32>(
     while depth < max_depth {
         // f32::MAX, not INFINITY: naga rejects infinite literals in SPIR-V.
         *rays += 1;
-        let hit = if textured {
-            closest_hit(
-                nodes,
-                triangles,
-                materials,
-                attrs,
-                images,
-                params.image_count,
-                &ray,
-                0.0,
-                f32::MAX,
-            )
-        } else {
-            closest_hit_opaque(nodes, triangles, &ray, 0.0, f32::MAX)
-        };
+        let hit = closest_hit_variant::<FEATURES>(
+            nodes,
+            triangles,
+            materials,
+            attrs,
+            images,
+            params.image_count,
+            &ray,
+            0.0,
+            f32::MAX,
+        );
         let hit = match hit {
             Some(h) => h,
             None => {
@@ -386,21 +382,17 @@ pub(crate) fn trace_sample_with<const FEATURES: u32>(
                     };
                     *rays += 1;
                     let shadow = Ray::new(origin, light.wi);
-                    let blocked = if textured {
-                        any_hit(
-                            nodes,
-                            triangles,
-                            materials,
-                            attrs,
-                            images,
-                            params.image_count,
-                            &shadow,
-                            0.0,
-                            light.t_max,
-                        )
-                    } else {
-                        any_hit_opaque(nodes, triangles, &shadow, 0.0, light.t_max)
-                    };
+                    let blocked = any_hit_variant::<FEATURES>(
+                        nodes,
+                        triangles,
+                        materials,
+                        attrs,
+                        images,
+                        params.image_count,
+                        &shadow,
+                        0.0,
+                        light.t_max,
+                    );
                     if !blocked {
                         radiance += throughput * brdf_cos * light.radiance * (weight / light.pdf);
                     }
