@@ -2,8 +2,9 @@
 //! path-traced frame (1280x720, max depth 8, seed stream) of the Lambertian
 //! Cornell box, the glossy Cornell box (GGX spheres: NEE with MIS at
 //! glossy vertices) and the outdoor `sun-sky` scene (a sun disk sampled in
-//! its cone, a constant sky, open space), alternated round by round on one
-//! device in one run.
+//! its cone, a constant sky, open space) and the textured box
+//! (`tests/data/gltf/cornell_textured.gltf`: filtered textures), alternated
+//! round by round on one device in one run.
 //!
 //! ```text
 //! cargo bench -p gpu-tracer --bench gpu_scenes
@@ -45,6 +46,21 @@ fn main() {
         ("cornell", cornell_box(), glam::Vec3::ZERO),
         ("cornell-glossy", cornell_glossy(), glam::Vec3::ZERO),
         ("sun-sky", sun_and_sky(), SKY),
+        // The textured box (filtered textures, the full kernel), as the
+        // study's held-out scene.
+        (
+            "cornell-textured",
+            gpu_tracer::gltf::load_gltf(
+                concat!(
+                    env!("CARGO_MANIFEST_DIR"),
+                    "/tests/data/gltf/cornell_textured.gltf"
+                ),
+                None,
+            )
+            .expect("the textured fixture")
+            .scene,
+            glam::Vec3::ZERO,
+        ),
     ];
     let tp = TracePipelines::new(&gpu).expect("trace pipelines");
     let pp = PermutePipelines::new(&gpu).expect("permute pipelines");
