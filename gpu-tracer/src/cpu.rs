@@ -189,7 +189,8 @@ pub fn accumulate_frame(params: &TraceParams, color: &[Vec4], accum: &mut [Vec4]
 
 /// White-noise seeds for a `padded_width x padded_height` seed buffer
 /// (`sampler_core::initial_seed` with `salt`), row-major: the seeds of
-/// frame 0, and of every frame in the `white` mode with a fresh salt.
+/// frame 0, and of every frame `t` in the `white` mode with salt
+/// `sampler_core::frame_salt(salt, t)`.
 pub fn white_seeds(padded_width: u32, padded_height: u32, salt: u32) -> Vec<u32> {
     (0..padded_height)
         .flat_map(|y| (0..padded_width).map(move |x| sampler_core::initial_seed(x, y, padded_width, salt)))

@@ -368,7 +368,7 @@ pub fn render_sequence_cpu(
                 seeds = cpu::white_seeds(
                     layout.padded_width(),
                     layout.padded_height(),
-                    job.salt.wrapping_add(t + 1),
+                    sampler_core::frame_salt(job.salt, t + 1),
                 )
             }
             PermuteMode::Sort => {
@@ -532,7 +532,7 @@ pub fn render_sequence_gpu(
         let params = sequence.scene().trace_params(&settings, t)?;
         tracer.set_params(gpu, &params);
         let salt_or_frame = if job.mode == PermuteMode::White {
-            job.salt.wrapping_add(t + 1)
+            sampler_core::frame_salt(job.salt, t + 1)
         } else {
             t
         };

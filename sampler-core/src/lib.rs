@@ -95,7 +95,7 @@ pub use sequences::r2::{r1, r2, Rd};
 pub use sequences::screen_sobol::{
     key_sample_u32, screen_sobol_sample, screen_sobol_sample_u32, ScreenSobolKeys, ScreenSobolLayout,
 };
-pub use sequences::seed::{initial_seed, random_f32, random_u32, RandomStream};
+pub use sequences::seed::{frame_salt, initial_seed, random_f32, random_u32, RandomStream};
 pub use sequences::sobol::{sobol, sobol_u32, SOBOL_DIMENSIONS};
 pub use sequences::spatiotemporal::{spatiotemporal_pair_u32, spatiotemporal_shift_u32};
 pub use sequences::walk::{step_index, step_of_index, walk_offset, walk_step, STEP_COUNT};

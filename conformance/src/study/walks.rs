@@ -139,8 +139,8 @@ pub fn render_dither(
             seed_mode: SEED_MODE_BLUE_NOISE_DITHER,
             ..scene.trace_params(&settings, t)?
         };
-        // The same seeds as the white run's frame t (`render_cpu` uses salt + t).
-        let seeds = cpu::white_seeds(pw, layout.padded_height(), c.salt.wrapping_add(t));
+        // The same seeds as the white run's frame t (`sampler_core::frame_salt`).
+        let seeds = cpu::white_seeds(pw, layout.padded_height(), sampler_core::frame_salt(c.salt, t));
         let z = t % mask.depth();
         color.par_chunks_mut(w as usize).enumerate().for_each(|(y, row)| {
             let y = y as u32;

@@ -19,7 +19,8 @@ use sampler_core::{
 /// How seeds change between frames.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum PermuteMode {
-    /// Fresh white-noise seeds every frame (the baseline).
+    /// Fresh white-noise seeds every frame (the baseline): frame `t` is
+    /// salted `sampler_core::frame_salt(salt, t)`.
     White,
     /// Sorting pass only: seeds ranked like the frame's dither tile.
     Sort,
@@ -326,7 +327,8 @@ impl SeedPermuter {
     /// Encodes the passes that turn frame `frame`'s seeds and intensities into
     /// frame `frame + 1`'s seeds, for `mode`. [`set_frame`](Self::set_frame)
     /// must have been called with `frame` for this submission, except in
-    /// [`PermuteMode::White`], which needs `frame + 1` (the salt).
+    /// [`PermuteMode::White`], which needs the next frame's salt
+    /// (`sampler_core::frame_salt(salt, frame + 1)`).
     /// `timer` (if any, with its first span index) records the sort pass as
     /// that span and the retarget pass as the next.
     /// [`PermuteMode::Temporal`] ignores the frame parameters (its passes
