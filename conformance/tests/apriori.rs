@@ -22,8 +22,8 @@ use sampler_core::bake::{
 };
 use sampler_core::sequences::spatiotemporal::{SEQUENCE_KRONECKER, SEQUENCE_SOBOL};
 use sampler_core::{
-    defaults, initial_seed, key_sample_u32, owen_sobol_u32, random_f32, shuffle_index, zsobol_sample,
-    zsobol_sample_u32, ScreenSobolKeys,
+    defaults, initial_seed, key_sample_u32, owen_sobol_u32, random_f32, shuffle_index,
+    zsobol_frame_sample_u32, zsobol_sample, zsobol_sample_u32, ScreenSobolKeys,
 };
 
 /// Issue 6: blurred (sigma 1) RMSE relative to white noise at the same spp.
@@ -337,9 +337,10 @@ fn full_size_vector_mask_from_file() {
 /// pixel's 1-spp pixel jitter over 128 frames is one progressive sequence: far
 /// more even over the pixel than independent draws (chi-square over 8x8 cells of
 /// about 63 for uniform random points) and its running mean converges much faster
-/// than `1 / sqrt(12 n)`. ZSobol, re-randomised every frame, is printed beside it
-/// for the record: white-like over frames (its emitter-zone excess after
-/// accumulation, QUALITY.md, does not come from its jitter's distribution).
+/// than `1 / sqrt(12 n)`. ZSobol's frames are digital shifts of one point set by a
+/// (0, 2)-sequence (`zsobol_frame_sample_u32`), so a pixel's 128 frames are an
+/// exact (0, 7, 2)-net: every 8x8 cell holds two points. Its first form, re-randomised
+/// every frame (seed = frame), is printed beside it: white-like over frames.
 #[test]
 fn spatiotemporal_jitter_is_stratified_over_frames() {
     let tile = defaults::tile_64();
@@ -372,13 +373,41 @@ fn spatiotemporal_jitter_is_stratified_over_frames() {
         let shift = sampler_core::spatiotemporal_shift_u32(tile.values(), 6, p, 0);
         sampler_core::spatiotemporal_pair_u32(SEQUENCE_KRONECKER, shift, t, 1, 0, 0)
     });
-    let zsobol = measure(&|p, t| [zsobol_sample_u32(p, 0, 0, 0, t), zsobol_sample_u32(p, 0, 1, 0, t)]);
+    let zsobol = measure(&|p, t| {
+        [
+            zsobol_frame_sample_u32(p, 0, 0, 0, t),
+            zsobol_frame_sample_u32(p, 0, 1, 0, t),
+        ]
+    });
+    let rerandomised = measure(&|p, t| [zsobol_sample_u32(p, 0, 0, 0, t), zsobol_sample_u32(p, 0, 1, 0, t)]);
     let random_dev = (1.0 / 12.0 / frames as f64).sqrt();
     println!(
         "1-spp jitter over {frames} frames: chi-square (8x8 cells, random ~63) spatiotemporal {:.1}, \
-         its Kronecker sequence {:.1}, zsobol {:.1}; rms of the mean x - 0.5 (random {random_dev:.4}) \
-         spatiotemporal {:.4}, Kronecker {:.4}, zsobol {:.4}",
-        spatiotemporal.0, kronecker.0, zsobol.0, spatiotemporal.1, kronecker.1, zsobol.1
+         its Kronecker sequence {:.1}, zsobol {:.1} (re-randomised per frame {:.1}); rms of the mean x - 0.5 \
+         (random {random_dev:.4}) spatiotemporal {:.4}, Kronecker {:.4}, zsobol {:.4} (re-randomised {:.4})",
+        spatiotemporal.0,
+        kronecker.0,
+        zsobol.0,
+        rerandomised.0,
+        spatiotemporal.1,
+        kronecker.1,
+        zsobol.1,
+        rerandomised.1
+    );
+    assert!(
+        zsobol.0 < 1e-9,
+        "ZSobol's 128 frames are not a net: chi-square {:.3}",
+        zsobol.0
+    );
+    assert!(
+        zsobol.1 < 0.25 * random_dev,
+        "ZSobol rms mean deviation {:.4}",
+        zsobol.1
+    );
+    assert!(
+        rerandomised.0 > 40.0,
+        "re-randomised chi-square {:.1}",
+        rerandomised.0
     );
     assert!(kronecker.0 < 35.0, "Kronecker chi-square {:.1}", kronecker.0);
     assert!(

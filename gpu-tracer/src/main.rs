@@ -172,7 +172,8 @@ struct RenderArgs {
     /// directions): `seeds` (the seed stream, permuted per `--mode`),
     /// `screen-sobol` (screen-space Sobol with optimised keys, up to 16 spp),
     /// `zsobol` (Morton-ordered Sobol, up to 256 spp and 4096 pixels a
-    /// side) or `spatiotemporal` (each pixel one progressive sequence across
+    /// side; its frames are digital shifts of one point set, so a pixel's
+    /// frames converge faster than independent ones) or `spatiotemporal` (each pixel one progressive sequence across
     /// frames, shifted by blue noise: blue in time; takes every decision,
     /// Russian roulette included, and `--mode hold`; `spatiotemporal-kronecker`
     /// continues a Kronecker sequence instead of Sobol). With the others Russian

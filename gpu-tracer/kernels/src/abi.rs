@@ -161,9 +161,10 @@ pub const SAMPLER_SCREEN_SOBOL: u32 = 1;
 /// [`TraceParams::sampler`]: the path's 2D decisions come from the
 /// Morton-ordered ZSobol sampler (`sampler_core::sequences::zsobol`), one dimension pair
 /// each, with `2^ceil(log2 spp)` samples per pixel; sample `s` of frame `t`
-/// is sample `s` of an independent randomisation seeded by `t` (ZSobol's
-/// per-pixel index space is exactly one frame's samples, see
-/// `crate::trace::apriori_pair`). The host allows `spp <= 256` and frames at
+/// is sample `s` of one fixed randomisation XORed with point `t` of a
+/// (0, 2)-sequence (`sampler_core::zsobol_frame_sample_u32`: every frame
+/// stratified as ZSobol is, a pixel's frames one progressive net; see
+/// `crate::numbers::apriori_pair`). The host allows `spp <= 256` and frames at
 /// most 4096 pixels wide and high (ZSobol's tile). Russian roulette still
 /// reads the seed stream.
 pub const SAMPLER_ZSOBOL: u32 = 2;

@@ -255,13 +255,14 @@ fn spatiotemporal_point(params: &TraceParams, keys: &[u32], key_count: usize, s:
 ///   other keys every frame, so the accumulated mean converges as Monte
 ///   Carlo over per-frame stratified estimates.
 /// - [`SAMPLER_ZSOBOL`]: sample `s` with `2^ceil(log2 spp)` samples per pixel
-///   (at most 256) and seed `params.frame`. ZSobol's index is
+///   (at most 256) in frame `params.frame`. ZSobol's index is
 ///   `morton(pixel) * 2^log2_spp + s`: the blue-noise property needs
 ///   `log2_spp` to be exactly the frame's spp (a larger one would spread a
-///   frame's samples over unrelated strata), so frames cannot continue one
-///   sequence; each frame is an independent randomisation instead, and the
-///   mean converges across frames as Monte Carlo over per-frame stratified
-///   estimates.
+///   frame's samples over unrelated strata), so frames do not continue the
+///   index; each frame is the same point set XORed with point `frame` of a
+///   (0, 2)-sequence instead (`sampler_core::zsobol_frame_sample_u32`), which
+///   keeps every frame's stratification and makes a pixel's frames one
+///   progressive net: its mean converges faster than independent frames'.
 /// - [`SAMPLER_SPATIOTEMPORAL`]: index `frame * spp + s` of the shared
 ///   progressive sequence (Owen-scrambled Sobol, or the Kronecker sequence
 ///   with [`SAMPLER_KRONECKER`], [`spatiotemporal_sequence`]), rotated by the

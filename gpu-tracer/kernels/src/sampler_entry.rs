@@ -22,7 +22,7 @@ use sampler_core::sequences::spatiotemporal::{
     spatiotemporal_pair_u32, spatiotemporal_shift_u32, SEQUENCE_SOBOL,
 };
 use sampler_core::sequences::walk::walk_offset;
-use sampler_core::sequences::zsobol::{zsobol_sample_u32, ZSOBOL_MAX_LOG2_SPP};
+use sampler_core::sequences::zsobol::{zsobol_frame_sample_u32, ZSOBOL_MAX_LOG2_SPP};
 use spirv_std::spirv;
 
 /// Entry point name of [`screen_sobol_cs`].
@@ -91,18 +91,20 @@ pub fn screen_sobol_pair(
     Vec2::new(q32_to_f32(v[0]), q32_to_f32(v[1]))
 }
 
-/// Pair `pair` of sample `s` of `pixel` from ZSobol with `2^ceil(log2 spp)`
-/// samples per pixel (at most 256) and scramble seed `seed`; each
-/// coordinate in `[0, 1)` (24 bits).
+/// Pair `pair` of sample `s` of `pixel` in frame `frame` from ZSobol with
+/// `2^ceil(log2 spp)` samples per pixel (at most 256), its frames progressive
+/// (`sampler_core::zsobol_frame_sample_u32`: one point set, digitally shifted
+/// by a (0, 2)-sequence from frame to frame); each coordinate in `[0, 1)`
+/// (24 bits).
 #[inline]
-pub fn zsobol_pair(spp: u32, seed: u32, pixel: UVec2, s: u32, pair: u32) -> Vec2 {
+pub fn zsobol_pair(spp: u32, frame: u32, pixel: UVec2, s: u32, pair: u32) -> Vec2 {
     let mut log2_spp = 0u32;
     while log2_spp < ZSOBOL_MAX_LOG2_SPP && (1u32 << log2_spp) < spp {
         log2_spp += 1;
     }
     Vec2::new(
-        q32_to_f32(zsobol_sample_u32(pixel, s, 2 * pair, log2_spp, seed)),
-        q32_to_f32(zsobol_sample_u32(pixel, s, 2 * pair + 1, log2_spp, seed)),
+        q32_to_f32(zsobol_frame_sample_u32(pixel, s, 2 * pair, log2_spp, frame)),
+        q32_to_f32(zsobol_frame_sample_u32(pixel, s, 2 * pair + 1, log2_spp, frame)),
     )
 }
 
@@ -226,8 +228,13 @@ mod tests {
                 )
             );
             let z = zsobol_pair(4, frame, pixel, s, pair);
-            assert_eq!(z.x, sampler_core::zsobol_sample(pixel, s, 2 * pair, 2, frame));
-            assert_eq!(z.y, sampler_core::zsobol_sample(pixel, s, 2 * pair + 1, 2, frame));
+            let q = |d| {
+                sampler_core::sequences::r2::q32_to_f32(sampler_core::zsobol_frame_sample_u32(
+                    pixel, s, d, 2, frame,
+                ))
+            };
+            assert_eq!(z.x, q(2 * pair));
+            assert_eq!(z.y, q(2 * pair + 1));
         }
     }
 }

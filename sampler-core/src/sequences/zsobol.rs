@@ -37,6 +37,16 @@
 //! bijection, and a hashed constant per 64x64 square and seed varies the
 //! pattern.
 //!
+//! # Frames
+//!
+//! A renderer calls [`zsobol_frame_sample_u32`] with the frame number: each
+//! frame is the same ZSobol point set XORed with point `frame` of a 2D
+//! (0, 2)-sequence (a digital shift), so each frame keeps the properties
+//! above and a pixel's points over frames continue a progressive sequence
+//! (blue in time: its running mean converges faster than independent
+//! frames'). [`zsobol_sample_u32`] with a seed per frame gives independent
+//! frames instead (white in time).
+//!
 //! # Sizes
 //!
 //! The index is a `u32` (shader rule: no `u64`): pixels are taken modulo a
@@ -48,7 +58,7 @@
 //!
 //! Shader-callable: `u32` arithmetic, fixed-size arrays, no tables.
 
-use crate::sequences::owen::owen_sobol_u32;
+use crate::sequences::owen::{owen_sobol_pair_u32, owen_sobol_u32, shuffle_index};
 use crate::sequences::seed::hash_u32;
 
 /// Morton levels of the pixel part of the index: pixels wrap every
@@ -247,6 +257,52 @@ pub fn zsobol_sample(pixel: glam::UVec2, sample_index: u32, dimension: u32, log2
     crate::sequences::r2::q32_to_f32(zsobol_sample_u32(pixel, sample_index, dimension, log2_spp, seed))
 }
 
+/// Seed of the fixed randomisation of [`zsobol_frame_sample_u32`] (any
+/// constant; the frames differ by their digital shifts, not their seeds).
+pub const ZSOBOL_FRAME_SEED: u32 = 0x2F0B_5E7D;
+
+/// The digital shift of frame `frame` for dimension pair `pair`: point
+/// `frame` of a 2D Owen-scrambled Sobol (0, 2)-sequence, each pair with its
+/// own index shuffle and scramble (so pairs are independent), shared by
+/// every pixel; both coordinates in 0.32 fixed point.
+#[inline]
+pub fn zsobol_frame_shift_u32(frame: u32, pair: u32) -> [u32; 2] {
+    let seed = hash_u32(ZSOBOL_FRAME_SEED ^ hash_u32(pair.wrapping_add(0x7F4A_7C15)));
+    owen_sobol_pair_u32(shuffle_index(frame, seed), seed)
+}
+
+/// Dimension `dimension` of sample `sample_index` of `pixel` in frame
+/// `frame`, progressive across frames; 0.32 fixed point, `2^log2_spp`
+/// samples per pixel.
+///
+/// Every frame is the same ZSobol point set ([`zsobol_sample_u32`] with seed
+/// [`ZSOBOL_FRAME_SEED`]) XORed with the frame's shift
+/// ([`zsobol_frame_shift_u32`]). A digital shift maps every elementary
+/// interval onto an elementary interval of the same shape, so:
+/// - **in space** each frame keeps everything ZSobol guarantees (aligned
+///   squares are nets, rows and columns stratified at one sample per pixel);
+/// - **in time** a pixel's points over frames `0..2^m` are its fixed point
+///   XORed with the first `2^m` points of a (0, 2)-sequence: a (0, m, 2)-net
+///   (at one sample per pixel), so its running mean converges like the
+///   sequence, not like independent frames.
+///
+/// Independent randomisations per frame (seed = frame, the sampler's first
+/// form) make every frame as good in space but a pixel's frames independent
+/// (white in time), and every pixel shares each frame's randomisation, so a
+/// region's accumulated error is one draw of how lucky the frames were.
+#[inline]
+pub fn zsobol_frame_sample_u32(
+    pixel: glam::UVec2,
+    sample_index: u32,
+    dimension: u32,
+    log2_spp: u32,
+    frame: u32,
+) -> u32 {
+    let point = zsobol_sample_u32(pixel, sample_index, dimension, log2_spp, ZSOBOL_FRAME_SEED);
+    let shift = zsobol_frame_shift_u32(frame, dimension / 2);
+    point ^ shift[(dimension & 1) as usize]
+}
+
 #[cfg(test)]
 mod tests {
     extern crate std;
@@ -369,6 +425,53 @@ mod tests {
             let p = UVec2::new(hash_u32(i), hash_u32(i + 7));
             let v = zsobol_sample(p, i, i % 9, i % 10, i);
             assert!((0.0..1.0).contains(&v));
+        }
+    }
+
+    /// Progressive frames: at one sample per pixel a pixel's points over
+    /// frames `0..2^m` form a (0, m, 2)-net for every pair, and every frame's
+    /// aligned squares are still nets.
+    #[test]
+    fn frames_are_nets_over_time_and_in_space() {
+        for pair in [0u32, 1, 5] {
+            for p in [UVec2::new(0, 0), UVec2::new(37, 211), UVec2::new(4095, 9)] {
+                for m in [4u32, 6, 8] {
+                    let pts: std::vec::Vec<[u32; 2]> = (0..1u32 << m)
+                        .map(|t| {
+                            [
+                                zsobol_frame_sample_u32(p, 0, 2 * pair, 0, t),
+                                zsobol_frame_sample_u32(p, 0, 2 * pair + 1, 0, t),
+                            ]
+                        })
+                        .collect();
+                    assert!(is_02_net(&pts), "pixel {p}, pair {pair}, 2^{m} frames");
+                }
+            }
+            for frame in [0u32, 1, 77] {
+                let mut pts = std::vec::Vec::new();
+                for y in 0..16 {
+                    for x in 0..16 {
+                        let p = UVec2::new(32 + x, 48 + y);
+                        pts.push([
+                            zsobol_frame_sample_u32(p, 0, 2 * pair, 0, frame),
+                            zsobol_frame_sample_u32(p, 0, 2 * pair + 1, 0, frame),
+                        ]);
+                    }
+                }
+                assert!(is_02_net(&pts), "frame {frame}, pair {pair}");
+            }
+        }
+    }
+
+    /// Frame 0's shift is not zero for every pair (the sequence is
+    /// scrambled), and pairs get different shifts.
+    #[test]
+    fn frame_shifts_differ_between_pairs() {
+        let shifts: std::vec::Vec<[u32; 2]> = (0..8).map(|pair| zsobol_frame_shift_u32(3, pair)).collect();
+        for (i, a) in shifts.iter().enumerate() {
+            for b in &shifts[i + 1..] {
+                assert_ne!(a, b);
+            }
         }
     }
 }

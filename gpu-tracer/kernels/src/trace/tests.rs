@@ -297,10 +297,12 @@ fn apriori_pair_matches_sampler_core() {
                     ..p
                 };
                 let log2 = 32 - (spp - 1).leading_zeros();
-                let want = Vec2::new(
-                    sampler_core::zsobol_sample(pixel, s, d, log2, frame),
-                    sampler_core::zsobol_sample(pixel, s, d + 1, log2, frame),
-                );
+                let q = |d| {
+                    sampler_core::sequences::r2::q32_to_f32(sampler_core::zsobol_frame_sample_u32(
+                        pixel, s, d, log2, frame,
+                    ))
+                };
+                let want = Vec2::new(q(d), q(d + 1));
                 assert_eq!(apriori_pair(&p, &keys, pixel, s, pair), want);
             }
         }
