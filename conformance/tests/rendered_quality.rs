@@ -36,7 +36,7 @@ fn study(spp: u32, frames: u32, methods: &[Method]) -> StudyResult {
 /// The rows measured here: every method of issue 5 and 6. The feature-aware rows
 /// (issue 14) are measured at full size by `conformance study` (QUALITY.md), not in
 /// this CI run.
-const METHODS: [Method; 10] = [
+const METHODS: [Method; 11] = [
     Method::White,
     Method::Sort,
     Method::Permute,
@@ -47,6 +47,7 @@ const METHODS: [Method; 10] = [
     Method::ZSobol,
     Method::Spatiotemporal,
     Method::SpatiotemporalKronecker,
+    Method::TemporalPermuteJitter,
 ];
 
 fn one_spp() -> &'static StudyResult {
@@ -486,5 +487,41 @@ fn zsobol_frames_converge_while_each_stays_blue() {
     );
     for (n, v) in [8, 32, 64].iter().zip(&means) {
         assert!(*v <= 0.70, "mean of {n} frames reads {v:.3} of white");
+    }
+}
+
+/// The temporal permutation with ZSobol's jitter (`--mode temporal --sampler
+/// zsobol-jitter`): the permutation's flat-wall gain per frame, the jitter's
+/// blue-noise silhouettes, and both blue in time, so the history and the
+/// running means read far below white. Measured at this size (2026-11-27):
+/// raw blur whole 0.687, flat-inset LF 0.746, EMA whole 0.615, means of 8 /
+/// 32 / 64 frames 0.408 / 0.370 / 0.371 (at 256x256 with 128 frames, QUALITY.md:
+/// 0.777, 0.603, 0.625, 0.529 / 0.414).
+#[test]
+fn the_temporal_permutation_with_a_zsobol_jitter_is_blue_per_frame_and_in_time() {
+    use conformance::study::HistoryMetric;
+    let r = one_spp();
+    let m = Method::TemporalPermuteJitter;
+    let from = GOAL_FRAME as usize;
+    let blur = r.pooled(m, Metric::Blur1, from).expect("measured");
+    let n = r.run(m).expect("measured").lf_insets.len();
+    let lf = (from..n).map(|i| rel(r, m, Metric::LowFrequency, i)).sum::<f64>() / (n - from) as f64;
+    let ema = r.pooled_history(m, HistoryMetric::Ema, None).expect("measured");
+    let means: Vec<f64> = [8, 32, 64]
+        .iter()
+        .map(|&n| r.accumulated_region(m, n, None).expect("measured"))
+        .collect();
+    println!(
+        "temporal-permute-jitter: raw blur whole {blur:.3}, flat-inset LF {lf:.3}, EMA whole {ema:.3}, \
+         means of 8 / 32 / 64 frames {means:.3?} (white = 1)"
+    );
+    assert!(blur <= 0.85, "raw blurred error {blur:.3} of white");
+    assert!(lf <= 0.85, "flat-inset LF {lf:.3} of white");
+    assert!(
+        ema <= 0.80,
+        "after the EMA the whole image reads {ema:.3} of white"
+    );
+    for (n, v) in [8, 32, 64].iter().zip(&means) {
+        assert!(*v <= 0.80, "mean of {n} frames reads {v:.3} of white");
     }
 }

@@ -99,4 +99,6 @@ pub use sequences::seed::{frame_salt, initial_seed, random_f32, random_u32, Rand
 pub use sequences::sobol::{sobol, sobol_u32, SOBOL_DIMENSIONS};
 pub use sequences::spatiotemporal::{spatiotemporal_pair_u32, spatiotemporal_shift_u32};
 pub use sequences::walk::{step_index, step_of_index, walk_offset, walk_step, STEP_COUNT};
-pub use sequences::zsobol::{zsobol_frame_sample_u32, zsobol_sample, zsobol_sample_u32};
+pub use sequences::zsobol::{
+    zsobol_frame_pair_u32, zsobol_frame_sample_u32, zsobol_sample, zsobol_sample_u32,
+};

@@ -83,10 +83,17 @@ impl Study {
             progress(t);
         };
         match method {
-            Method::White | Method::Sort | Method::Permute | Method::PermuteJitter => {
+            Method::White
+            | Method::Sort
+            | Method::Permute
+            | Method::PermuteJitter
+            | Method::PermuteZSobolJitter => {
                 let mut settings = self.config.settings();
                 if method == Method::PermuteJitter {
                     settings.sampler = kernels::abi::SAMPLER_SCREEN_SOBOL | kernels::abi::SAMPLER_JITTER_ONLY;
+                }
+                if method == Method::PermuteZSobolJitter {
+                    settings.sampler = kernels::abi::SAMPLER_ZSOBOL | kernels::abi::SAMPLER_JITTER_ONLY;
                 }
                 let job = RenderJob {
                     settings,
@@ -141,7 +148,14 @@ impl Study {
                 method == Method::TemporalSortAdvance,
                 &mut on_frame,
             )?,
-            Method::TemporalPermute => render_temporal_permute(self, &mut on_frame)?,
+            Method::TemporalPermute => {
+                render_temporal_permute(self, kernels::abi::SAMPLER_SEEDS, &mut on_frame)?
+            }
+            Method::TemporalPermuteJitter => render_temporal_permute(
+                self,
+                kernels::abi::SAMPLER_ZSOBOL | kernels::abi::SAMPLER_JITTER_ONLY,
+                &mut on_frame,
+            )?,
             Method::DitherFilterAdapted => {
                 render_dither(self, sampler_core::defaults::filter_adapted_128(), &mut on_frame)?
             }

@@ -14,6 +14,10 @@ pub enum Method {
     /// screen-space Sobol sampler (`--sampler screen-sobol-jitter`): the
     /// permutation for everything but the jitter.
     PermuteJitter,
+    /// [`Method::Permute`] with the position inside the pixel from ZSobol
+    /// (`--sampler zsobol-jitter`), whose frames continue one progressive net
+    /// per pixel: a jitter blue in space and in time.
+    PermuteZSobolJitter,
     /// Sorting and retargeting with the fixed integer step `floor(W * (a1, a2))`.
     FixedStep,
     /// Fresh white seeds plus a spatiotemporal blue-noise mask driving the first
@@ -43,6 +47,10 @@ pub enum Method {
     /// Sorting against STBN slice `t`, then an exact retarget table to slice
     /// `t + 1` (seeds cross block borders), fixed streams; CPU only.
     TemporalPermute,
+    /// [`Method::TemporalPermute`] with the position inside the pixel from
+    /// ZSobol, as [`Method::PermuteZSobolJitter`] (`--mode temporal --sampler
+    /// zsobol-jitter`).
+    TemporalPermuteJitter,
     /// The feature-aware permutation (issue 14, `SequenceOptions::features` of the
     /// tracer's CPU loop): demodulated sort keys, blocks sorted in groups of one
     /// surface, retarget moves cut at edges, features from the G-buffer.
@@ -60,11 +68,12 @@ pub enum Method {
 
 impl Method {
     /// Every method, white first.
-    pub const ALL: [Method; 18] = [
+    pub const ALL: [Method; 20] = [
         Method::White,
         Method::Sort,
         Method::Permute,
         Method::PermuteJitter,
+        Method::PermuteZSobolJitter,
         Method::FixedStep,
         Method::Dither,
         Method::DitherFilterAdapted,
@@ -75,6 +84,7 @@ impl Method {
         Method::TemporalSort,
         Method::TemporalSortAdvance,
         Method::TemporalPermute,
+        Method::TemporalPermuteJitter,
         Method::FeaturePermute,
         Method::FeaturePermuteJitter,
         Method::FeaturePermuteRawKey,
@@ -119,6 +129,7 @@ impl Method {
             Method::Sort => "sort",
             Method::Permute => "permute",
             Method::PermuteJitter => "permute-jitter",
+            Method::PermuteZSobolJitter => "permute-zsobol-jitter",
             Method::FixedStep => "fixed-step",
             Method::Dither => "bn-dither",
             Method::DitherFilterAdapted => "bn-dither-fa",
@@ -129,6 +140,7 @@ impl Method {
             Method::TemporalSort => "temporal-sort",
             Method::TemporalSortAdvance => "temporal-sort-advance",
             Method::TemporalPermute => "temporal-permute",
+            Method::TemporalPermuteJitter => "temporal-permute-jitter",
             Method::FeaturePermute => "feature-permute",
             Method::FeaturePermuteJitter => "feature-permute-jitter",
             Method::FeaturePermuteRawKey => "feature-permute-raw-key",
@@ -143,6 +155,9 @@ impl Method {
             Method::Sort => "sorting pass only (R2 walk), no retargeting",
             Method::Permute => "sorting + retargeting, aperiodic R2 offset walk",
             Method::PermuteJitter => "permute, with the pixel jitter from screen-space Sobol",
+            Method::PermuteZSobolJitter => {
+                "permute, with the pixel jitter from ZSobol (progressive over frames)"
+            }
             Method::FixedStep => "sorting + retargeting, fixed integer step floor(W*(a1,a2))",
             Method::Dither => "white seeds + STBN mask on the first bounce direction",
             Method::DitherFilterAdapted => {
@@ -165,6 +180,7 @@ impl Method {
             Method::TemporalPermute => {
                 "sorting against STBN slice t + retarget table to slice t + 1 (blue in time), fixed streams"
             }
+            Method::TemporalPermuteJitter => "temporal-permute, with the pixel jitter from ZSobol",
             Method::FeaturePermute => {
                 "feature-aware permute: demodulated keys, groups of one surface, cut retarget moves"
             }

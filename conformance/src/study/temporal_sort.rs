@@ -123,13 +123,20 @@ fn slice_ranks(mask: &SpatiotemporalMask<'_>) -> Vec<Vec<u32>> {
 /// temporal mode (128 tile, the default mask's slice tables): sorting every
 /// block against slice `t mod 64` and retargeting to slice `t + 1` after
 /// frame `t` (module docs); calls `on_frame(t, colour)` for each frame.
+/// `sampler` is the trace settings' sampler (`kernels::abi::SAMPLER_SEEDS`,
+/// or an a-priori sampler's jitter with `SAMPLER_JITTER_ONLY`).
 ///
 /// # Errors
-/// Rendering errors.
-pub fn render_temporal_permute(study: &Study, on_frame: &mut impl FnMut(u32, &[Vec4])) -> Result<()> {
+/// Rendering errors, a sampler the temporal mode refuses.
+pub fn render_temporal_permute(
+    study: &Study,
+    sampler: u32,
+    on_frame: &mut impl FnMut(u32, &[Vec4]),
+) -> Result<()> {
     let c = &study.config;
     let mut settings = c.settings();
     settings.seed_mode = SEED_MODE_FIXED;
+    settings.sampler = sampler;
     let job = RenderJob {
         settings,
         frames: c.frames,

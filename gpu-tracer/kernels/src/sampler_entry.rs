@@ -22,7 +22,7 @@ use sampler_core::sequences::spatiotemporal::{
     spatiotemporal_pair_u32, spatiotemporal_shift_u32, SEQUENCE_SOBOL,
 };
 use sampler_core::sequences::walk::walk_offset;
-use sampler_core::sequences::zsobol::{zsobol_frame_sample_u32, ZSOBOL_MAX_LOG2_SPP};
+use sampler_core::sequences::zsobol::{zsobol_frame_pair_u32, ZSOBOL_MAX_LOG2_SPP};
 use spirv_std::spirv;
 
 /// Entry point name of [`screen_sobol_cs`].
@@ -102,10 +102,8 @@ pub fn zsobol_pair(spp: u32, frame: u32, pixel: UVec2, s: u32, pair: u32) -> Vec
     while log2_spp < ZSOBOL_MAX_LOG2_SPP && (1u32 << log2_spp) < spp {
         log2_spp += 1;
     }
-    Vec2::new(
-        q32_to_f32(zsobol_frame_sample_u32(pixel, s, 2 * pair, log2_spp, frame)),
-        q32_to_f32(zsobol_frame_sample_u32(pixel, s, 2 * pair + 1, log2_spp, frame)),
-    )
+    let v = zsobol_frame_pair_u32(pixel, s, pair, log2_spp, frame);
+    Vec2::new(q32_to_f32(v[0]), q32_to_f32(v[1]))
 }
 
 /// Pair `pair` of sample `s` of `pixel` in frame `frame` at `spp` samples

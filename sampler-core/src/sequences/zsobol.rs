@@ -231,9 +231,14 @@ pub fn zsobol_sample_u32(
 ) -> u32 {
     let pair = dimension / 2;
     let index = zsobol_index(pixel, sample_index, log2_spp, pair, seed);
-    // One global Owen scramble per pair, shared by all pixels.
-    let pair_seed = hash_u32(seed ^ hash_u32(pair.wrapping_add(0x2545_F491)));
-    owen_sobol_u32(index, dimension & 1, pair_seed)
+    owen_sobol_u32(index, dimension & 1, pair_scramble_seed(seed, pair))
+}
+
+/// The seed of pair `pair`'s Owen scramble under `seed`: one global scramble
+/// per pair, shared by all pixels.
+#[inline]
+fn pair_scramble_seed(seed: u32, pair: u32) -> u32 {
+    hash_u32(seed ^ hash_u32(pair.wrapping_add(0x2545_F491)))
 }
 
 /// [`zsobol_sample_u32`] in `[0, 1)` (24 bits).
@@ -301,6 +306,23 @@ pub fn zsobol_frame_sample_u32(
     let point = zsobol_sample_u32(pixel, sample_index, dimension, log2_spp, ZSOBOL_FRAME_SEED);
     let shift = zsobol_frame_shift_u32(frame, dimension / 2);
     point ^ shift[(dimension & 1) as usize]
+}
+
+/// Dimensions `2 pair` and `2 pair + 1` of [`zsobol_frame_sample_u32`]
+/// together, computing the pixel's index and the frame's shift once (what a
+/// renderer wants: its decisions are 2D pairs).
+#[inline]
+pub fn zsobol_frame_pair_u32(
+    pixel: glam::UVec2,
+    sample_index: u32,
+    pair: u32,
+    log2_spp: u32,
+    frame: u32,
+) -> [u32; 2] {
+    let index = zsobol_index(pixel, sample_index, log2_spp, pair, ZSOBOL_FRAME_SEED);
+    let point = owen_sobol_pair_u32(index, pair_scramble_seed(ZSOBOL_FRAME_SEED, pair));
+    let shift = zsobol_frame_shift_u32(frame, pair);
+    [point[0] ^ shift[0], point[1] ^ shift[1]]
 }
 
 #[cfg(test)]
@@ -460,6 +482,22 @@ mod tests {
                 }
                 assert!(is_02_net(&pts), "frame {frame}, pair {pair}");
             }
+        }
+    }
+
+    /// The pair form computes the same words as the per-dimension one.
+    #[test]
+    fn frame_pairs_equal_their_dimensions() {
+        for i in 0..500u32 {
+            let p = UVec2::new(hash_u32(i) % 5000, hash_u32(i + 3) % 5000);
+            let (s, pair, l, frame) = (i % 7, i % 13, i % 10, hash_u32(i + 11) % 1000);
+            assert_eq!(
+                zsobol_frame_pair_u32(p, s, pair, l, frame),
+                [
+                    zsobol_frame_sample_u32(p, s, 2 * pair, l, frame),
+                    zsobol_frame_sample_u32(p, s, 2 * pair + 1, l, frame)
+                ]
+            );
         }
     }
 

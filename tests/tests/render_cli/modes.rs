@@ -139,17 +139,35 @@ fn feature_aware_permutation_renders_on_cpu_and_gpu() {
     }
 }
 
-/// `--mode temporal` on the CPU and the GPU: a 128 tile by default, and
-/// the mode named in the summary.
+/// `--mode temporal` on the CPU and the GPU, with the seeds alone and with
+/// ZSobol's jitter (QUALITY.md's `temporal-permute-jitter` row): a 128 tile
+/// by default, and the mode named in the summary.
 #[test]
 fn temporal_mode_renders_on_cpu_and_gpu() {
     let exe = tracer();
     let dir = tempfile::tempdir().unwrap();
-    for device in ["cpu", "gpu"] {
-        let out = dir.path().join(device);
+    for (device, sampler) in [
+        ("cpu", "seeds"),
+        ("gpu", "seeds"),
+        ("cpu", "zsobol-jitter"),
+        ("gpu", "zsobol-jitter"),
+    ] {
+        let out = dir.path().join(format!("{device}-{sampler}"));
         let args = [
-            "render", "--width", "24", "--height", "16", "--frames", "3", "--mode", "temporal", "--device",
-            device, "--out",
+            "render",
+            "--width",
+            "24",
+            "--height",
+            "16",
+            "--frames",
+            "3",
+            "--mode",
+            "temporal",
+            "--sampler",
+            sampler,
+            "--device",
+            device,
+            "--out",
         ];
         let o = run(&exe, &[&args[..], &[out.to_str().unwrap()]].concat());
         let t = text(&o);
@@ -159,7 +177,10 @@ fn temporal_mode_renders_on_cpu_and_gpu() {
             eprintln!("SKIPPED (GPU temporal mode): {t}");
             continue;
         }
-        assert!(o.status.success() && t.contains("Temporal mode"), "{device}: {t}");
+        assert!(
+            o.status.success() && t.contains("Temporal mode"),
+            "{device}, {sampler}: {t}"
+        );
         assert_eq!(png_size(&out.join("mean.png")), (24, 16));
     }
 }
