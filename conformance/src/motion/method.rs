@@ -28,11 +28,17 @@ pub enum MotionMethod {
     /// [`MotionMethod::SpatiotemporalFollow`] with the Kronecker sequence in
     /// time (`--sampler spatiotemporal-kronecker`).
     SpatiotemporalKroneckerFollow,
+    /// White seeds and ZSobol on every 2D decision (`--sampler zsobol`): its
+    /// frames digital shifts of one net, each pixel's point fixed on the screen.
+    ZSobol,
+    /// The temporal permutation (`--mode temporal`, 128 tile) with ZSobol's
+    /// jitter (`--sampler zsobol-jitter`), the seeds reprojected.
+    TemporalPermuteJitterReproject,
 }
 
 impl MotionMethod {
     /// Every row, white first.
-    pub const ALL: [MotionMethod; 9] = [
+    pub const ALL: [MotionMethod; 11] = [
         MotionMethod::White,
         MotionMethod::Permute,
         MotionMethod::PermuteReproject,
@@ -42,6 +48,8 @@ impl MotionMethod {
         MotionMethod::Spatiotemporal,
         MotionMethod::SpatiotemporalFollow,
         MotionMethod::SpatiotemporalKroneckerFollow,
+        MotionMethod::ZSobol,
+        MotionMethod::TemporalPermuteJitterReproject,
     ];
 
     /// Name used in tables.
@@ -56,6 +64,8 @@ impl MotionMethod {
             MotionMethod::Spatiotemporal => "spatiotemporal, shifts at the pixels",
             MotionMethod::SpatiotemporalFollow => "spatiotemporal, shifts follow (hold + reprojection)",
             MotionMethod::SpatiotemporalKroneckerFollow => "spatiotemporal-kronecker, shifts follow",
+            MotionMethod::ZSobol => "zsobol",
+            MotionMethod::TemporalPermuteJitterReproject => "temporal-permute + zsobol jitter + reprojection",
         }
     }
 
@@ -89,13 +99,26 @@ impl MotionMethod {
                 settings.sampler = kernels::abi::SAMPLER_SPATIOTEMPORAL | kernels::abi::SAMPLER_KRONECKER;
                 (PermuteMode::Hold, true)
             }
+            MotionMethod::ZSobol => {
+                settings.sampler = kernels::abi::SAMPLER_ZSOBOL;
+                (PermuteMode::White, false)
+            }
+            MotionMethod::TemporalPermuteJitterReproject => {
+                settings.sampler = kernels::abi::SAMPLER_ZSOBOL | kernels::abi::SAMPLER_JITTER_ONLY;
+                (PermuteMode::Temporal, true)
+            }
+        };
+        let tile = if mode == PermuteMode::Temporal {
+            gpu_tracer::TileChoice::Tile128
+        } else {
+            config.tile
         };
         let job = RenderJob {
             settings,
             frames: config.frames,
             mode,
             block: config.block,
-            tile: config.tile,
+            tile,
             salt: config.salt,
         };
         let options = SequenceOptions {
