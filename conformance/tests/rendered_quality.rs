@@ -475,10 +475,7 @@ fn zsobol_frames_converge_while_each_stays_blue() {
     let m = Method::ZSobol;
     let blur = r.pooled(m, Metric::Blur1, GOAL_FRAME as usize).expect("measured");
     let ema = r.pooled_history(m, HistoryMetric::Ema, None).expect("measured");
-    let means: Vec<f64> = [8, 32, 64]
-        .iter()
-        .map(|&n| r.accumulated_region(m, n, None).expect("measured"))
-        .collect();
+    let means = running_means(r, m, &[8, 32, 64]);
     println!("zsobol: raw blur whole {blur:.3}, EMA whole {ema:.3}, means of 8 / 32 / 64 frames {means:.3?} (white = 1)");
     assert!(blur <= 0.80, "raw blurred error {blur:.3} of white");
     assert!(
@@ -507,10 +504,7 @@ fn the_temporal_permutation_with_a_zsobol_jitter_is_blue_per_frame_and_in_time()
     let n = r.run(m).expect("measured").lf_insets.len();
     let lf = (from..n).map(|i| rel(r, m, Metric::LowFrequency, i)).sum::<f64>() / (n - from) as f64;
     let ema = r.pooled_history(m, HistoryMetric::Ema, None).expect("measured");
-    let means: Vec<f64> = [8, 32, 64]
-        .iter()
-        .map(|&n| r.accumulated_region(m, n, None).expect("measured"))
-        .collect();
+    let means = running_means(r, m, &[8, 32, 64]);
     println!(
         "temporal-permute-jitter: raw blur whole {blur:.3}, flat-inset LF {lf:.3}, EMA whole {ema:.3}, \
          means of 8 / 32 / 64 frames {means:.3?} (white = 1)"
@@ -524,4 +518,13 @@ fn the_temporal_permutation_with_a_zsobol_jitter_is_blue_per_frame_and_in_time()
     for (n, v) in [8, 32, 64].iter().zip(&means) {
         assert!(*v <= 0.80, "mean of {n} frames reads {v:.3} of white");
     }
+}
+
+/// `m`'s error in the mean of its first `n` frames, whole image (white = 1), for
+/// each `n` of `frames`.
+fn running_means(r: &StudyResult, m: Method, frames: &[usize]) -> Vec<f64> {
+    frames
+        .iter()
+        .map(|&n| r.accumulated_region(m, n, None).expect("measured"))
+        .collect()
 }
