@@ -101,3 +101,25 @@ pub fn banded_features(
         })
         .collect()
 }
+
+/// The input seed each output seed of the feature-aware permutation came
+/// from: the seed itself if it is one of `inputs` (moved), else the input
+/// whose `sampler_core::features::permute::refresh_isolated_seed` it is (an
+/// isolated position's fresh seed), else `None`. With every entry `Some`
+/// and the origins a rearrangement of `inputs`, the output is a permutation
+/// up to the refreshed seeds.
+pub fn feature_permutation_origins(out: &[u32], inputs: &[u32]) -> Vec<Option<u32>> {
+    use sampler_core::features::permute::refresh_isolated_seed;
+    use std::collections::{HashMap, HashSet};
+    let plain: HashSet<u32> = inputs.iter().copied().collect();
+    let refreshed: HashMap<u32, u32> = inputs.iter().map(|&s| (refresh_isolated_seed(s), s)).collect();
+    out.iter()
+        .map(|s| {
+            if plain.contains(s) {
+                Some(*s)
+            } else {
+                refreshed.get(s).copied()
+            }
+        })
+        .collect()
+}

@@ -20,10 +20,21 @@
 //!    `e` (whose edge is cut) goes to the chain's start `s` instead of
 //!    crossing. A cycle without cuts is applied as it is; with cuts, each
 //!    chain becomes a cycle of its own.
+//! 3. **Isolated positions get a fresh seed** ([`refresh_isolated_seed`]): a
+//!    chain of one position (its edges in and out of the table both cut)
+//!    would keep its seed for ever, so the pixel repeated its estimate frame
+//!    after frame (QUALITY.md: 12.9% of an edge pixel's frames brought back
+//!    a seed it had had, against 4.2% for the plain permutation, and its
+//!    running mean stopped converging). Its seed is replaced by a hash of
+//!    itself instead, so its estimate changes as white noise's does.
 //!
 //! # Invariant (proof sketch)
 //!
-//! The output is a permutation of the input. Each position `q` receives
+//! The output is a permutation of the input in which the seed of every
+//! chain of one position is replaced by [`refresh_isolated_seed`] of itself
+//! (a fresh 32-bit hash: it equals another seed of the buffer with
+//! probability about `seeds / 2^32` per refreshed seed, and two pixels that
+//! share a seed share only their random numbers). Each position `q` receives
 //! exactly one seed: if the edge into `q` (from `π⁻¹(q)`) is uncut, the seed
 //! of `π⁻¹(q)`; if it is cut, `q` starts exactly one chain, and the seed of
 //! that chain's end (found by walking `π⁻¹` back from the end until a cut
@@ -49,6 +60,7 @@ use crate::permutation::dither::{tile_texel, DitherTile};
 use crate::permutation::layout::{FrameLayout, FrameParams};
 use crate::permutation::retarget::{retarget_destination, RetargetTables};
 use crate::permutation::sort::{intensity_key, sort_block, Intensity, MAX_BLOCK_PIXELS};
+use crate::sequences::seed::hash_u32;
 use crate::sequences::walk::{step_index, walk_offset};
 use glam::UVec2;
 
@@ -239,6 +251,15 @@ pub fn retarget_index(params: &FrameParams, offset: UVec2, table: &[u32], p: u32
     d.y * pw + d.x
 }
 
+/// The seed that replaces `seed` at a position whose retarget edges in and
+/// out are both cut (module docs, step 3): a bijective hash of it, so two
+/// isolated seeds never become one, and a seed isolated frame after frame
+/// walks through new values.
+#[inline]
+pub fn refresh_isolated_seed(seed: u32) -> u32 {
+    hash_u32(seed ^ 0x5BD1_E995)
+}
+
 /// First step of the feature-aware retarget, one per seed: records the
 /// inverse of the table's permutation, `sources[π(p)] = p`.
 #[inline]
@@ -247,8 +268,8 @@ pub fn record_source(params: &FrameParams, offset: UVec2, table: &[u32], p: u32,
 }
 
 /// Second step, one per seed `p`: sends `seeds_in[p]` along its edge if it
-/// is uncut, else to the start of its chain (module docs). `sources` is
-/// the inverse from [`record_source`].
+/// is uncut, else to the start of its chain, refreshed if that start is `p`
+/// itself (module docs). `sources` is the inverse from [`record_source`].
 #[allow(clippy::too_many_arguments)]
 #[inline]
 pub fn retarget_features_pixel(
@@ -277,7 +298,19 @@ pub fn retarget_features_pixel(
         }
         q = r;
     }
-    seeds_out[q as usize] = seeds_in[p as usize];
+    seeds_out[q as usize] = chain_start_seed(p, q, seeds_in[p as usize]);
+}
+
+/// The seed the start `q` of `p`'s chain receives from `p` (whose edge is
+/// cut): `seed`, or [`refresh_isolated_seed`] of it when the chain is `p`
+/// alone.
+#[inline]
+fn chain_start_seed(p: u32, q: u32, seed: u32) -> u32 {
+    if q == p {
+        refresh_isolated_seed(seed)
+    } else {
+        seed
+    }
 }
 
 /// Flag bit of a link ([`record_link`]): set when the link's index is the
@@ -371,7 +404,8 @@ pub fn retarget_features_linked(
     while v & LINK_START == 0 {
         v = links[v as usize];
     }
-    seeds_out[(v & !LINK_START) as usize] = seeds_in[p as usize];
+    let q = v & !LINK_START;
+    seeds_out[q as usize] = chain_start_seed(p, q, seeds_in[p as usize]);
 }
 
 /// The feature-aware permutation of a frame: grouped sort of `intensities`
@@ -380,7 +414,8 @@ pub fn retarget_features_linked(
 /// edges (module docs). `features` is the frame's [`SurfaceFeature`]
 /// buffer (`width * height`); `sorted` and `sources` are scratch
 /// (`seed_count` each; their contents afterwards are unspecified). Output:
-/// a permutation of `seeds_in`; with features that make every pixel one
+/// a permutation of `seeds_in` but for the refreshed seeds of isolated
+/// positions (module docs); with features that make every pixel one
 /// surface, identical to [`crate::permute_frame`].
 ///
 /// Where the plain CPU fast path applies (block side 2, 4 or 8 dividing a
@@ -412,9 +447,14 @@ pub fn retarget_features_linked(
 /// let thresholds = FeatureThresholds::DEFAULT;
 /// permute_frame_features(&layout, 0, &image, &features, &thresholds, &tile, &tables, &seeds,
 ///                        &mut sorted, &mut sources, &mut next)?;
-/// let mut check = next.clone();
-/// check.sort();
-/// assert_eq!(check, seeds); // a permutation
+/// // Each input seed moved once, except where a position's retarget edges are both
+/// // cut: there a fresh seed (a hash, far above the seed count here).
+/// let mut moved: Vec<u32> = next.iter().copied().filter(|&s| (s as usize) < n).collect();
+/// let fresh = n - moved.len();
+/// moved.sort();
+/// moved.dedup();
+/// assert_eq!(moved.len() + fresh, n);
+/// assert!(fresh < n / 10, "{fresh} isolated positions"); // 209 of 4096 here, most beside the padding
 /// for (p, &s) in next.iter().enumerate() {
 ///     let (x, y, sx, sy) = (p as u32 % w, p as u32 / w, s % w, s / w);
 ///     if x < 64 && y < 32 && sx < 64 && sy < 32 {
@@ -587,6 +627,65 @@ mod tests {
     use glam::Vec3;
     use std::vec;
     use std::vec::Vec;
+
+    /// Every pixel its own surface: each block group is one pixel (the sort
+    /// moves nothing) and every retarget edge that moves a seed is cut, so
+    /// every position is either a fixed point of the table (its seed stays)
+    /// or isolated (its seed is refreshed in place); both CPU paths agree.
+    #[test]
+    fn isolated_positions_get_fresh_seeds() {
+        let layout = FrameLayout::new(64, 64, 4, 64).unwrap();
+        let (tile, tables) = (defaults::tile_64(), defaults::tables_64());
+        let n = layout.seed_count();
+        let features: Vec<SurfaceFeature> = (0..64 * 64)
+            .map(|i| SurfaceFeature::new(i as u32, 5.0, Vec3::Z))
+            .collect();
+        let values: Vec<f32> = (0..64 * 64).map(|i| ((i * 7919) % 101) as f32).collect();
+        let seeds: Vec<u32> = (0..n as u32).map(|i| hash_u32(i ^ 0xABCD)).collect();
+        let t = FeatureThresholds::DEFAULT;
+        for frame in [0u32, 5] {
+            let (mut sorted, mut sources, mut fast, mut reference) =
+                (vec![0; n], vec![0; n], vec![0; n], vec![0; n]);
+            permute_frame_features(
+                &layout,
+                frame,
+                &values,
+                &features,
+                &t,
+                &tile,
+                &tables,
+                &seeds,
+                &mut sorted,
+                &mut sources,
+                &mut fast,
+            )
+            .unwrap();
+            permute_frame_features_reference(
+                &layout,
+                frame,
+                &values,
+                &features,
+                &t,
+                &tile,
+                &tables,
+                &seeds,
+                &mut sorted,
+                &mut sources,
+                &mut reference,
+            )
+            .unwrap();
+            assert_eq!(fast, reference, "frame {frame}");
+            let mut refreshed = 0;
+            for p in 0..n {
+                if fast[p] == refresh_isolated_seed(seeds[p]) {
+                    refreshed += 1;
+                } else {
+                    assert_eq!(fast[p], seeds[p], "frame {frame}, position {p}");
+                }
+            }
+            assert!(refreshed > n / 2, "frame {frame}: {refreshed} of {n} refreshed");
+        }
+    }
 
     /// The linked walk after 0 to 6 jump rounds (two buffers, as the GPU
     /// runs them) equals the serial walk of `retarget_features_pixel`, seed

@@ -1,5 +1,6 @@
 //! The third pass: every seed whose edge is cut goes to the start of its
-//! chain, found by walking `π⁻¹` back along uncut edges
+//! chain, found by walking `π⁻¹` back along uncut edges, refreshed when the
+//! chain is its own position alone
 //! ([`retarget_features_pixel`](crate::features::permute::retarget_features_pixel)).
 //!
 //! A walk reads only the frame's inverse table and the cut bits (an
@@ -12,17 +13,21 @@
 
 use super::cuts::is_set;
 use super::steps::Steps;
+use crate::features::permute::refresh_isolated_seed;
 
 /// Walks in flight at once (12 and 24 measured alike at 1080p).
 const WALKS: usize = 12;
 
-/// One walk in flight: its current position and the seed it carries.
+/// One walk in flight: its current position, the seed it carries, and
+/// whether it has left its first position (a walk that has not ends at a
+/// chain of one position, whose seed is refreshed).
 #[derive(Clone, Copy)]
 struct Walk {
     x: u32,
     y: u32,
     seed: u32,
     live: bool,
+    moved: bool,
 }
 
 /// The cut seeds, in cut-bit order, with their positions.
@@ -86,6 +91,7 @@ pub(super) fn walk_chains<const B: u32, const N: usize>(
         y: 0,
         seed: 0,
         live: false,
+        moved: false,
     }; WALKS];
     let mut exhausted = false;
     loop {
@@ -103,6 +109,7 @@ pub(super) fn walk_chains<const B: u32, const N: usize>(
                             y,
                             seed,
                             live: true,
+                            moved: false,
                         };
                     }
                     None => {
@@ -114,11 +121,16 @@ pub(super) fn walk_chains<const B: u32, const N: usize>(
             any = true;
             let (rx, ry) = steps.inverse(walk.x, walk.y);
             if is_set(raster_words, (ry * padded_width + rx) as usize) {
-                seeds_out[(walk.y * padded_width + walk.x) as usize] = walk.seed;
+                seeds_out[(walk.y * padded_width + walk.x) as usize] = if walk.moved {
+                    walk.seed
+                } else {
+                    refresh_isolated_seed(walk.seed)
+                };
                 walk.live = false;
             } else {
                 walk.x = rx;
                 walk.y = ry;
+                walk.moved = true;
             }
         }
         if !any {
