@@ -233,6 +233,7 @@ impl<'a> Meter<'a> {
                 blur2: Vec::new(),
                 blur1_regions: Vec::new(),
                 acc_regions: Vec::new(),
+                acc_fourth: Vec::new(),
                 seed_repeats: None,
                 acc_rmse: Vec::new(),
                 acc_rmse_corrected: Vec::new(),
@@ -334,7 +335,7 @@ impl<'a> Meter<'a> {
         // Accumulation.
         let n = (t + 1) as f64;
         let mut mse = 0.0;
-        let mut acc = [0.0f64; 3];
+        let (mut acc, mut fourth) = ([0.0f64; 3], [0.0f64; 3]);
         for (((s, l), r), region) in self
             .sum
             .iter_mut()
@@ -346,8 +347,10 @@ impl<'a> Meter<'a> {
             let d = *s / n - *r as f64;
             mse += d * d;
             acc[*region as usize] += d * d;
+            fourth[*region as usize] += d * d * d * d;
         }
         self.run.acc_regions.push(acc);
+        self.run.acc_fourth.push(fourth);
         if ACCUMULATION_SNAPSHOTS.contains(&(t + 1)) {
             let mean = self.sum.iter().map(|s| (*s / n) as f32).collect();
             self.run.accumulated.push((t + 1, mean));

@@ -19,6 +19,7 @@
 //! - [`history`]: each method's error after an exponential history alone (EMA, no
 //!   clamp) and after the EMA then a Gaussian blur.
 //! - [`result`]: the measured study and every figure read off it.
+//! - [`uncertainty`]: how far one run's accumulated figures can be trusted.
 //! - `meter`: [`Study::run`] and the per-frame measurement.
 //!
 //! Each module uses only those listed above it.
@@ -125,6 +126,7 @@ pub mod result;
 pub mod scene;
 pub mod setup;
 pub mod temporal_sort;
+pub mod uncertainty;
 pub mod walks;
 
 pub use config::{StudyConfig, ACCUMULATION_POINTS, ACCUMULATION_SNAPSHOTS, GOAL_FRAME};

@@ -47,6 +47,9 @@ pub struct MethodRun {
     /// Entry `n - 1`: sum over each region of the squared error of the mean of frames
     /// `0..n` (reference noise not removed).
     pub acc_regions: Vec<[f64; 3]>,
+    /// Entry `n - 1`: the same sums of the fourth power of that error, for the
+    /// one-run uncertainty of the accumulated figures ([`super::uncertainty`]).
+    pub acc_fourth: Vec<[f64; 3]>,
     /// For the permuting rows (permute, permute-jitter and the feature-aware ones):
     /// per region, the fraction of (pixel, frame) pairs whose seed the pixel already
     /// had in an earlier frame. With fixed seeds a repeated seed repeats the pixel's
@@ -299,6 +302,7 @@ impl StudyResult {
                  reference noise not removed; white = 1):\n\n"
             );
             s += &self.temporal_markdown();
+            s += &self.uncertainty_markdown();
         }
         if self.runs.iter().any(|r| !r.filtered.is_empty()) {
             s += &format!(
