@@ -9,8 +9,11 @@
 //!   and retargeting cut at edges
 //!   ([`permute_frame_features`](crate::permute_frame_features)), and the
 //!   per-block / per-seed functions the GPU kernels call.
+//! - [`isolated`]: the fresh seed of a position that cannot move without
+//!   crossing an edge ([`refresh_isolated_seed`](isolated::refresh_isolated_seed)).
 //! - `cpu` (private): its CPU fast path, identical output.
 
 mod cpu;
+pub mod isolated;
 pub mod permute;
 pub mod surface;

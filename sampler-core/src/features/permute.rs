@@ -55,12 +55,12 @@
 //! number of seeds on cut cycles (each chain is walked once).
 
 use crate::error::{Buffer, Error};
+pub use crate::features::isolated::refresh_isolated_seed;
 use crate::features::surface::{edge_is_cut, same_surface, FeatureThresholds, SurfaceFeature};
 use crate::permutation::dither::{tile_texel, DitherTile};
 use crate::permutation::layout::{FrameLayout, FrameParams};
 use crate::permutation::retarget::{retarget_destination, RetargetTables};
 use crate::permutation::sort::{intensity_key, sort_block, Intensity, MAX_BLOCK_PIXELS};
-use crate::sequences::seed::hash_u32;
 use crate::sequences::walk::{step_index, walk_offset};
 use glam::UVec2;
 
@@ -249,15 +249,6 @@ pub fn retarget_index(params: &FrameParams, offset: UVec2, table: &[u32], p: u32
         padded,
     );
     d.y * pw + d.x
-}
-
-/// The seed that replaces `seed` at a position whose retarget edges in and
-/// out are both cut (module docs, step 3): a bijective hash of it, so two
-/// isolated seeds never become one, and a seed isolated frame after frame
-/// walks through new values.
-#[inline]
-pub fn refresh_isolated_seed(seed: u32) -> u32 {
-    hash_u32(seed ^ 0x5BD1_E995)
 }
 
 /// First step of the feature-aware retarget, one per seed: records the
@@ -624,6 +615,7 @@ mod tests {
     extern crate std;
     use super::*;
     use crate::defaults;
+    use crate::sequences::seed::hash_u32;
     use glam::Vec3;
     use std::vec;
     use std::vec::Vec;

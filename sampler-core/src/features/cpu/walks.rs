@@ -13,7 +13,7 @@
 
 use super::cuts::is_set;
 use super::steps::Steps;
-use crate::features::permute::refresh_isolated_seed;
+use crate::features::isolated::refresh_isolated_seed;
 
 /// Walks in flight at once (12 and 24 measured alike at 1080p).
 const WALKS: usize = 12;
