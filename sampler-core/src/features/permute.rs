@@ -620,6 +620,21 @@ mod tests {
     use std::vec;
     use std::vec::Vec;
 
+    /// [`permute_frame_features`] or its reference form, on `f32` keys.
+    type Permute = fn(
+        &FrameLayout,
+        u32,
+        &[f32],
+        &[SurfaceFeature],
+        &FeatureThresholds,
+        &DitherTile<'_>,
+        &RetargetTables<'_>,
+        &[u32],
+        &mut [u32],
+        &mut [u32],
+        &mut [u32],
+    ) -> Result<(), Error>;
+
     /// Every pixel its own surface: each block group is one pixel (the sort
     /// moves nothing) and every retarget edge that moves a seed is cut, so
     /// every position is either a fixed point of the table (its seed stays)
@@ -636,36 +651,25 @@ mod tests {
         let seeds: Vec<u32> = (0..n as u32).map(|i| hash_u32(i ^ 0xABCD)).collect();
         let t = FeatureThresholds::DEFAULT;
         for frame in [0u32, 5] {
-            let (mut sorted, mut sources, mut fast, mut reference) =
-                (vec![0; n], vec![0; n], vec![0; n], vec![0; n]);
-            permute_frame_features(
-                &layout,
-                frame,
-                &values,
-                &features,
-                &t,
-                &tile,
-                &tables,
-                &seeds,
-                &mut sorted,
-                &mut sources,
-                &mut fast,
-            )
-            .unwrap();
-            permute_frame_features_reference(
-                &layout,
-                frame,
-                &values,
-                &features,
-                &t,
-                &tile,
-                &tables,
-                &seeds,
-                &mut sorted,
-                &mut sources,
-                &mut reference,
-            )
-            .unwrap();
+            let run = |permute: Permute| {
+                let (mut sorted, mut sources, mut out) = (vec![0; n], vec![0; n], vec![0; n]);
+                permute(
+                    &layout,
+                    frame,
+                    &values,
+                    &features,
+                    &t,
+                    &tile,
+                    &tables,
+                    &seeds,
+                    &mut sorted,
+                    &mut sources,
+                    &mut out,
+                )
+                .unwrap();
+                out
+            };
+            let (fast, reference) = (run(permute_frame_features), run(permute_frame_features_reference));
             assert_eq!(fast, reference, "frame {frame}");
             let mut refreshed = 0;
             for p in 0..n {
