@@ -184,9 +184,7 @@ impl SeedTracker {
         if t == 1 {
             let mut settings = study.config.settings();
             settings.padded_width = self.layout.padded_width();
-            if matches!(self.method, Method::PermuteJitter | Method::FeaturePermuteJitter) {
-                settings.sampler = kernels::abi::SAMPLER_SCREEN_SOBOL | kernels::abi::SAMPLER_JITTER_ONLY;
-            }
+            settings.sampler = self.method.jitter_sampler();
             let params = study.scene.trace_params(&settings, t)?;
             let mut check = vec![Vec4::ZERO; color.len()];
             cpu::render_frame(&study.scene, &params, &self.seeds, &mut check)?;

@@ -89,12 +89,7 @@ impl Study {
             | Method::PermuteJitter
             | Method::PermuteZSobolJitter => {
                 let mut settings = self.config.settings();
-                if method == Method::PermuteJitter {
-                    settings.sampler = kernels::abi::SAMPLER_SCREEN_SOBOL | kernels::abi::SAMPLER_JITTER_ONLY;
-                }
-                if method == Method::PermuteZSobolJitter {
-                    settings.sampler = kernels::abi::SAMPLER_ZSOBOL | kernels::abi::SAMPLER_JITTER_ONLY;
-                }
+                settings.sampler = method.jitter_sampler();
                 let job = RenderJob {
                     settings,
                     frames: self.config.frames,
@@ -114,9 +109,7 @@ impl Study {
             | Method::FeaturePermuteRawKey
             | Method::FeaturePermuteHistoryKey => {
                 let mut settings = self.config.settings();
-                if method == Method::FeaturePermuteJitter {
-                    settings.sampler = kernels::abi::SAMPLER_SCREEN_SOBOL | kernels::abi::SAMPLER_JITTER_ONLY;
-                }
+                settings.sampler = method.jitter_sampler();
                 let job = RenderJob {
                     settings,
                     frames: self.config.frames,
@@ -148,14 +141,9 @@ impl Study {
                 method == Method::TemporalSortAdvance,
                 &mut on_frame,
             )?,
-            Method::TemporalPermute => {
-                render_temporal_permute(self, kernels::abi::SAMPLER_SEEDS, &mut on_frame)?
+            Method::TemporalPermute | Method::TemporalPermuteJitter => {
+                render_temporal_permute(self, method.jitter_sampler(), &mut on_frame)?
             }
-            Method::TemporalPermuteJitter => render_temporal_permute(
-                self,
-                kernels::abi::SAMPLER_ZSOBOL | kernels::abi::SAMPLER_JITTER_ONLY,
-                &mut on_frame,
-            )?,
             Method::DitherFilterAdapted => {
                 render_dither(self, sampler_core::defaults::filter_adapted_128(), &mut on_frame)?
             }

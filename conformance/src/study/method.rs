@@ -117,6 +117,22 @@ impl Method {
         Method::FeaturePermuteJitter,
     ];
 
+    /// The trace settings' sampler of a permuting row: the a-priori sampler
+    /// that takes its pixel jitter (`SAMPLER_JITTER_ONLY`) for the `-jitter`
+    /// rows, else `SAMPLER_SEEDS` (every number from the permuted seeds).
+    pub fn jitter_sampler(self) -> u32 {
+        use kernels::abi::{SAMPLER_JITTER_ONLY, SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS, SAMPLER_ZSOBOL};
+        match self {
+            Method::PermuteJitter | Method::FeaturePermuteJitter => {
+                SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY
+            }
+            Method::PermuteZSobolJitter | Method::TemporalPermuteJitter => {
+                SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY
+            }
+            _ => SAMPLER_SEEDS,
+        }
+    }
+
     /// The method called `name` ([`Method::name`]).
     pub fn from_name(name: &str) -> Option<Method> {
         Method::ALL.into_iter().find(|m| m.name() == name)
