@@ -43,6 +43,7 @@ mod extrema;
 mod filter_adapted;
 mod filter_swap;
 mod filters;
+mod history_sequence;
 mod keys;
 mod kronecker_search;
 mod retarget_bake;
@@ -66,6 +67,7 @@ pub use filters::{
     spatial_autocorrelation, SpatialFilter, TemporalFilter, GAUSSIAN_TRUNCATION, MAX_FILTER_SIGMA,
     MAX_FILTER_TAPS,
 };
+pub use history_sequence::{bake_history_sequence, history_sequence_figures, HistorySequenceParams};
 pub use keys::{
     bake_key_tile, bake_sampler_keys, heaviside_integrands, key_errors, line_integrands, HeavisideIntegrand,
     KeyParams, LINE_INTEGRANDS, LINE_STEPS,
