@@ -40,6 +40,11 @@ fn main() {
     println!("held-out steps, white noise = 1");
     show("random points (start)", &random);
     show("Kronecker, pair 0 (shipped)", &kronecker);
+    for alpha in [0.05, 0.2] {
+        let f = history_sequence_figures(&kronecker, &held, 64, alpha, 9);
+        let name = format!("Kronecker, pair 0, a history of alpha {alpha}");
+        println!("{name:<52} history {:.3}", f[0]);
+    }
     for (name, start, mean_weight) in [
         ("optimised for the history, from random points", &random, 0.0),
         ("optimised for the history, from Kronecker", &kronecker, 0.0),
