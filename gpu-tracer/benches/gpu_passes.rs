@@ -8,9 +8,9 @@
 //! and the real-time filters (`taa`, `gauss`, `atrous`, `taa+atrous`) on the
 //! traced frame and its G-buffer; and the temporally blue permutation
 //! (`--mode temporal`: the same sorting and retargeting kernels bound on the
-//! frame's slice and table of the default 128x128x64 target) beside the
-//! walk's sort + retarget with the 128x128 tile, all in each frame's
-//! submission. `GPU_PASSES_ROUNDS=N` measures `N` frames instead of 15.
+//! frame's slice and table of the default 64x64x64 target) beside the
+//! walk's sort + retarget on a second permuter of the same 64x64 tile, the
+//! two in alternating order, all in each frame's submission. `GPU_PASSES_ROUNDS=N` measures `N` frames instead of 15.
 //!
 //! ```text
 //! cargo bench -p gpu-tracer --bench gpu_passes
@@ -91,21 +91,15 @@ fn main() {
         featured.features().expect("enabled"),
         &featured.intensity,
     );
-    // The temporal permutation and the walk's with the same 128x128 tile.
-    let layout128 = FrameLayout::new(WIDTH, HEIGHT, 4, 128).expect("layout");
-    let (tile128, tables128) = (
-        sampler_core::defaults::tile_128(),
-        sampler_core::defaults::tables_128(),
-    );
-    let permuter128 = |gpu: &Gpu| {
-        SeedPermuter::new(gpu, &pp, layout128, &tile128, &tables128, &tracer.color).expect("permuter")
-    };
-    let (mut temporal, walk128) = (permuter128(&gpu), permuter128(&gpu));
-    let target = sampler_core::defaults::stbn_128_slice_tables();
+    // The temporal permutation and the walk's, side by side on the same tile.
+    let pair_permuter =
+        |gpu: &Gpu| SeedPermuter::new(gpu, &pp, layout, &tile, &tables, &tracer.color).expect("permuter");
+    let (mut temporal, walk) = (pair_permuter(&gpu), pair_permuter(&gpu));
+    let target = sampler_core::defaults::temporal_target();
     temporal
         .enable_temporal(&gpu, &pp, &target)
         .expect("temporal target");
-    for p in [&permuter, &featured, &temporal, &walk128] {
+    for p in [&permuter, &featured, &temporal, &walk] {
         p.set_frame(&gpu, 0);
         let mut e = gpu.device.create_command_encoder(&Default::default());
         p.encode_seed_init(&mut e, &pp);
@@ -124,7 +118,7 @@ fn main() {
         tracer.set_params(&gpu, &scene.trace_params(&settings, t).expect("params"));
         permuter.set_frame(&gpu, t);
         featured.set_frame(&gpu, t);
-        walk128.set_frame(&gpu, t);
+        walk.set_frame(&gpu, t);
         let times = match &timer {
             Some(timer) => {
                 let mut e = gpu.device.create_command_encoder(&Default::default());
@@ -136,14 +130,14 @@ fn main() {
                 permuter.encode_step(&mut e, &pp, t, PermuteMode::Permute, Some((timer, 1)));
                 tracer.encode_features(&mut e, &tp, Some((timer, 6)));
                 featured.encode_step(&mut e, &pp, t, PermuteMode::Permute, Some((timer, 7)));
-                // The two 128-tile permutations, in alternating order from frame to frame.
+                // The temporal permutation and the walk's, in alternating order from frame to frame.
                 let (first, second) = if t % 2 == 0 { (9, 11) } else { (11, 9) };
                 temporal.encode_intensity(&mut e, &pp);
-                walk128.encode_intensity(&mut e, &pp);
+                walk.encode_intensity(&mut e, &pp);
                 for span in [first, second] {
                     match span {
                         9 => temporal.encode_step(&mut e, &pp, t, PermuteMode::Temporal, Some((timer, 9))),
-                        _ => walk128.encode_step(&mut e, &pp, t, PermuteMode::Permute, Some((timer, 11))),
+                        _ => walk.encode_step(&mut e, &pp, t, PermuteMode::Permute, Some((timer, 11))),
                     }
                 }
                 timer.resolve(&mut e);
@@ -169,7 +163,7 @@ fn main() {
                 run(&|e| tracer.encode_features(e, &tp, None));
                 run(&|e| featured.encode_step(e, &pp, t, PermuteMode::Permute, None));
                 run(&|e| temporal.encode_step(e, &pp, t, PermuteMode::Temporal, None));
-                run(&|e| walk128.encode_step(e, &pp, t, PermuteMode::Permute, None));
+                run(&|e| walk.encode_step(e, &pp, t, PermuteMode::Permute, None));
                 let mut e = gpu.device.create_command_encoder(&Default::default());
                 tracer.encode_motion(&mut e, &tp, None);
                 let start = Instant::now();
@@ -268,10 +262,10 @@ fn main() {
         ("feature pass", median(&mut features_ms)),
         ("feature-aware sort", median(&mut fsort_ms)),
         ("feature-aware retarget", median(&mut fretarget_ms)),
-        ("128 tile: sort", median(&mut wsort_ms)),
-        ("128 tile: retarget", median(&mut wretarget_ms)),
+        ("walk beside it: sort", median(&mut wsort_ms)),
+        ("walk beside it: retarget", median(&mut wretarget_ms)),
         (
-            "128 tile: sort + retarget",
+            "walk beside it: sort+retarget",
             median(&mut wsort_ms) + median(&mut wretarget_ms),
         ),
         ("temporal: sort", median(&mut tsort_ms)),

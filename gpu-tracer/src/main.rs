@@ -148,7 +148,7 @@ struct RenderArgs {
     /// How seeds change between frames: `white`, `sort`, `permute` (default
     /// with the seed stream and the other samplers), `temporal` (sort
     /// against slice `t mod 64` of the default spatiotemporal mask, retarget
-    /// to the next slice: blue in time too; 128 tile, no `--features`) or
+    /// to the next slice: blue in time too; 64 tile, no `--features`) or
     /// `hold` (default with `--sampler spatiotemporal`, the only sampler it
     /// takes: each pixel's shift stays with it, and follows the motion with
     /// reprojection).
@@ -157,8 +157,8 @@ struct RenderArgs {
     /// Block side of the sorting pass in pixels (2..=8).
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(2..=8))]
     block: u32,
-    /// Side of the baked dither tile: 64 or 128 (default 64; 128, the
-    /// only side it takes, with `--mode temporal`).
+    /// Side of the baked dither tile: 64 or 128 (default 64, the only side
+    /// `--mode temporal` takes).
     #[arg(long, value_parser = parse_tile)]
     tile: Option<u32>,
     /// Maximum path length in segments.
@@ -419,9 +419,9 @@ fn render(args: RenderArgs) -> Result<()> {
         }
     }
     let temporal = matches!(mode, ModeArg::Temporal);
-    let side = args.tile.unwrap_or(if temporal { 128 } else { 64 });
-    if temporal && side != 128 {
-        bail!("--mode temporal sorts against the 128x128 slices of the default spatiotemporal mask: use --tile 128 (its default)");
+    let side = args.tile.unwrap_or(64);
+    if temporal && side != TileChoice::TEMPORAL.side() {
+        bail!("--mode temporal sorts against the 64x64 slices of its default target: use --tile 64 (the default)");
     }
     let tile = TileChoice::from_side(side).context("tile must be 64 or 128")?;
     let job = RenderJob {

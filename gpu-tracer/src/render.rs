@@ -27,6 +27,11 @@ pub enum TileChoice {
 }
 
 impl TileChoice {
+    /// The tile the temporal mode ([`PermuteMode::Temporal`]) needs: the
+    /// side of its target's slices (`sampler_core::defaults::temporal_target`,
+    /// 64x64).
+    pub const TEMPORAL: TileChoice = TileChoice::Tile64;
+
     /// The tile for a side of 64 or 128 texels.
     pub fn from_side(side: u32) -> Option<Self> {
         match side {
@@ -213,9 +218,9 @@ impl RenderJob {
 
     /// Checks the job with `options` before any work: its layout, and the
     /// settings its mode needs. [`PermuteMode::Hold`] needs the
-    /// spatiotemporal sampler; [`PermuteMode::Temporal`] needs the 128x128
-    /// tile (the side of `sampler_core::defaults::stbn_128`, whose slices
-    /// it sorts against), a sampler that reads the seeds (not the
+    /// spatiotemporal sampler; [`PermuteMode::Temporal`] needs the
+    /// [`TileChoice::TEMPORAL`] tile (the side of the slices of
+    /// `sampler_core::defaults::temporal_target`, which it sorts against), a sampler that reads the seeds (not the
     /// spatiotemporal one), and no feature-aware permutation (whose passes
     /// read the walk's tables); it takes seed reprojection as
     /// [`PermuteMode::Permute`] does.
@@ -235,9 +240,9 @@ impl RenderJob {
                 "the hold mode keeps every pixel's numbers from frame to frame; only the spatiotemporal \
                  sampler, which advances its own sequence every frame, can use it",
             ),
-            PermuteMode::Temporal if self.tile != TileChoice::Tile128 => incompatible(
-                "the temporal mode sorts against the 128x128 slices of the default spatiotemporal mask: \
-                 it needs the 128 tile",
+            PermuteMode::Temporal if self.tile != TileChoice::TEMPORAL => incompatible(
+                "the temporal mode sorts against the 64x64 slices of its default target: it needs the 64 \
+                 tile",
             ),
             PermuteMode::Temporal if spatiotemporal => incompatible(
                 "the temporal mode permutes seeds, and the spatiotemporal sampler draws every number \
@@ -257,8 +262,7 @@ impl RenderJob {
     fn prepare(&self, options: &SequenceOptions) -> Result<Prepared, RenderError> {
         let layout = self.validate(options)?;
         let (tile, tables) = self.tile.load();
-        let temporal =
-            (self.mode == PermuteMode::Temporal).then(sampler_core::defaults::stbn_128_slice_tables);
+        let temporal = (self.mode == PermuteMode::Temporal).then(sampler_core::defaults::temporal_target);
         Ok((layout, self.settings_for(&layout), tile, tables, temporal))
     }
 
@@ -647,7 +651,7 @@ mod tests {
 
     /// The temporal mode renders on the CPU: its first frame is the
     /// permutation's (the same white seeds), later ones differ (another
-    /// sorting target), and it refuses the 64 tile, the feature-aware
+    /// sorting target), and it refuses the 128 tile, the feature-aware
     /// permutation and the spatiotemporal sampler before any work.
     #[test]
     fn temporal_mode_renders_and_refuses_what_it_cannot_take() {
@@ -657,10 +661,7 @@ mod tests {
             .into_iter()
             .enumerate()
         {
-            let job = RenderJob {
-                tile: TileChoice::Tile128,
-                ..job(kernels::abi::SAMPLER_SEEDS, mode)
-            };
+            let job = job(kernels::abi::SAMPLER_SEEDS, mode);
             render_cpu(&scene, &job, |_, c| frames[k].push(c.to_vec())).unwrap();
         }
         assert_eq!(frames[0][0], frames[1][0]);
@@ -674,13 +675,10 @@ mod tests {
             tile: TileChoice::Tile128,
             ..temporal
         };
-        let spatiotemporal = RenderJob {
-            tile: TileChoice::Tile128,
-            ..job(SAMPLER_SPATIOTEMPORAL, PermuteMode::Temporal)
-        };
+        let spatiotemporal = job(SAMPLER_SPATIOTEMPORAL, PermuteMode::Temporal);
         for (job, options, says) in [
-            (temporal, SequenceOptions::default(), "128 tile"),
-            (tile128, features, "feature-aware"),
+            (tile128, SequenceOptions::default(), "64 tile"),
+            (temporal, features, "feature-aware"),
             (
                 spatiotemporal,
                 SequenceOptions::default(),
@@ -694,7 +692,7 @@ mod tests {
             );
         }
         let mut sequence = SceneSequence::still(&scene, 20);
-        let e = render_sequence_cpu(&mut sequence, &tile128, features, |_| panic!("rendered")).unwrap_err();
+        let e = render_sequence_cpu(&mut sequence, &temporal, features, |_| panic!("rendered")).unwrap_err();
         assert!(e.to_string().contains("feature-aware"), "{e}");
     }
 

@@ -1,6 +1,6 @@
 //! Baked defaults compiled into the crate (cargo feature `defaults`, on by
 //! default; the workspace dependency turns it off so shader crates never
-//! carry its 6.7 MiB of data and 8 MiB of zero-initialised statics).
+//! carry its 5.6 MiB of data and 2 MiB of zero-initialised statics).
 //!
 //! The data are the files of `sampler-core/data/` (see its README), produced
 //! by the `bake` CLI from recorded seeds: void-and-cluster dither tiles with
@@ -8,12 +8,13 @@
 //! (energy about 0.011 of the identity's), and a 128x128x64 spatiotemporal
 //! mask with sigma 1.9 in space and time, a 128x128x64 mask adapted to an
 //! exponential history (alpha 0.1) times a Gaussian blur (sigma 1.3435), and
-//! the optimised keys of the screen-space Sobol sampler, and the exact
-//! retarget tables between consecutive slices of the spatiotemporal mask
-//! (the temporally blue permutation's). Tiles, tables and keys are decoded at compile
-//! time into `u32` statics; the masks are read byte-wise; the slice tables
-//! and the spatiotemporal mask's slices, a million words each, are decoded
-//! into zero-initialised `u32` statics on first use (module `decoded`).
+//! the optimised keys of the screen-space Sobol sampler, and the temporally
+//! blue permutation's target: a 64x64x64 spatiotemporal mask and the exact
+//! retarget tables between its consecutive slices. Tiles, tables and keys
+//! are decoded at compile time into `u32` statics; the masks are read
+//! byte-wise; the target's slices and tables, a quarter of a million words
+//! each, are decoded into zero-initialised `u32` statics on first use
+//! (module `decoded`).
 
 use crate::masks::spatiotemporal::SpatiotemporalMask;
 use crate::permutation::dither::DitherTile;
@@ -45,15 +46,12 @@ static TABLES_128: [u32; STEP_COUNT * 128 * 128] = decode_u32(include_bytes!("..
 static STBN_128: &[u8; 2 * 128 * 128 * 64] = include_bytes!("../data/stbn_128x128x64.bin");
 static FILTER_ADAPTED_128: &[u8; 2 * 128 * 128 * 64] =
     include_bytes!("../data/filter_adapted_128x128x64.bin");
-/// Side and depth of the default spatiotemporal mask.
-const STBN_SIZE: (u32, u32) = (128, 64);
-/// The slices of [`STBN_128`] as `u32` ranks, slice-major, decoded on
-/// first use.
-static STBN_128_SLICES: DecodedU16<{ 64 * 128 * 128 }> = DecodedU16::new(STBN_128);
-/// The retarget tables between its consecutive slices (`u16` on disk),
-/// decoded on first use.
-static STBN_128_TABLES: DecodedU16<{ 64 * 128 * 128 }> =
-    DecodedU16::new(include_bytes!("../data/stbn_128x128x64_tables.bin"));
+static STBN_64: &[u8; 2 * 64 * 64 * 64] = include_bytes!("../data/stbn_64x64x64.bin");
+/// The slices of [`STBN_64`] as `u32` ranks, slice-major, decoded on first use.
+static STBN_64_SLICES: DecodedU16<{ 64 * 64 * 64 }> = DecodedU16::new(STBN_64);
+/// The retarget tables between its consecutive slices, decoded on first use.
+static STBN_64_TABLES: DecodedU16<{ 64 * 64 * 64 }> =
+    DecodedU16::new(include_bytes!("../data/stbn_64x64x64_tables.bin"));
 /// Side, dimension pairs and spp levels of the default screen-space sampler keys.
 const KEYS_LAYOUT: (u32, u32, u32) = (64, 4, 5);
 static SCREEN_SOBOL_KEYS: [u32; 5 * 4 * 64 * 64] =
@@ -125,30 +123,45 @@ pub fn stbn_128() -> SpatiotemporalMask<'static> {
     }
 }
 
-/// The temporally blue permutation's target on the default mask
-/// ([`stbn_128`]): its 64 slices as 128x128 `u32` rank tiles (ranks
-/// `0..16384`, each once per slice) and the 64 exact retarget tables between
-/// consecutive slices, table `z` moving seeds ranked like slice `z` so they
-/// rank like slice `z + 1` (table 63 from slice 63 back to slice 0), read at
-/// tile offset 0; offsets in pixels, at most
-/// [`RETARGET_RADIUS`](crate::RETARGET_RADIUS) per axis. Made by
-/// `bake::bake_slice_tables` (feature `bake`) from [`stbn_128`]; frame `t`
-/// uses slice and table `t mod 64` ([`permute_frame_temporal`](crate::permute_frame_temporal)).
-/// 4 MiB of tables and 4 MiB of slices, zero-initialised statics decoded
-/// from the `u16` data by the first call (about a millisecond; concurrent
-/// first callers wait for it).
+/// A 64x64x64 spatiotemporal mask, baked like [`stbn_128`] (sigma 1.9 in
+/// space and time, same seed; each slice holds every rank of `0..4096`
+/// once): the temporally blue permutation's default target
+/// ([`temporal_target`]).
 ///
-/// Checks sizes and offsets on each call (about a million reads: call once
-/// and keep the result); that every table is a permutation is checked by
-/// this module's tests, not here.
+/// # Panics
+/// Never (size and length are fixed above).
+pub fn stbn_64() -> SpatiotemporalMask<'static> {
+    match SpatiotemporalMask::new(64, 64, 64, STBN_64) {
+        Ok(m) => m,
+        Err(e) => panic!("default 64x64x64 spatiotemporal mask is malformed: {e}"),
+    }
+}
+
+/// The temporally blue permutation's default target
+/// ([`permute_frame_temporal`](crate::permute_frame_temporal), `gpu-tracer
+/// render --mode temporal`): the 64 slices of [`stbn_64`] as 64x64 `u32`
+/// rank tiles (ranks `0..4096`, each once per slice) and the 64 exact
+/// retarget tables between consecutive slices, table `z` moving seeds ranked
+/// like slice `z` so they rank like slice `z + 1` (table 63 from slice 63
+/// back to slice 0), read at tile offset 0; offsets in pixels, at most
+/// [`RETARGET_RADIUS`](crate::RETARGET_RADIUS) per axis. Made by
+/// `bake::bake_slice_tables` (feature `bake`) from [`stbn_64`]; frame `t`
+/// uses slice and table `t mod 64`. Its 64x64 slices keep the permutation's
+/// cost at the walk's with the 64x64 tile, where the 128x128 slices of
+/// [`stbn_128`] cost 1.3x that for the same rendered quality (BENCHMARKS.md
+/// and QUALITY.md, "Temporal permutation"). 1 MiB of slices and 1 MiB of
+/// tables, zero-initialised statics decoded from the `u16` data by the
+/// first call.
+///
+/// Checks sizes and offsets on each call (call once and keep the result);
+/// that every table is a permutation is checked by this module's tests.
 ///
 /// # Panics
 /// Only if the committed data were corrupt; a test validates them.
-pub fn stbn_128_slice_tables() -> SliceTables<'static> {
-    let (side, depth) = STBN_SIZE;
-    match SliceTables::new_bounded(side, depth, STBN_128_SLICES.words(), STBN_128_TABLES.words()) {
+pub fn temporal_target() -> SliceTables<'static> {
+    match SliceTables::new_bounded(64, 64, STBN_64_SLICES.words(), STBN_64_TABLES.words()) {
         Ok(t) => t,
-        Err(e) => panic!("default slice tables are malformed: {e}"),
+        Err(e) => panic!("default temporal target is malformed: {e}"),
     }
 }
 
@@ -222,6 +235,14 @@ mod tests {
                 assert!(v > 0.0 && v < 1.0);
             }
         }
+        let m = stbn_64();
+        for z in 0..64 {
+            let mut slice = [0u32; 64 * 64];
+            for (i, r) in slice.iter_mut().enumerate() {
+                *r = m.rank(i as u32 % 64, i as u32 / 64, z);
+            }
+            assert!(exact(&slice), "64x64x64 slice {z}");
+        }
         let k = screen_sobol_keys();
         assert_eq!(k.keys().len(), k.layout().key_count());
     }
@@ -232,26 +253,27 @@ mod tests {
     #[test]
     fn default_slice_tables_are_valid_and_follow_the_mask() {
         use crate::permutation::retarget::RetargetTable;
-        let target = stbn_128_slice_tables();
-        let mask = stbn_128();
-        assert_eq!((target.tile(), target.depth()), (128, 64));
-        SliceTables::new(128, 64, target.slices_packed(), target.tables_packed()).unwrap();
+        let target = temporal_target();
+        let mask = stbn_64();
+        assert_eq!((target.tile(), target.depth()), (64, 64));
+        assert_eq!((mask.width(), mask.height(), mask.depth()), (64, 64, 64));
+        SliceTables::new(64, 64, target.slices_packed(), target.tables_packed()).unwrap();
         for z in [0u32, 17, 63] {
             let slice = target.slice(z).values();
             for (i, &r) in slice.iter().enumerate() {
-                assert_eq!(r, mask.rank(i as u32 % 128, i as u32 / 128, z), "slice {z}");
+                assert_eq!(r, mask.rank(i as u32 % 64, i as u32 / 64, z), "slice {z}");
             }
             // Moving slice z's ranks with table z lowers their mean
             // mismatch against slice z + 1 (mod 64) well below the identity's.
-            let table = RetargetTable::new(128, target.table(z).packed()).unwrap();
+            let table = RetargetTable::new(64, target.table(z).packed()).unwrap();
             let next = target.slice((z + 1) % 64).values();
             let (mut moved, mut still) = (0u64, 0u64);
-            for y in 0..128 {
-                for x in 0..128 {
+            for y in 0..64 {
+                for x in 0..64 {
                     let d = table.destination_in_tile(glam::UVec2::new(x, y));
-                    let r = slice[(y * 128 + x) as usize] as i64;
-                    moved += (r - next[(d.y * 128 + d.x) as usize] as i64).unsigned_abs();
-                    still += (r - next[(y * 128 + x) as usize] as i64).unsigned_abs();
+                    let r = slice[(y * 64 + x) as usize] as i64;
+                    moved += (r - next[(d.y * 64 + d.x) as usize] as i64).unsigned_abs();
+                    still += (r - next[(y * 64 + x) as usize] as i64).unsigned_abs();
                 }
             }
             assert!(

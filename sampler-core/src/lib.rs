@@ -23,7 +23,7 @@
 //! | [`features`] | the feature-aware permutation: sort within one surface, never retarget across an edge ([`features::surface`], [`features::permute`]) | [`permute_frame_features`], [`same_surface`] |
 //! | [`masks`] | spatiotemporal (STBN-style) and filter-adapted blue-noise masks | [`SpatiotemporalMask`] |
 //! | [`distributions`] | piecewise-constant 1D/2D distributions sampled by inverse CDF from caller-provided tables ([`distributions::piecewise`]), importance sampling of equirectangular environment maps ([`distributions::environment`]) | [`Distribution1d`], [`Distribution2d`], [`EnvironmentMap`] |
-//! | `defaults` (feature `defaults`) | the baked tiles, tables, masks and sampler keys | `defaults::tile_64`, `defaults::tables_64`, `defaults::stbn_128`, `defaults::stbn_128_slice_tables`, `defaults::screen_sobol_keys` |
+//! | `defaults` (feature `defaults`) | the baked tiles, tables, masks and sampler keys | `defaults::tile_64`, `defaults::tables_64`, `defaults::stbn_128`, `defaults::stbn_64`, `defaults::temporal_target`, `defaults::screen_sobol_keys` |
 //! | `bake` (feature `bake`, host only) | the generators of that data: void-and-cluster, spatiotemporal and filter-adapted masks, exact retarget tables, sampler keys | `bake::bake_mask`, `bake::bake_stbn`, `bake::bake_retarget_table` |
 //!
 //! Everything a shader needs is `u32`/`f32` arithmetic with `wrapping_*`

@@ -109,7 +109,7 @@ impl MotionMethod {
             }
         };
         let tile = if mode == PermuteMode::Temporal {
-            gpu_tracer::TileChoice::Tile128
+            gpu_tracer::TileChoice::TEMPORAL
         } else {
             config.tile
         };

@@ -10,7 +10,7 @@
 //! the tracer's `temporal` mode (`PermuteMode::Temporal`,
 //! `sampler_core::permute_frame_temporal`): after sorting against slice
 //! `t`, an exact radius-bounded retarget table between slices `t` and
-//! `t + 1` (`sampler_core::defaults::stbn_128_slice_tables`) moves seeds
+//! `t + 1` (`sampler_core::defaults::temporal_target`, 64x64x64) moves seeds
 //! across block borders, so a block's set of seeds changes over time (offset
 //! 0, so the arrangement repeats every 64 frames).
 //!
@@ -142,7 +142,7 @@ pub fn render_temporal_permute(
         frames: c.frames,
         mode: PermuteMode::Temporal,
         block: c.block,
-        tile: TileChoice::Tile128,
+        tile: TileChoice::TEMPORAL,
         salt: c.salt,
     };
     gpu_tracer::render_cpu(&study.scene, &job, on_frame)?;

@@ -276,9 +276,9 @@ fn temporal_kernels_match_the_cpu_bit_for_bit_across_the_wrap() {
         return;
     };
     let pipelines = PermutePipelines::new(&gpu).expect("pipelines");
-    let target = defaults::stbn_128_slice_tables();
-    let (tile, tables) = (defaults::tile_128(), defaults::tables_128());
-    let layout = FrameLayout::new(150, 70, 4, 128).unwrap();
+    let target = defaults::temporal_target();
+    let (tile, tables) = (defaults::tile_64(), defaults::tables_64());
+    let layout = FrameLayout::new(150, 70, 4, 64).unwrap();
     let color = gpu.storage_zeroed::<Vec4>("colour", layout.pixel_count());
     let mut permuter = SeedPermuter::new(&gpu, &pipelines, layout, &tile, &tables, &color).unwrap();
     permuter.enable_temporal(&gpu, &pipelines, &target).unwrap();

@@ -5,7 +5,7 @@
 //! table binding on table `z`, at tile offset 0.
 //!
 //! Every slice and every table is uploaded once, into one buffer each
-//! (`D * W * W` words; 4 MiB each for the default 128x128x64 target). Each
+//! (`D * W * W` words; 1 MiB each for the default 64x64x64 target). Each
 //! slice and each table is then bound where it lies, one bind group per
 //! `z` for each pass (binding ranges at `z * 4 W^2` bytes, a multiple of
 //! every device's storage offset alignment for `W >= 8`): the frame picks

@@ -46,6 +46,11 @@ pub const DEFAULT_TILE_64_SEED: u64 = 64;
 pub const DEFAULT_TILE_128_SEED: u64 = 128;
 /// Size of the default spatiotemporal mask.
 pub const DEFAULT_STBN_SIZE: (u32, u32, u32) = (128, 128, 64);
+/// Size of the temporally blue permutation's default target, a smaller
+/// spatiotemporal mask (same sigma and seed) whose 64x64 slices keep the
+/// permutation's per-frame cost at the walk's 64x64 tile's
+/// (BENCHMARKS.md, "Temporal permutation").
+pub const DEFAULT_TEMPORAL_SIZE: (u32, u32, u32) = (64, 64, 64);
 /// Spatial and temporal sigma of the default spatiotemporal mask.
 pub const DEFAULT_STBN_SIGMA: f64 = 1.9;
 /// Recorded seed of the default spatiotemporal mask.
@@ -109,9 +114,10 @@ pub enum DefaultSet {
     Keys,
     /// `filter_adapted_128x128x64.bin`.
     FilterAdapted,
-    /// `stbn_128x128x64_tables.bin`: the retarget tables between
-    /// consecutive slices of the STBN mask (baked from its recorded seed).
-    StbnTables,
+    /// `stbn_64x64x64.bin` and `stbn_64x64x64_tables.bin`: the temporally
+    /// blue permutation's target ([`DEFAULT_TEMPORAL_SIZE`]) and the
+    /// retarget tables between its consecutive slices.
+    Temporal64,
 }
 
 impl DefaultSet {
@@ -122,7 +128,7 @@ impl DefaultSet {
         DefaultSet::Stbn,
         DefaultSet::Keys,
         DefaultSet::FilterAdapted,
-        DefaultSet::StbnTables,
+        DefaultSet::Temporal64,
     ];
 
     /// File names this set writes.
@@ -133,7 +139,7 @@ impl DefaultSet {
             DefaultSet::Stbn => &["stbn_128x128x64.bin"],
             DefaultSet::Keys => &["screen_sobol_keys_64.bin"],
             DefaultSet::FilterAdapted => &["filter_adapted_128x128x64.bin"],
-            DefaultSet::StbnTables => &["stbn_128x128x64_tables.bin"],
+            DefaultSet::Temporal64 => &["stbn_64x64x64.bin", "stbn_64x64x64_tables.bin"],
         }
     }
 }
@@ -515,7 +521,12 @@ pub fn bake_default_tile(
 /// # Errors
 /// Propagated bake errors (none for the recorded parameters).
 pub fn bake_default_stbn(report: Report<'_>) -> Result<Vec<u8>> {
-    let (width, height, depth) = DEFAULT_STBN_SIZE;
+    bake_stbn_of_size(DEFAULT_STBN_SIZE, report)
+}
+
+/// A spatiotemporal mask of `size` with the default sigma and seed: its
+/// `u16` bytes.
+fn bake_stbn_of_size((width, height, depth): (u32, u32, u32), report: Report<'_>) -> Result<Vec<u8>> {
     let params = StbnParams {
         width,
         height,
@@ -527,18 +538,22 @@ pub fn bake_default_stbn(report: Report<'_>) -> Result<Vec<u8>> {
     encode_u16(&bake_stbn(&params, report)?)
 }
 
-/// Bakes the retarget tables between consecutive slices of the default
-/// spatiotemporal mask (itself baked from its recorded seed, as
-/// [`bake_default_stbn`]), one rayon task per slice: their `u16` bytes,
-/// table `z` (slice `z` to `z + 1`, the last to slice 0) first at byte
-/// `z * 2 * 128 * 128`.
+/// Bakes the temporally blue permutation's default target
+/// ([`DEFAULT_TEMPORAL_SIZE`], default sigma and seed) and the retarget
+/// tables between its consecutive slices: `(mask bytes, table bytes)`,
+/// both `u16`, table `z` at byte `z * 2 * 64 * 64`.
 ///
 /// # Errors
 /// Propagated bake errors (none for the recorded parameters).
-pub fn bake_default_stbn_tables(report: Report<'_>) -> Result<Vec<u8>> {
-    let bytes = bake_default_stbn(report)?;
-    let (width, height, depth) = DEFAULT_STBN_SIZE;
-    let mask = SpatiotemporalMask::new(width, height, depth, &bytes)?;
+pub fn bake_default_temporal_target(report: Report<'_>) -> Result<(Vec<u8>, Vec<u8>)> {
+    let bytes = bake_stbn_of_size(DEFAULT_TEMPORAL_SIZE, report)?;
+    let tables = slice_tables_of(&bytes, DEFAULT_TEMPORAL_SIZE)?;
+    Ok((bytes, tables))
+}
+
+/// The slice tables of a mask's `u16` bytes, one rayon task per slice.
+fn slice_tables_of(bytes: &[u8], (width, height, depth): (u32, u32, u32)) -> Result<Vec<u8>> {
+    let mask = SpatiotemporalMask::new(width, height, depth, bytes)?;
     let tables = (0..depth)
         .into_par_iter()
         .map(|z| bake_slice_table(&mask, z).map_err(anyhow::Error::from))
@@ -572,7 +587,10 @@ pub fn bake_default_set(set: DefaultSet, report: Report<'_>) -> Result<(NamedFil
             let mask = bake_filter_adapted(&default_filter_adapted_params(), report)?;
             (vec![(files[0], encode_u16(&mask.ranks)?)], Vec::new())
         }
-        DefaultSet::StbnTables => (vec![(files[0], bake_default_stbn_tables(report)?)], Vec::new()),
+        DefaultSet::Temporal64 => {
+            let (mask, tables) = bake_default_temporal_target(report)?;
+            (vec![(files[0], mask), (files[1], tables)], Vec::new())
+        }
     })
 }
 

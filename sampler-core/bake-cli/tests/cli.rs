@@ -65,14 +65,11 @@ fn default_filter_adapted_regenerates_byte_for_byte() {
     check_defaults(&["filter-adapted"], &scratch("filter-adapted"));
 }
 
-/// The STBN bake and its 64 slice tables (28 s in the test profile on 2
-/// busy cores, 41 s for `bake defaults` in release under a parallel build):
-/// ignored, run with `cargo test -p bake -- --ignored`. Conformance's `temporal_permutation` test compares
-/// the first and last tables with a fresh bake on every run.
+/// The temporal permutation's 64x64x64 target and its 64 slice tables
+/// (about 3 s in release on 2 cores).
 #[test]
-#[ignore = "slow (about 30 s): the STBN bake and 64 assignment solves"]
-fn default_stbn_slice_tables_regenerate_byte_for_byte() {
-    check_defaults(&["stbn-tables"], &scratch("stbn-tables"));
+fn default_temporal_target_regenerates_byte_for_byte() {
+    check_defaults(&["temporal64"], &scratch("temporal64"));
 }
 
 #[test]

@@ -19,8 +19,8 @@
 //! The table of slice `z` is what `bake::bake_retarget_between(slice z,
 //! slice z + 1 mod D, 0)` returns (feature `bake`): exact, radius-bounded,
 //! in the packing of [`retarget`](crate::permutation::retarget). The
-//! default 128x128x64 mask's tables are compiled in
-//! (`defaults::stbn_128_slice_tables`, feature `defaults`).
+//! default target, a 64x64x64 mask and its tables, is compiled in
+//! (`defaults::temporal_target`, feature `defaults`).
 
 use crate::error::{Buffer, Error};
 use crate::permutation::dither::DitherTile;

@@ -91,7 +91,7 @@ fn bad_input_fails_with_a_clear_message_and_writes_nothing() {
             vec!["--sampler", "spatiotemporal", "--mode", "permute"],
             "nothing to permute with --sampler spatiotemporal",
         ),
-        (vec!["--mode", "temporal", "--tile", "64"], "use --tile 128"),
+        (vec!["--mode", "temporal", "--tile", "128"], "use --tile 64"),
         (
             vec!["--mode", "temporal", "--features", "on"],
             "feature-aware permutation reads the walk's retarget tables",
