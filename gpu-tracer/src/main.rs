@@ -101,7 +101,7 @@ struct RenderArgs {
     /// the camera or objects move.
     #[arg(long, value_enum)]
     reproject: Option<OnOff>,
-    /// Feature-aware permutation in `--mode permute`: sort keys with the
+    /// Feature-aware permutation in `--mode permute` and `--mode temporal`: sort keys with the
     /// albedo divided out, each block sorted in groups of one surface, and
     /// no retarget move across an edge (object id, normal, depth from the
     /// G-buffer).
@@ -148,7 +148,8 @@ struct RenderArgs {
     /// How seeds change between frames: `white`, `sort`, `permute` (default
     /// with the seed stream and the other samplers), `temporal` (sort
     /// against slice `t mod 64` of the default spatiotemporal mask, retarget
-    /// to the next slice: blue in time too; 64 tile, no `--features`) or
+    /// to the next slice: blue in time too; 64 tile; with `--features on`
+    /// sorted in groups of one surface and cut at edges) or
     /// `hold` (default with `--sampler spatiotemporal`, the only sampler it
     /// takes: each pixel's shift stays with it, and follows the motion with
     /// reprojection).
@@ -457,7 +458,7 @@ fn render(args: RenderArgs) -> Result<()> {
         },
     };
     // Settings the mode cannot take fail here, before any work.
-    job.validate(&options)?;
+    job.validate()?;
 
     let gpu = match args.device {
         DeviceArg::Cpu => None,

@@ -90,9 +90,10 @@ pub struct SequenceOptions {
     /// Feature-aware permutation (`sampler_core::permute_frame_features`
     /// with `FeatureThresholds::DEFAULT`): sort keys with the albedo divided
     /// out, blocks sorted in groups of one surface, retarget moves cut at
-    /// edges, all from each frame's G-buffer. [`PermuteMode::Permute`]
-    /// only (ignored by the walk's other modes, refused with
-    /// [`PermuteMode::Temporal`]); the GPU runs the same code (`SeedPermuter::enable_features`).
+    /// edges, all from each frame's G-buffer. [`PermuteMode::Permute`] and
+    /// [`PermuteMode::Temporal`] (`sampler_core::permute_frame_features_temporal`:
+    /// the same against the temporal target) only, ignored by the other
+    /// modes; the GPU runs the same code (`SeedPermuter::enable_features`).
     pub features: bool,
     /// The sort key of the feature-aware permutation
     /// ([`FeatureKey`]; demodulated by default). The GPU computes the
@@ -216,19 +217,19 @@ impl RenderJob {
         )?)
     }
 
-    /// Checks the job with `options` before any work: its layout, and the
+    /// Checks the job before any work: its layout, and the
     /// settings its mode needs. [`PermuteMode::Hold`] needs the
     /// spatiotemporal sampler; [`PermuteMode::Temporal`] needs the
     /// [`TileChoice::TEMPORAL`] tile (the side of the slices of
-    /// `sampler_core::defaults::temporal_target`, which it sorts against), a sampler that reads the seeds (not the
-    /// spatiotemporal one), and no feature-aware permutation (whose passes
-    /// read the walk's tables); it takes seed reprojection as
+    /// `sampler_core::defaults::temporal_target`, which it sorts against)
+    /// and a sampler that reads the seeds (not the spatiotemporal one); it
+    /// takes seed reprojection and the feature-aware permutation as
     /// [`PermuteMode::Permute`] does.
     ///
     /// # Errors
     /// [`RenderError::NoFrames`], [`RenderError::Layout`],
     /// [`RenderError::Incompatible`] naming the setting.
-    pub fn validate(&self, options: &SequenceOptions) -> Result<FrameLayout, RenderError> {
+    pub fn validate(&self) -> Result<FrameLayout, RenderError> {
         if self.frames == 0 {
             return Err(RenderError::NoFrames);
         }
@@ -248,10 +249,6 @@ impl RenderJob {
                 "the temporal mode permutes seeds, and the spatiotemporal sampler draws every number \
                  itself: use another sampler",
             ),
-            PermuteMode::Temporal if options.features => incompatible(
-                "the feature-aware permutation reads the walk's retarget tables, not the temporal \
-                 mode's slice tables: use it with the permute mode",
-            ),
             _ => Ok(layout),
         }
     }
@@ -259,8 +256,8 @@ impl RenderJob {
     /// Validates the job ([`validate`](Self::validate)) and returns its
     /// layout, trace settings (padded to the layout), tile and tables, and
     /// with [`PermuteMode::Temporal`] its target.
-    fn prepare(&self, options: &SequenceOptions) -> Result<Prepared, RenderError> {
-        let layout = self.validate(options)?;
+    fn prepare(&self) -> Result<Prepared, RenderError> {
+        let layout = self.validate()?;
         let (tile, tables) = self.tile.load();
         let temporal = (self.mode == PermuteMode::Temporal).then(sampler_core::defaults::temporal_target);
         Ok((layout, self.settings_for(&layout), tile, tables, temporal))
@@ -317,10 +314,10 @@ pub fn render_sequence_cpu(
     options: SequenceOptions,
     mut on_frame: impl FnMut(&FrameView<'_>),
 ) -> Result<RenderOutput, RenderError> {
-    let (layout, settings, tile, tables, temporal) = job.prepare(&options)?;
+    let (layout, settings, tile, tables, temporal) = job.prepare()?;
     let n = layout.pixel_count();
     let reproject = options.reproject && job.mode != PermuteMode::White;
-    let features = options.features && job.mode == PermuteMode::Permute;
+    let features = options.features && matches!(job.mode, PermuteMode::Permute | PermuteMode::Temporal);
     let gbuffer = options.gbuffer || reproject || features;
     let mut previous_vis = vec![UVec2::ZERO; if reproject { n } else { 0 }];
     let feature_scratch = if features { layout.seed_count() } else { 0 };
@@ -400,6 +397,23 @@ pub fn render_sequence_cpu(
                 sampler_core::permute_frame(&layout, t, &color, &tile, &tables, &seeds, &mut next)?;
                 std::mem::swap(&mut seeds, &mut next);
             }
+            PermuteMode::Temporal if features => {
+                let target = temporal.as_ref().expect("prepared for the temporal mode");
+                keys.update(&color, &gbuf);
+                sampler_core::permute_frame_features_temporal(
+                    &layout,
+                    t,
+                    keys.keys(),
+                    keys.features(),
+                    &FeatureThresholds::DEFAULT,
+                    target,
+                    &seeds,
+                    &mut sorted,
+                    &mut sources,
+                    &mut next,
+                )?;
+                std::mem::swap(&mut seeds, &mut next);
+            }
             PermuteMode::Temporal => {
                 let target = temporal.as_ref().expect("prepared for the temporal mode");
                 sampler_core::permute_frame_temporal(&layout, t, &color, target, &seeds, &mut next)?;
@@ -473,9 +487,9 @@ pub fn render_sequence_gpu(
     mut on_submit: impl FnMut(u32),
     mut on_frame: Option<&mut SequenceCallback<'_>>,
 ) -> Result<RenderOutput, RenderError> {
-    let (layout, settings, tile, tables, temporal) = job.prepare(&options)?;
+    let (layout, settings, tile, tables, temporal) = job.prepare()?;
     let reproject = options.reproject && job.mode != PermuteMode::White;
-    let features = options.features && job.mode == PermuteMode::Permute;
+    let features = options.features && matches!(job.mode, PermuteMode::Permute | PermuteMode::Temporal);
     if features && options.feature_key != FeatureKey::Demodulated {
         return Err(RenderError::Unsupported(format!(
             "the {} feature key (the GPU's feature pass computes the demodulated key)",
@@ -651,49 +665,46 @@ mod tests {
 
     /// The temporal mode renders on the CPU: its first frame is the
     /// permutation's (the same white seeds), later ones differ (another
-    /// sorting target), and it refuses the 128 tile, the feature-aware
-    /// permutation and the spatiotemporal sampler before any work.
+    /// sorting target); with the feature-aware permutation too, the first
+    /// frame again and later ones its own; it refuses the 128 tile and the
+    /// spatiotemporal sampler before any work.
     #[test]
     fn temporal_mode_renders_and_refuses_what_it_cannot_take() {
         let scene = SceneGpu::build(&cornell_box()).unwrap();
-        let mut frames = [Vec::new(), Vec::new()];
-        for (k, mode) in [PermuteMode::Permute, PermuteMode::Temporal]
-            .into_iter()
-            .enumerate()
-        {
-            let job = job(kernels::abi::SAMPLER_SEEDS, mode);
-            render_cpu(&scene, &job, |_, c| frames[k].push(c.to_vec())).unwrap();
-        }
-        assert_eq!(frames[0][0], frames[1][0]);
-        assert_ne!(frames[0][2], frames[1][2]);
-        let temporal = job(kernels::abi::SAMPLER_SEEDS, PermuteMode::Temporal);
         let features = SequenceOptions {
             features: true,
             ..SequenceOptions::default()
         };
+        let mut frames = [Vec::new(), Vec::new(), Vec::new()];
+        for (k, (mode, options)) in [
+            (PermuteMode::Permute, SequenceOptions::default()),
+            (PermuteMode::Temporal, SequenceOptions::default()),
+            (PermuteMode::Temporal, features),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let mut sequence = SceneSequence::still(&scene, 20);
+            let job = job(kernels::abi::SAMPLER_SEEDS, mode);
+            render_sequence_cpu(&mut sequence, &job, options, |f| frames[k].push(f.color.to_vec())).unwrap();
+        }
+        assert_eq!(frames[0][0], frames[1][0]);
+        assert_eq!(frames[0][0], frames[2][0]);
+        assert_ne!(frames[0][2], frames[1][2]);
+        assert_ne!(frames[1][2], frames[2][2]);
+        let temporal = job(kernels::abi::SAMPLER_SEEDS, PermuteMode::Temporal);
         let tile128 = RenderJob {
             tile: TileChoice::Tile128,
             ..temporal
         };
         let spatiotemporal = job(SAMPLER_SPATIOTEMPORAL, PermuteMode::Temporal);
-        for (job, options, says) in [
-            (tile128, SequenceOptions::default(), "64 tile"),
-            (temporal, features, "feature-aware"),
-            (
-                spatiotemporal,
-                SequenceOptions::default(),
-                "spatiotemporal sampler",
-            ),
-        ] {
-            let e = job.validate(&options).unwrap_err();
+        for (job, says) in [(tile128, "64 tile"), (spatiotemporal, "spatiotemporal sampler")] {
+            let e = job.validate().unwrap_err();
             assert!(
                 matches!(e, RenderError::Incompatible(_)) && e.to_string().contains(says),
                 "{e}"
             );
         }
-        let mut sequence = SceneSequence::still(&scene, 20);
-        let e = render_sequence_cpu(&mut sequence, &temporal, features, |_| panic!("rendered")).unwrap_err();
-        assert!(e.to_string().contains("feature-aware"), "{e}");
     }
 
     /// The hold mode with a sampler that reads the seeds is refused before

@@ -74,6 +74,7 @@ pub use distributions::piecewise::{Distribution1d, Distribution2d};
 pub use error::{Buffer, Error};
 pub use features::permute::permute_frame_features;
 pub use features::surface::{demodulated_luma, same_surface, FeatureThresholds, SurfaceFeature, NO_SURFACE};
+pub use features::temporal::permute_frame_features_temporal;
 pub use limits::{MAX_BLOCK, MAX_KEY_LEVELS, MAX_KEY_TILE, MAX_TILE, MIN_BLOCK, RETARGET_RADIUS};
 pub use masks::spatiotemporal::SpatiotemporalMask;
 pub use permutation::cpu::rows::{band_seed_range, permute_frame_rows, permute_frame_rows_isa};

@@ -55,6 +55,8 @@ fn colour(m: Method) -> RGBColor {
         Method::FeaturePermuteJitter => RGBColor(0, 100, 100),
         Method::FeaturePermuteRawKey => RGBColor(120, 120, 40),
         Method::FeaturePermuteHistoryKey => RGBColor(150, 60, 150),
+        Method::FeatureTemporalPermute => RGBColor(230, 160, 0),
+        Method::FeatureTemporalPermuteJitter => RGBColor(170, 110, 0),
     }
 }
 

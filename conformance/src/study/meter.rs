@@ -18,7 +18,7 @@ use glam::{Vec2, Vec4};
 use gpu_tracer::feature_keys::FeatureKey;
 use gpu_tracer::render::{render_sequence_cpu, FrameView, SequenceOptions};
 use gpu_tracer::timeline::SceneSequence;
-use gpu_tracer::{PermuteMode, RenderJob};
+use gpu_tracer::{PermuteMode, RenderJob, TileChoice};
 use sampler_core::Intensity;
 
 impl Study {
@@ -107,15 +107,29 @@ impl Study {
             Method::FeaturePermute
             | Method::FeaturePermuteJitter
             | Method::FeaturePermuteRawKey
-            | Method::FeaturePermuteHistoryKey => {
+            | Method::FeaturePermuteHistoryKey
+            | Method::FeatureTemporalPermute
+            | Method::FeatureTemporalPermuteJitter => {
                 let mut settings = self.config.settings();
                 settings.sampler = method.jitter_sampler();
+                let temporal = matches!(
+                    method,
+                    Method::FeatureTemporalPermute | Method::FeatureTemporalPermuteJitter
+                );
                 let job = RenderJob {
                     settings,
                     frames: self.config.frames,
-                    mode: PermuteMode::Permute,
+                    mode: if temporal {
+                        PermuteMode::Temporal
+                    } else {
+                        PermuteMode::Permute
+                    },
                     block: self.config.block,
-                    tile: self.config.tile,
+                    tile: if temporal {
+                        TileChoice::TEMPORAL
+                    } else {
+                        self.config.tile
+                    },
                     salt: self.config.salt,
                 };
                 let options = SequenceOptions {

@@ -64,11 +64,18 @@ pub enum Method {
     /// [`Method::FeaturePermute`] ranking the demodulated value minus its smoothed
     /// running mean (`FeatureKey::HistoryResidual`): the noise without the signal.
     FeaturePermuteHistoryKey,
+    /// The feature-aware permutation against the temporal target
+    /// (`--mode temporal --features on`): [`Method::FeaturePermute`]'s
+    /// groups and cuts with [`Method::TemporalPermute`]'s slices and tables.
+    FeatureTemporalPermute,
+    /// [`Method::FeatureTemporalPermute`] with the pixel jitter from ZSobol,
+    /// as [`Method::TemporalPermuteJitter`].
+    FeatureTemporalPermuteJitter,
 }
 
 impl Method {
     /// Every method, white first.
-    pub const ALL: [Method; 20] = [
+    pub const ALL: [Method; 22] = [
         Method::White,
         Method::Sort,
         Method::Permute,
@@ -89,6 +96,8 @@ impl Method {
         Method::FeaturePermuteJitter,
         Method::FeaturePermuteRawKey,
         Method::FeaturePermuteHistoryKey,
+        Method::FeatureTemporalPermute,
+        Method::FeatureTemporalPermuteJitter,
     ];
 
     /// The rows of the report ([`crate::report`]): every method but the sort-key
@@ -126,9 +135,9 @@ impl Method {
             Method::PermuteJitter | Method::FeaturePermuteJitter => {
                 SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY
             }
-            Method::PermuteZSobolJitter | Method::TemporalPermuteJitter => {
-                SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY
-            }
+            Method::PermuteZSobolJitter
+            | Method::TemporalPermuteJitter
+            | Method::FeatureTemporalPermuteJitter => SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY,
             _ => SAMPLER_SEEDS,
         }
     }
@@ -161,6 +170,8 @@ impl Method {
             Method::FeaturePermuteJitter => "feature-permute-jitter",
             Method::FeaturePermuteRawKey => "feature-permute-raw-key",
             Method::FeaturePermuteHistoryKey => "feature-permute-history-key",
+            Method::FeatureTemporalPermute => "feature-temporal-permute",
+            Method::FeatureTemporalPermuteJitter => "feature-temporal-permute-jitter",
         }
     }
 
@@ -208,6 +219,12 @@ impl Method {
             }
             Method::FeaturePermuteHistoryKey => {
                 "feature-aware permute ranking the demodulated value minus its smoothed running mean"
+            }
+            Method::FeatureTemporalPermute => {
+                "feature-aware temporal-permute: groups of one surface and cut moves, STBN slices and tables"
+            }
+            Method::FeatureTemporalPermuteJitter => {
+                "feature-aware temporal-permute, with the pixel jitter from ZSobol"
             }
         }
     }

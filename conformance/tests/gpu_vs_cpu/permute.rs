@@ -308,3 +308,83 @@ fn temporal_kernels_match_the_cpu_bit_for_bit_across_the_wrap() {
         std::mem::swap(&mut seeds, &mut next);
     }
 }
+
+/// The feature-aware permutation against the temporal target on the GPU
+/// (the feature-aware kernels bound on the frame's slice and table, frame
+/// 0's parameters) against `sampler_core::permute_frame_features_temporal`:
+/// identical seeds after every frame of a run across the wrap from slice 63
+/// to slice 0, with a feature-aware walk step in between on the same
+/// permuter, and the temporal target enabled before the features (the
+/// other order is the tracer's).
+#[test]
+fn feature_aware_temporal_kernels_match_the_cpu_bit_for_bit() {
+    use conformance::fixtures::banded_features;
+    let Some(gpu) = Gpu::for_test("feature_aware_temporal_kernels_match_the_cpu_bit_for_bit") else {
+        return;
+    };
+    let pipelines = PermutePipelines::new(&gpu).expect("pipelines");
+    let target = defaults::temporal_target();
+    let (tile, tables) = (defaults::tile_64(), defaults::tables_64());
+    let (w, h) = (150, 70);
+    let layout = FrameLayout::new(w, h, 4, 64).unwrap();
+    let features = banded_features(w, h, 3, true, 11);
+    let thresholds = FeatureThresholds::DEFAULT;
+    let color = gpu.storage_zeroed::<Vec4>("colour", layout.pixel_count());
+    let mut permuter = SeedPermuter::new(&gpu, &pipelines, layout, &tile, &tables, &color).unwrap();
+    permuter.enable_temporal(&gpu, &pipelines, &target).unwrap();
+    permuter.enable_features(&gpu, &pipelines, &thresholds);
+    permuter.upload_features(&gpu, &features).unwrap();
+    let mut seeds: Vec<u32> = (0..layout.seed_count() as u32)
+        .map(|i| hash_u32(i ^ 31))
+        .collect();
+    permuter.upload_seeds(&gpu, &seeds).unwrap();
+    let n = seeds.len();
+    let (mut sorted, mut sources, mut next) = (vec![0; n], vec![0; n], vec![0; n]);
+    for frame in [62u32, 63, 64, 65] {
+        let values = intensities(layout.pixel_count(), frame);
+        permuter.upload_intensity(&gpu, &values).unwrap();
+        let mode = if frame == 64 {
+            permuter.set_frame(&gpu, frame);
+            permute_frame_features(
+                &layout,
+                frame,
+                &values,
+                &features,
+                &thresholds,
+                &tile,
+                &tables,
+                &seeds,
+                &mut sorted,
+                &mut sources,
+                &mut next,
+            )
+            .unwrap();
+            PermuteMode::Permute
+        } else {
+            permuter.set_frame(&gpu, frame.wrapping_mul(7919));
+            permute_frame_features_temporal(
+                &layout,
+                frame,
+                &values,
+                &features,
+                &thresholds,
+                &target,
+                &seeds,
+                &mut sorted,
+                &mut sources,
+                &mut next,
+            )
+            .unwrap();
+            let mut plain = vec![0; n];
+            permute_frame_temporal(&layout, frame, &values, &target, &seeds, &mut plain).unwrap();
+            assert_ne!(next, plain, "frame {frame}: the features must change something");
+            PermuteMode::Temporal
+        };
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        permuter.encode_step(&mut encoder, &pipelines, frame, mode, None);
+        gpu.queue.submit([encoder.finish()]);
+        let got = permuter.read_seeds(&gpu).unwrap();
+        assert_eq!(got, next, "frame {frame} ({mode:?}) on {}", gpu.describe());
+        std::mem::swap(&mut seeds, &mut next);
+    }
+}

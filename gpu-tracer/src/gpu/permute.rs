@@ -3,7 +3,7 @@
 //! frames.
 
 use super::context::Gpu;
-use super::temporal::{PermuterParts, TemporalPasses};
+use super::temporal::{FeatureParts, PermuterParts, TemporalPasses};
 use super::timer::PassTimer;
 use super::GpuError;
 use kernels::permute_entry::{
@@ -37,9 +37,10 @@ pub enum PermuteMode {
     /// spatiotemporal mask and the retargeting pass moves seeds to slice
     /// `t + 1` with the exact table between them, both at tile offset 0.
     /// Needs [`SeedPermuter::enable_temporal`]; the tile side is the mask's
-    /// (128 for the default one). The feature-aware permutation does not
-    /// apply (its passes read the walk's tables); seed reprojection moves
-    /// the seeds before the trace as in [`Permute`](Self::Permute).
+    /// (64 for the default one). With [`SeedPermuter::enable_features`] too,
+    /// the feature-aware passes against the same slice and table
+    /// (`sampler_core::permute_frame_features_temporal`); seed reprojection
+    /// moves the seeds before the trace as in [`Permute`](Self::Permute).
     Temporal,
 }
 
@@ -104,6 +105,9 @@ pub struct SeedPermuter {
 #[derive(Debug)]
 struct FeaturePasses {
     features: wgpu::Buffer,
+    thresholds: wgpu::Buffer,
+    /// The links of the cut retarget (the jump rounds' first buffer).
+    links: wgpu::Buffer,
     sort_bg: wgpu::BindGroup,
     /// Per retarget table: the links pass and the cut retarget.
     record_bg: Vec<wgpu::BindGroup>,
@@ -226,14 +230,35 @@ impl SeedPermuter {
                 )
             })
             .collect();
-        // The bind groups keep `thresholds` and the links alive.
         self.features = Some(FeaturePasses {
             features,
+            thresholds,
+            links,
             sort_bg,
             record_bg,
             jump_bg,
             retarget_bg,
         });
+        self.wire_temporal_features(gpu, pipelines);
+    }
+
+    /// With both the feature-aware permutation and the temporal mode
+    /// enabled, builds the feature-aware passes against the temporal target.
+    fn wire_temporal_features(&mut self, gpu: &Gpu, pipelines: &PermutePipelines) {
+        if let (Some(f), Some(t)) = (&self.features, &mut self.temporal) {
+            let parts = FeatureParts {
+                sort: &pipelines.sort_features,
+                record: &pipelines.record_link,
+                retarget: &pipelines.retarget_features,
+                intensity: &self.intensity,
+                features: &f.features,
+                thresholds: &f.thresholds,
+                links: &f.links,
+                seeds: &self.seeds,
+                scratch: &self.scratch,
+            };
+            t.enable_features(gpu, parts);
+        }
     }
 
     /// Enables [`PermuteMode::Temporal`] with `target` (its slices and
@@ -258,6 +283,7 @@ impl SeedPermuter {
             scratch: &self.scratch,
         };
         self.temporal = Some(TemporalPasses::new(gpu, &self.layout, target, buffers)?);
+        self.wire_temporal_features(gpu, pipelines);
         Ok(())
     }
 
@@ -351,28 +377,20 @@ impl SeedPermuter {
             PermuteMode::Hold => {}
             PermuteMode::Permute if self.features.is_some() => {
                 let f = self.features.as_ref().expect("checked");
-                let blocks = params.blocks_x() * params.blocks_y();
                 let step = step_index(frame, params.tile_log2) as usize;
-                dispatch(encoder, &pipelines.sort_features, &f.sort_bg, blocks, timer);
-                // The links, the jump rounds and the cut retarget in one
-                // compute pass (wgpu orders the dispatches and puts barriers
-                // between them), timed as one span.
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("feature-aware retarget"),
-                    timestamp_writes: timer.map(|(t, span)| t.writes(span + 1)),
-                });
-                let (x, y) = linear_dispatch(params.seed_count());
-                pass.set_pipeline(&pipelines.record_link);
-                pass.set_bind_group(0, &f.record_bg[step], &[]);
-                pass.dispatch_workgroups(x, y, 1);
-                pass.set_pipeline(&pipelines.jump_link);
-                for round in 0..JUMP_ROUNDS {
-                    pass.set_bind_group(0, &f.jump_bg[(round % 2) as usize], &[]);
-                    pass.dispatch_workgroups(x, y, 1);
-                }
-                pass.set_pipeline(&pipelines.retarget_features);
-                pass.set_bind_group(0, &f.retarget_bg[step], &[]);
-                pass.dispatch_workgroups(x, y, 1);
+                let groups = [&f.sort_bg, &f.record_bg[step], &f.retarget_bg[step]];
+                encode_feature_passes(encoder, pipelines, &params, groups, &f.jump_bg, timer);
+            }
+            PermuteMode::Temporal if self.features.is_some() => {
+                let f = self.features.as_ref().expect("checked");
+                let passes = self
+                    .temporal
+                    .as_ref()
+                    .and_then(|t| t.features.as_ref().map(|tf| (t.depth, tf)));
+                let (depth, tf) = passes.expect("PermuteMode::Temporal needs SeedPermuter::enable_temporal");
+                let z = (frame % depth) as usize;
+                let groups = [&tf.sort_bg[z], &tf.record_bg[z], &tf.retarget_bg[z]];
+                encode_feature_passes(encoder, pipelines, &params, groups, &f.jump_bg, timer);
             }
             PermuteMode::Temporal => {
                 let passes = self
@@ -466,5 +484,40 @@ fn dispatch(
     pass.set_pipeline(pipeline);
     pass.set_bind_group(0, bind_group, &[]);
     let (x, y) = linear_dispatch(n);
+    pass.dispatch_workgroups(x, y, 1);
+}
+
+/// Encodes the feature-aware permutation's passes with `groups` (the sort's,
+/// the links pass's and the cut retarget's bind groups) and `jump` (the jump
+/// rounds' two): the grouped sort, timed as span `span` of `timer`, then the
+/// links, the jump rounds and the cut retarget in one compute pass (wgpu
+/// orders the dispatches and puts barriers between them), timed as span
+/// `span + 1`.
+fn encode_feature_passes(
+    encoder: &mut wgpu::CommandEncoder,
+    pipelines: &PermutePipelines,
+    params: &FrameParams,
+    groups: [&wgpu::BindGroup; 3],
+    jump: &[wgpu::BindGroup; 2],
+    timer: Option<(&PassTimer, u32)>,
+) {
+    let [sort, record, retarget] = groups;
+    let blocks = params.blocks_x() * params.blocks_y();
+    dispatch(encoder, &pipelines.sort_features, sort, blocks, timer);
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some("feature-aware retarget"),
+        timestamp_writes: timer.map(|(t, span)| t.writes(span + 1)),
+    });
+    let (x, y) = linear_dispatch(params.seed_count());
+    pass.set_pipeline(&pipelines.record_link);
+    pass.set_bind_group(0, record, &[]);
+    pass.dispatch_workgroups(x, y, 1);
+    pass.set_pipeline(&pipelines.jump_link);
+    for round in 0..JUMP_ROUNDS {
+        pass.set_bind_group(0, &jump[(round % 2) as usize], &[]);
+        pass.dispatch_workgroups(x, y, 1);
+    }
+    pass.set_pipeline(&pipelines.retarget_features);
+    pass.set_bind_group(0, retarget, &[]);
     pass.dispatch_workgroups(x, y, 1);
 }

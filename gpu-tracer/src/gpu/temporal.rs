@@ -20,6 +20,11 @@
 //! The kernels read the walk's offset `walk_offset(params.frame)`; these
 //! bind groups bind their own frame parameters, those of frame 0 (offset
 //! `(0, 0)`), written once, so the caller's `set_frame` does not matter.
+//!
+//! With the feature-aware permutation enabled too, the feature-aware
+//! kernels get the same treatment ([`TemporalFeaturePasses`]): their tile
+//! and table bindings on slice and table `z`, frame 0's parameters
+//! (`sampler_core::permute_frame_features_temporal`).
 
 use super::context::Gpu;
 use super::GpuError;
@@ -30,17 +35,59 @@ use std::num::NonZeroU64;
 #[derive(Debug)]
 pub(super) struct TemporalPasses {
     /// Slices of the target (`D * W * W` ranks), bound a slice at a time.
-    _slices: wgpu::Buffer,
+    slices: wgpu::Buffer,
     /// Tables of the target (`D * W * W` packed offsets), bound a table at a time.
-    _tables: wgpu::Buffer,
+    tables: wgpu::Buffer,
     /// Frame 0's parameters (tile offset `(0, 0)`), written once.
-    _params: wgpu::Buffer,
+    params: wgpu::Buffer,
+    /// Bytes of one slice or table (`4 W^2`).
+    entry_bytes: u64,
     /// Per slice `z`: the sort pass against slice `z`.
     pub sort_bg: Vec<wgpu::BindGroup>,
     /// Per slice `z`: the retarget pass with table `z` (slice `z` to `z + 1`).
     pub retarget_bg: Vec<wgpu::BindGroup>,
     /// Slices of the target (`D`), to pick `z = t mod D`.
     pub depth: u32,
+    /// The feature-aware passes against the target, once both are enabled.
+    pub features: Option<TemporalFeaturePasses>,
+}
+
+/// The feature-aware permutation's bind groups against the target
+/// (`sampler_core::permute_frame_features_temporal`): per slice `z`, the
+/// grouped sort against slice `z`, the links pass and the cut retarget with
+/// table `z`, all with frame 0's parameters. The jump rounds between them
+/// are the walk's (they read no tile, table or offset).
+#[derive(Debug)]
+pub(super) struct TemporalFeaturePasses {
+    /// Per slice: `sort_features_cs` against slice `z`.
+    pub sort_bg: Vec<wgpu::BindGroup>,
+    /// Per slice: `record_link_cs` with table `z`.
+    pub record_bg: Vec<wgpu::BindGroup>,
+    /// Per slice: `retarget_features_cs` with table `z`.
+    pub retarget_bg: Vec<wgpu::BindGroup>,
+}
+
+/// What the feature-aware temporal passes share with the permuter: the
+/// feature-aware pipelines and buffers.
+pub(super) struct FeatureParts<'a> {
+    /// `sort_features_cs`.
+    pub sort: &'a wgpu::ComputePipeline,
+    /// `record_link_cs`.
+    pub record: &'a wgpu::ComputePipeline,
+    /// `retarget_features_cs`.
+    pub retarget: &'a wgpu::ComputePipeline,
+    /// Per-pixel sort keys.
+    pub intensity: &'a wgpu::Buffer,
+    /// Per-pixel surface features.
+    pub features: &'a wgpu::Buffer,
+    /// The feature thresholds.
+    pub thresholds: &'a wgpu::Buffer,
+    /// The retarget links (the jump rounds' first buffer).
+    pub links: &'a wgpu::Buffer,
+    /// The seed buffer (sort input, retarget output).
+    pub seeds: &'a wgpu::Buffer,
+    /// The sorted seeds (sort output, retarget input).
+    pub scratch: &'a wgpu::Buffer,
 }
 
 /// What the temporal passes share with the
@@ -110,13 +157,67 @@ impl TemporalPasses {
             })
             .collect();
         Ok(TemporalPasses {
-            _slices: slices,
-            _tables: tables,
-            _params: params,
+            slices,
+            tables,
+            params,
+            entry_bytes: bytes,
             sort_bg,
             retarget_bg,
             depth: target.depth(),
+            features: None,
         })
+    }
+
+    /// Builds the feature-aware passes' bind groups against the target
+    /// ([`TemporalFeaturePasses`]).
+    pub fn enable_features(&mut self, gpu: &Gpu, parts: FeatureParts<'_>) {
+        let (bytes, depth) = (self.entry_bytes, self.depth);
+        let params = whole(&self.params);
+        let sort_bg = (0..depth)
+            .map(|z| {
+                let entries = [
+                    params.clone(),
+                    whole(parts.intensity),
+                    whole(parts.features),
+                    whole(parts.thresholds),
+                    range(&self.slices, z, bytes),
+                    whole(parts.seeds),
+                    whole(parts.scratch),
+                ];
+                bind(gpu, parts.sort, &entries)
+            })
+            .collect();
+        let record_bg = (0..depth)
+            .map(|z| {
+                let entries = [
+                    params.clone(),
+                    range(&self.tables, z, bytes),
+                    whole(parts.features),
+                    whole(parts.thresholds),
+                    whole(parts.links),
+                ];
+                bind(gpu, parts.record, &entries)
+            })
+            .collect();
+        let retarget_bg = (0..depth)
+            .map(|z| {
+                let entries = [
+                    params.clone(),
+                    range(&self.tables, z, bytes),
+                    whole(parts.links),
+                    whole(parts.features),
+                    whole(parts.thresholds),
+                    whole(parts.scratch),
+                    whole(parts.seeds),
+                ];
+                bind(gpu, parts.retarget, &entries)
+            })
+            .collect();
+        self.features = Some(TemporalFeaturePasses {
+            sort_bg,
+            record_bg,
+            retarget_bg,
+        });
     }
 }
 

@@ -9,6 +9,8 @@
 //!   and retargeting cut at edges
 //!   ([`permute_frame_features`](crate::permute_frame_features)), and the
 //!   per-block / per-seed functions the GPU kernels call.
+//! - [`temporal`]: the same against the temporally blue permutation's
+//!   target ([`permute_frame_features_temporal`](crate::permute_frame_features_temporal)).
 //! - [`isolated`]: the fresh seed of a position that cannot move without
 //!   crossing an edge ([`refresh_isolated_seed`](isolated::refresh_isolated_seed)).
 //! - `cpu` (private): its CPU fast path, identical output.
@@ -17,3 +19,4 @@ mod cpu;
 pub mod isolated;
 pub mod permute;
 pub mod surface;
+pub mod temporal;

@@ -59,7 +59,7 @@ pub use crate::features::isolated::refresh_isolated_seed;
 use crate::features::surface::{edge_is_cut, same_surface, FeatureThresholds, SurfaceFeature};
 use crate::permutation::dither::{tile_texel, DitherTile};
 use crate::permutation::layout::{FrameLayout, FrameParams};
-use crate::permutation::retarget::{retarget_destination, RetargetTables};
+use crate::permutation::retarget::{retarget_destination, RetargetTable, RetargetTables};
 use crate::permutation::sort::{intensity_key, sort_block, Intensity, MAX_BLOCK_PIXELS};
 use crate::sequences::walk::{step_index, walk_offset};
 use glam::UVec2;
@@ -468,47 +468,78 @@ pub fn permute_frame_features<T: Intensity>(
     sources: &mut [u32],
     seeds_out: &mut [u32],
 ) -> Result<(), Error> {
+    check_feature_tiles(layout, tile, tables)?;
     check_feature_buffers(
         layout,
         intensities,
         features,
-        tile,
-        tables,
         seeds_in,
         sorted,
         sources,
         seeds_out,
     )?;
     let params = layout.params(frame);
-    if crate::features::cpu::applies(&params) {
-        let table = tables.table(step_index(frame, params.tile_log2));
+    let table = tables.table(step_index(frame, params.tile_log2));
+    permute_features_checked(
+        &params,
+        intensities,
+        features,
+        thresholds,
+        tile.values(),
+        table,
+        seeds_in,
+        sorted,
+        sources,
+        seeds_out,
+    );
+    Ok(())
+}
+
+/// The feature-aware step on checked buffers with frame parameters
+/// `params` (tile offset `walk_offset(params.frame)`), sorting target
+/// `tile` and retarget table `table`: the CPU fast path where it applies,
+/// else the reference passes. Shared by [`permute_frame_features`] and
+/// [`permute_frame_features_temporal`](crate::features::temporal::permute_frame_features_temporal).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn permute_features_checked<T: Intensity>(
+    params: &FrameParams,
+    intensities: &[T],
+    features: &[SurfaceFeature],
+    thresholds: &FeatureThresholds,
+    tile: &[u32],
+    table: RetargetTable<'_>,
+    seeds_in: &[u32],
+    sorted: &mut [u32],
+    sources: &mut [u32],
+    seeds_out: &mut [u32],
+) {
+    if crate::features::cpu::applies(params) {
         crate::features::cpu::permute_features_fast(
-            &params,
+            params,
             intensities,
             features,
             thresholds,
-            tile.values(),
+            tile,
             table,
             seeds_in,
             sorted,
             sources,
             seeds_out,
         );
-        return Ok(());
+    } else {
+        reference_checked(
+            params,
+            intensities,
+            features,
+            thresholds,
+            tile,
+            table.packed(),
+            seeds_in,
+            sorted,
+            sources,
+            seeds_out,
+        );
     }
-    permute_frame_features_reference(
-        layout,
-        frame,
-        intensities,
-        features,
-        thresholds,
-        tile,
-        tables,
-        seeds_in,
-        sorted,
-        sources,
-        seeds_out,
-    )
 }
 
 /// The reference form of [`permute_frame_features`]: [`sort_block_features_at_offset`]
@@ -537,64 +568,100 @@ pub fn permute_frame_features_reference<T: Intensity>(
     sources: &mut [u32],
     seeds_out: &mut [u32],
 ) -> Result<(), Error> {
+    check_feature_tiles(layout, tile, tables)?;
     check_feature_buffers(
         layout,
         intensities,
         features,
-        tile,
-        tables,
         seeds_in,
         sorted,
         sources,
         seeds_out,
     )?;
     let params = layout.params(frame);
-    let offset = walk_offset(frame, params.tile_log2);
+    let table = tables.table(step_index(frame, params.tile_log2)).packed();
+    reference_checked(
+        &params,
+        intensities,
+        features,
+        thresholds,
+        tile.values(),
+        table,
+        seeds_in,
+        sorted,
+        sources,
+        seeds_out,
+    );
+    Ok(())
+}
+
+/// The reference passes on checked buffers (tile offset
+/// `walk_offset(params.frame)`).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn reference_checked<T: Intensity>(
+    params: &FrameParams,
+    intensities: &[T],
+    features: &[SurfaceFeature],
+    thresholds: &FeatureThresholds,
+    tile: &[u32],
+    table: &[u32],
+    seeds_in: &[u32],
+    sorted: &mut [u32],
+    sources: &mut [u32],
+    seeds_out: &mut [u32],
+) {
+    let offset = walk_offset(params.frame, params.tile_log2);
     for by in 0..params.blocks_y() {
         for bx in 0..params.blocks_x() {
             sort_block_features_at_offset(
-                &params,
+                params,
                 offset,
                 bx,
                 by,
                 intensities,
                 features,
                 thresholds,
-                tile.values(),
+                tile,
                 seeds_in,
                 sorted,
             );
         }
     }
-    let table = tables.table(step_index(frame, params.tile_log2)).packed();
     for p in 0..params.seed_count() {
-        record_link(&params, offset, table, features, thresholds, p, sources);
+        record_link(params, offset, table, features, thresholds, p, sources);
     }
     // No jump rounds: they change how far each link points, not the output.
     for p in 0..params.seed_count() {
         retarget_features_linked(
-            &params, offset, table, sources, features, thresholds, p, sorted, seeds_out,
+            params, offset, table, sources, features, thresholds, p, sorted, seeds_out,
         );
+    }
+}
+
+/// The tile checks of [`permute_frame_features`]: tile and tables of the
+/// layout's side.
+fn check_feature_tiles(
+    layout: &FrameLayout,
+    tile: &DitherTile<'_>,
+    tables: &RetargetTables<'_>,
+) -> Result<(), Error> {
+    if tile.tile() != layout.tile() || tables.tile() != layout.tile() {
+        return Err(Error::TileSize { tile: tile.tile() });
     }
     Ok(())
 }
 
-/// The checks of [`permute_frame_features`].
-#[allow(clippy::too_many_arguments)]
-fn check_feature_buffers<T>(
+/// The buffer checks of the feature-aware permutations: intensities and
+/// features of the frame's pixels, seed buffers of its padded size.
+pub(crate) fn check_feature_buffers<T>(
     layout: &FrameLayout,
     intensities: &[T],
     features: &[SurfaceFeature],
-    tile: &DitherTile<'_>,
-    tables: &RetargetTables<'_>,
     seeds_in: &[u32],
     sorted: &[u32],
     sources: &[u32],
     seeds_out: &[u32],
 ) -> Result<(), Error> {
-    if tile.tile() != layout.tile() || tables.tile() != layout.tile() {
-        return Err(Error::TileSize { tile: tile.tile() });
-    }
     layout.check_intensity_buffer(intensities.len())?;
     if features.len() != layout.pixel_count() {
         return Err(Error::BufferSize {

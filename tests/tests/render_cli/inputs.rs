@@ -93,10 +93,6 @@ fn bad_input_fails_with_a_clear_message_and_writes_nothing() {
         ),
         (vec!["--mode", "temporal", "--tile", "128"], "use --tile 64"),
         (
-            vec!["--mode", "temporal", "--features", "on"],
-            "feature-aware permutation reads the walk's retarget tables",
-        ),
-        (
             vec!["--sampler", "spatiotemporal", "--mode", "temporal"],
             "--mode temporal has nothing to permute with --sampler spatiotemporal",
         ),

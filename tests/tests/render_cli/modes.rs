@@ -139,20 +139,23 @@ fn feature_aware_permutation_renders_on_cpu_and_gpu() {
     }
 }
 
-/// `--mode temporal` on the CPU and the GPU, with the seeds alone and with
-/// ZSobol's jitter (QUALITY.md's `temporal-permute-jitter` row): a 128 tile
-/// by default, and the mode named in the summary.
+/// `--mode temporal` on the CPU and the GPU, with the seeds alone, with
+/// ZSobol's jitter (QUALITY.md's `temporal-permute-jitter` row) and with the
+/// feature-aware permutation: the 64 tile by default, and the mode and
+/// features named in the summary.
 #[test]
 fn temporal_mode_renders_on_cpu_and_gpu() {
     let exe = tracer();
     let dir = tempfile::tempdir().unwrap();
-    for (device, sampler) in [
-        ("cpu", "seeds"),
-        ("gpu", "seeds"),
-        ("cpu", "zsobol-jitter"),
-        ("gpu", "zsobol-jitter"),
+    for (device, sampler, features) in [
+        ("cpu", "seeds", "off"),
+        ("gpu", "seeds", "off"),
+        ("cpu", "zsobol-jitter", "off"),
+        ("gpu", "zsobol-jitter", "off"),
+        ("cpu", "seeds", "on"),
+        ("gpu", "seeds", "on"),
     ] {
-        let out = dir.path().join(format!("{device}-{sampler}"));
+        let out = dir.path().join(format!("{device}-{sampler}-{features}"));
         let args = [
             "render",
             "--width",
@@ -165,6 +168,8 @@ fn temporal_mode_renders_on_cpu_and_gpu() {
             "temporal",
             "--sampler",
             sampler,
+            "--features",
+            features,
             "--device",
             device,
             "--out",
@@ -177,9 +182,17 @@ fn temporal_mode_renders_on_cpu_and_gpu() {
             eprintln!("SKIPPED (GPU temporal mode): {t}");
             continue;
         }
+        let summary = format!(
+            "features {}",
+            if features == "on" {
+                "on, demodulated key"
+            } else {
+                "off"
+            }
+        );
         assert!(
-            o.status.success() && t.contains("Temporal mode"),
-            "{device}, {sampler}: {t}"
+            o.status.success() && t.contains("Temporal mode") && t.contains(&summary),
+            "{device}, {sampler}, features {features}: {t}"
         );
         assert_eq!(png_size(&out.join("mean.png")), (24, 16));
     }
