@@ -31,7 +31,7 @@ pub enum MotionMethod {
     /// White seeds and ZSobol on every 2D decision (`--sampler zsobol`): its
     /// frames digital shifts of one net, each pixel's point fixed on the screen.
     ZSobol,
-    /// The temporal permutation (`--mode temporal`, 128 tile) with ZSobol's
+    /// The temporal permutation (`--mode temporal`, the 64 tile) with ZSobol's
     /// jitter (`--sampler zsobol-jitter`), the seeds reprojected.
     TemporalPermuteJitterReproject,
 }
