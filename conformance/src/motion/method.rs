@@ -34,11 +34,14 @@ pub enum MotionMethod {
     /// The temporal permutation (`--mode temporal`, the 64 tile) with ZSobol's
     /// jitter (`--sampler zsobol-jitter`), the seeds reprojected.
     TemporalPermuteJitterReproject,
+    /// [`MotionMethod::TemporalPermuteJitterReproject`] with the
+    /// feature-aware permutation (`--mode temporal --features on`).
+    FeatureTemporalPermuteJitterReproject,
 }
 
 impl MotionMethod {
     /// Every row, white first.
-    pub const ALL: [MotionMethod; 11] = [
+    pub const ALL: [MotionMethod; 12] = [
         MotionMethod::White,
         MotionMethod::Permute,
         MotionMethod::PermuteReproject,
@@ -50,6 +53,7 @@ impl MotionMethod {
         MotionMethod::SpatiotemporalKroneckerFollow,
         MotionMethod::ZSobol,
         MotionMethod::TemporalPermuteJitterReproject,
+        MotionMethod::FeatureTemporalPermuteJitterReproject,
     ];
 
     /// Name used in tables.
@@ -66,6 +70,9 @@ impl MotionMethod {
             MotionMethod::SpatiotemporalKroneckerFollow => "spatiotemporal-kronecker, shifts follow",
             MotionMethod::ZSobol => "zsobol",
             MotionMethod::TemporalPermuteJitterReproject => "temporal-permute + zsobol jitter + reprojection",
+            MotionMethod::FeatureTemporalPermuteJitterReproject => {
+                "feature-aware temporal-permute + zsobol jitter + reprojection"
+            }
         }
     }
 
@@ -73,7 +80,10 @@ impl MotionMethod {
     pub(super) fn job(self, config: &MotionConfig) -> (RenderJob, SequenceOptions) {
         let mut settings = config.settings();
         settings.spp = 1;
-        let features = self == MotionMethod::FeaturePermuteReproject;
+        let features = matches!(
+            self,
+            MotionMethod::FeaturePermuteReproject | MotionMethod::FeatureTemporalPermuteJitterReproject
+        );
         let (mode, reproject) = match self {
             MotionMethod::White => (PermuteMode::White, false),
             MotionMethod::FeaturePermuteReproject => (PermuteMode::Permute, true),
@@ -103,7 +113,8 @@ impl MotionMethod {
                 settings.sampler = kernels::abi::SAMPLER_ZSOBOL;
                 (PermuteMode::White, false)
             }
-            MotionMethod::TemporalPermuteJitterReproject => {
+            MotionMethod::TemporalPermuteJitterReproject
+            | MotionMethod::FeatureTemporalPermuteJitterReproject => {
                 settings.sampler = kernels::abi::SAMPLER_ZSOBOL | kernels::abi::SAMPLER_JITTER_ONLY;
                 (PermuteMode::Temporal, true)
             }
