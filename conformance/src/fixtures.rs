@@ -102,12 +102,25 @@ pub fn banded_features(
         .collect()
 }
 
+/// Whether the fresh seed of some input
+/// (`sampler_core::features::permute::refresh_isolated_seed`) is itself one
+/// of `inputs`: a 32-bit hash collision (about `inputs.len()^2 / 2^32` likely
+/// for random inputs), after which a refreshed seed cannot be told from a
+/// moved one and [`feature_permutation_origins`] cannot decide. Property
+/// tests with random seeds assume it away.
+pub fn refreshes_collide(inputs: &[u32]) -> bool {
+    use sampler_core::features::permute::refresh_isolated_seed;
+    let plain: std::collections::HashSet<u32> = inputs.iter().copied().collect();
+    inputs.iter().any(|&s| plain.contains(&refresh_isolated_seed(s)))
+}
+
 /// The input seed each output seed of the feature-aware permutation came
 /// from: the seed itself if it is one of `inputs` (moved), else the input
 /// whose `sampler_core::features::permute::refresh_isolated_seed` it is (an
 /// isolated position's fresh seed), else `None`. With every entry `Some`
 /// and the origins a rearrangement of `inputs`, the output is a permutation
-/// up to the refreshed seeds.
+/// up to the refreshed seeds. Meaningful only where [`refreshes_collide`] is
+/// false.
 pub fn feature_permutation_origins(out: &[u32], inputs: &[u32]) -> Vec<Option<u32>> {
     use sampler_core::features::permute::refresh_isolated_seed;
     use std::collections::{HashMap, HashSet};
