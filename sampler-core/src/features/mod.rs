@@ -13,10 +13,12 @@
 //!   target ([`permute_frame_features_temporal`](crate::permute_frame_features_temporal)).
 //! - [`isolated`]: the fresh seed of a position that cannot move without
 //!   crossing an edge ([`refresh_isolated_seed`](isolated::refresh_isolated_seed)).
-//! - `cpu` (private): its CPU fast path, identical output.
+//! - `cpu` (private): its CPU fast path, identical output; `step` (private):
+//!   one step's checked inputs, shared by both paths.
 
 mod cpu;
 pub mod isolated;
 pub mod permute;
+mod step;
 pub mod surface;
 pub mod temporal;

@@ -56,10 +56,11 @@
 
 use crate::error::{Buffer, Error};
 pub use crate::features::isolated::refresh_isolated_seed;
+use crate::features::step::FeatureStep;
 use crate::features::surface::{edge_is_cut, same_surface, FeatureThresholds, SurfaceFeature};
 use crate::permutation::dither::{tile_texel, DitherTile};
 use crate::permutation::layout::{FrameLayout, FrameParams};
-use crate::permutation::retarget::{retarget_destination, RetargetTable, RetargetTables};
+use crate::permutation::retarget::{retarget_destination, RetargetTables};
 use crate::permutation::sort::{intensity_key, sort_block, Intensity, MAX_BLOCK_PIXELS};
 use crate::sequences::walk::{step_index, walk_offset};
 use glam::UVec2;
@@ -478,67 +479,89 @@ pub fn permute_frame_features<T: Intensity>(
         sources,
         seeds_out,
     )?;
-    let params = layout.params(frame);
-    let table = tables.table(step_index(frame, params.tile_log2));
-    permute_features_checked(
-        &params,
-        intensities,
-        features,
-        thresholds,
-        tile.values(),
-        table,
-        seeds_in,
-        sorted,
-        sources,
-        seeds_out,
-    );
+    FeatureStep::of_walk(layout, frame, intensities, features, thresholds, tile, tables)
+        .run(seeds_in, sorted, sources, seeds_out);
     Ok(())
 }
 
-/// The feature-aware step on checked buffers with frame parameters
-/// `params` (tile offset `walk_offset(params.frame)`), sorting target
-/// `tile` and retarget table `table`: the CPU fast path where it applies,
-/// else the reference passes. Shared by [`permute_frame_features`] and
-/// [`permute_frame_features_temporal`](crate::features::temporal::permute_frame_features_temporal).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn permute_features_checked<T: Intensity>(
-    params: &FrameParams,
-    intensities: &[T],
-    features: &[SurfaceFeature],
-    thresholds: &FeatureThresholds,
-    tile: &[u32],
-    table: RetargetTable<'_>,
-    seeds_in: &[u32],
-    sorted: &mut [u32],
-    sources: &mut [u32],
-    seeds_out: &mut [u32],
-) {
-    if crate::features::cpu::applies(params) {
-        crate::features::cpu::permute_features_fast(
+impl<'a, T: Intensity> FeatureStep<'a, T> {
+    /// The walk's step after frame `frame`: its tile and the table of its
+    /// step.
+    fn of_walk(
+        layout: &FrameLayout,
+        frame: u32,
+        intensities: &'a [T],
+        features: &'a [SurfaceFeature],
+        thresholds: &'a FeatureThresholds,
+        tile: &'a DitherTile<'_>,
+        tables: &'a RetargetTables<'_>,
+    ) -> Self {
+        let params = layout.params(frame);
+        FeatureStep {
             params,
             intensities,
             features,
             thresholds,
-            tile,
-            table,
-            seeds_in,
-            sorted,
-            sources,
-            seeds_out,
-        );
-    } else {
-        reference_checked(
-            params,
-            intensities,
-            features,
-            thresholds,
-            tile,
-            table.packed(),
-            seeds_in,
-            sorted,
-            sources,
-            seeds_out,
-        );
+            tile: tile.values(),
+            table: tables.table(step_index(frame, params.tile_log2)),
+        }
+    }
+
+    /// Runs the step on checked seed buffers (`sorted` and `sources` are
+    /// scratch): the CPU fast path where it applies, else
+    /// [`reference`](Self::reference); identical output.
+    pub(crate) fn run(
+        &self,
+        seeds_in: &[u32],
+        sorted: &mut [u32],
+        sources: &mut [u32],
+        seeds_out: &mut [u32],
+    ) {
+        if crate::features::cpu::applies(&self.params) {
+            crate::features::cpu::permute_features_fast(self, seeds_in, sorted, sources, seeds_out);
+        } else {
+            self.reference(seeds_in, sorted, sources, seeds_out);
+        }
+    }
+
+    /// The reference passes, as the GPU kernels run them (less the jump
+    /// rounds, which do not change the output): the grouped sort of every
+    /// block into `sorted`, the links into `sources`, the cut retarget into
+    /// `seeds_out`.
+    pub(crate) fn reference(
+        &self,
+        seeds_in: &[u32],
+        sorted: &mut [u32],
+        sources: &mut [u32],
+        seeds_out: &mut [u32],
+    ) {
+        let (params, table) = (&self.params, self.table.packed());
+        let (features, thresholds) = (self.features, self.thresholds);
+        let offset = walk_offset(params.frame, params.tile_log2);
+        for by in 0..params.blocks_y() {
+            for bx in 0..params.blocks_x() {
+                sort_block_features_at_offset(
+                    params,
+                    offset,
+                    bx,
+                    by,
+                    self.intensities,
+                    features,
+                    thresholds,
+                    self.tile,
+                    seeds_in,
+                    sorted,
+                );
+            }
+        }
+        for p in 0..params.seed_count() {
+            record_link(params, offset, table, features, thresholds, p, sources);
+        }
+        for p in 0..params.seed_count() {
+            retarget_features_linked(
+                params, offset, table, sources, features, thresholds, p, sorted, seeds_out,
+            );
+        }
     }
 }
 
@@ -578,64 +601,9 @@ pub fn permute_frame_features_reference<T: Intensity>(
         sources,
         seeds_out,
     )?;
-    let params = layout.params(frame);
-    let table = tables.table(step_index(frame, params.tile_log2)).packed();
-    reference_checked(
-        &params,
-        intensities,
-        features,
-        thresholds,
-        tile.values(),
-        table,
-        seeds_in,
-        sorted,
-        sources,
-        seeds_out,
-    );
+    FeatureStep::of_walk(layout, frame, intensities, features, thresholds, tile, tables)
+        .reference(seeds_in, sorted, sources, seeds_out);
     Ok(())
-}
-
-/// The reference passes on checked buffers (tile offset
-/// `walk_offset(params.frame)`).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn reference_checked<T: Intensity>(
-    params: &FrameParams,
-    intensities: &[T],
-    features: &[SurfaceFeature],
-    thresholds: &FeatureThresholds,
-    tile: &[u32],
-    table: &[u32],
-    seeds_in: &[u32],
-    sorted: &mut [u32],
-    sources: &mut [u32],
-    seeds_out: &mut [u32],
-) {
-    let offset = walk_offset(params.frame, params.tile_log2);
-    for by in 0..params.blocks_y() {
-        for bx in 0..params.blocks_x() {
-            sort_block_features_at_offset(
-                params,
-                offset,
-                bx,
-                by,
-                intensities,
-                features,
-                thresholds,
-                tile,
-                seeds_in,
-                sorted,
-            );
-        }
-    }
-    for p in 0..params.seed_count() {
-        record_link(params, offset, table, features, thresholds, p, sources);
-    }
-    // No jump rounds: they change how far each link points, not the output.
-    for p in 0..params.seed_count() {
-        retarget_features_linked(
-            params, offset, table, sources, features, thresholds, p, sorted, seeds_out,
-        );
-    }
 }
 
 /// The tile checks of [`permute_frame_features`]: tile and tables of the

@@ -11,7 +11,8 @@
 //! [`permute_frame_temporal`](crate::permute_frame_temporal)'s.
 
 use crate::error::Error;
-use crate::features::permute::{check_feature_buffers, permute_features_checked};
+use crate::features::permute::check_feature_buffers;
+use crate::features::step::FeatureStep;
 use crate::features::surface::{FeatureThresholds, SurfaceFeature};
 use crate::permutation::layout::FrameLayout;
 use crate::permutation::sort::Intensity;
@@ -77,21 +78,29 @@ pub fn permute_frame_features_temporal<T: Intensity>(
         sources,
         seeds_out,
     )?;
+    step(layout, frame, intensities, features, thresholds, target).run(seeds_in, sorted, sources, seeds_out);
+    Ok(())
+}
+
+/// Frame `frame`'s step against `target`: slice and table `frame mod D`,
+/// frame 0's parameters (the walk's offset `o_0` is (0, 0)).
+fn step<'a, T: Intensity>(
+    layout: &FrameLayout,
+    frame: u32,
+    intensities: &'a [T],
+    features: &'a [SurfaceFeature],
+    thresholds: &'a FeatureThresholds,
+    target: &SliceTables<'a>,
+) -> FeatureStep<'a, T> {
     let z = target.slice_index(frame);
-    // Frame 0's parameters: the walk's offset `o_0` is (0, 0).
-    permute_features_checked(
-        &layout.params(0),
+    FeatureStep {
+        params: layout.params(0),
         intensities,
         features,
         thresholds,
-        target.slice(z).values(),
-        target.table(z),
-        seeds_in,
-        sorted,
-        sources,
-        seeds_out,
-    );
-    Ok(())
+        tile: target.slice(z).values(),
+        table: target.table(z),
+    }
 }
 
 #[cfg(test)]
@@ -189,15 +198,8 @@ mod tests {
             }
             let fresh = next.iter().filter(|&&s| s as usize >= n).count();
             assert!(fresh * 10 < n, "{fresh} refreshed of {n}");
-            let z = target.slice_index(frame);
             let mut reference = vec![0; n];
-            crate::features::permute::reference_checked(
-                &layout.params(0),
-                &values,
-                &features,
-                &thresholds,
-                target.slice(z).values(),
-                target.table(z).packed(),
+            step(&layout, frame, &values, &features, &thresholds, &target).reference(
                 &seeds,
                 &mut sorted,
                 &mut sources,

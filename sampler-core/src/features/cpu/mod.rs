@@ -35,9 +35,8 @@ mod groups;
 mod steps;
 mod walks;
 
-use crate::features::surface::{FeatureThresholds, SurfaceFeature};
+use crate::features::step::FeatureStep;
 use crate::permutation::layout::FrameParams;
-use crate::permutation::retarget::RetargetTable;
 use crate::permutation::sort::Intensity;
 use blocks::{repair_blocks, Inputs};
 use steps::{Steps, MAX_TILE};
@@ -53,19 +52,21 @@ pub(crate) fn applies(params: &FrameParams) -> bool {
 /// docs). Buffers are those of `permute_frame_features`, already checked;
 /// `applies(params)` must hold. `sources` needs `seed_count / 16` words,
 /// `sorted` one word per cut edge (at most `seed_count`).
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn permute_features_fast<T: Intensity>(
-    params: &FrameParams,
-    intensities: &[T],
-    features: &[SurfaceFeature],
-    thresholds: &FeatureThresholds,
-    tile: &[u32],
-    table: RetargetTable<'_>,
+    step: &FeatureStep<'_, T>,
     seeds_in: &[u32],
     sorted: &mut [u32],
     sources: &mut [u32],
     seeds_out: &mut [u32],
 ) {
+    let FeatureStep {
+        ref params,
+        intensities,
+        features,
+        thresholds,
+        tile,
+        table,
+    } = *step;
     debug_assert!(applies(params));
     crate::permutation::cpu::permute_blocks_cached(params, intensities, tile, table, seeds_in, seeds_out);
     let steps = Steps::new(params, table);
