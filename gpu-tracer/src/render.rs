@@ -253,6 +253,13 @@ impl RenderJob {
         }
     }
 
+    /// Whether `options` make this job's permutation feature-aware: asked
+    /// for, and a mode that permutes seeds ([`PermuteMode::Permute`],
+    /// [`PermuteMode::Temporal`]; the other modes ignore it).
+    fn feature_aware(&self, options: &SequenceOptions) -> bool {
+        options.features && matches!(self.mode, PermuteMode::Permute | PermuteMode::Temporal)
+    }
+
     /// Validates the job ([`validate`](Self::validate)) and returns its
     /// layout, trace settings (padded to the layout), tile and tables, and
     /// with [`PermuteMode::Temporal`] its target.
@@ -317,7 +324,7 @@ pub fn render_sequence_cpu(
     let (layout, settings, tile, tables, temporal) = job.prepare()?;
     let n = layout.pixel_count();
     let reproject = options.reproject && job.mode != PermuteMode::White;
-    let features = options.features && matches!(job.mode, PermuteMode::Permute | PermuteMode::Temporal);
+    let features = job.feature_aware(&options);
     let gbuffer = options.gbuffer || reproject || features;
     let mut previous_vis = vec![UVec2::ZERO; if reproject { n } else { 0 }];
     let feature_scratch = if features { layout.seed_count() } else { 0 };
@@ -376,42 +383,22 @@ pub fn render_sequence_cpu(
                 sampler_core::sort_frame(&layout, t, &color, &tile, &seeds, &mut next)?;
                 std::mem::swap(&mut seeds, &mut next);
             }
-            PermuteMode::Permute if features => {
+            PermuteMode::Permute | PermuteMode::Temporal if features => {
                 keys.update(&color, &gbuf);
-                sampler_core::permute_frame_features(
-                    &layout,
-                    t,
-                    keys.keys(),
-                    keys.features(),
-                    &FeatureThresholds::DEFAULT,
-                    &tile,
-                    &tables,
-                    &seeds,
-                    &mut sorted,
-                    &mut sources,
-                    &mut next,
-                )?;
+                let (k, f, th) = (keys.keys(), keys.features(), &FeatureThresholds::DEFAULT);
+                let (s, src) = (&mut sorted, &mut sources);
+                match &temporal {
+                    Some(target) => sampler_core::permute_frame_features_temporal(
+                        &layout, t, k, f, th, target, &seeds, s, src, &mut next,
+                    )?,
+                    None => sampler_core::permute_frame_features(
+                        &layout, t, k, f, th, &tile, &tables, &seeds, s, src, &mut next,
+                    )?,
+                }
                 std::mem::swap(&mut seeds, &mut next);
             }
             PermuteMode::Permute => {
                 sampler_core::permute_frame(&layout, t, &color, &tile, &tables, &seeds, &mut next)?;
-                std::mem::swap(&mut seeds, &mut next);
-            }
-            PermuteMode::Temporal if features => {
-                let target = temporal.as_ref().expect("prepared for the temporal mode");
-                keys.update(&color, &gbuf);
-                sampler_core::permute_frame_features_temporal(
-                    &layout,
-                    t,
-                    keys.keys(),
-                    keys.features(),
-                    &FeatureThresholds::DEFAULT,
-                    target,
-                    &seeds,
-                    &mut sorted,
-                    &mut sources,
-                    &mut next,
-                )?;
                 std::mem::swap(&mut seeds, &mut next);
             }
             PermuteMode::Temporal => {
@@ -489,7 +476,7 @@ pub fn render_sequence_gpu(
 ) -> Result<RenderOutput, RenderError> {
     let (layout, settings, tile, tables, temporal) = job.prepare()?;
     let reproject = options.reproject && job.mode != PermuteMode::White;
-    let features = options.features && matches!(job.mode, PermuteMode::Permute | PermuteMode::Temporal);
+    let features = job.feature_aware(&options);
     if features && options.feature_key != FeatureKey::Demodulated {
         return Err(RenderError::Unsupported(format!(
             "the {} feature key (the GPU's feature pass computes the demodulated key)",

@@ -133,29 +133,24 @@ impl TemporalPasses {
                 target.tile()
             )));
         }
-        let sort_bg = (0..target.depth())
-            .map(|z| {
-                let entries = [
-                    whole(&params),
-                    whole(buffers.intensity),
-                    range(&slices, z, bytes),
-                    whole(buffers.seeds),
-                    whole(buffers.scratch),
-                ];
-                bind(gpu, buffers.sort, &entries)
-            })
-            .collect();
-        let retarget_bg = (0..target.depth())
-            .map(|z| {
-                let entries = [
-                    whole(&params),
-                    range(&tables, z, bytes),
-                    whole(buffers.scratch),
-                    whole(buffers.seeds),
-                ];
-                bind(gpu, buffers.retarget, &entries)
-            })
-            .collect();
+        let depth = target.depth();
+        let sort_bg = per_slice(gpu, buffers.sort, depth, |z| {
+            [
+                whole(&params),
+                whole(buffers.intensity),
+                range(&slices, z, bytes),
+                whole(buffers.seeds),
+                whole(buffers.scratch),
+            ]
+        });
+        let retarget_bg = per_slice(gpu, buffers.retarget, depth, |z| {
+            [
+                whole(&params),
+                range(&tables, z, bytes),
+                whole(buffers.scratch),
+                whole(buffers.seeds),
+            ]
+        });
         Ok(TemporalPasses {
             slices,
             tables,
@@ -163,7 +158,7 @@ impl TemporalPasses {
             entry_bytes: bytes,
             sort_bg,
             retarget_bg,
-            depth: target.depth(),
+            depth,
             features: None,
         })
     }
@@ -173,52 +168,54 @@ impl TemporalPasses {
     pub fn enable_features(&mut self, gpu: &Gpu, parts: FeatureParts<'_>) {
         let (bytes, depth) = (self.entry_bytes, self.depth);
         let params = whole(&self.params);
-        let sort_bg = (0..depth)
-            .map(|z| {
-                let entries = [
-                    params.clone(),
-                    whole(parts.intensity),
-                    whole(parts.features),
-                    whole(parts.thresholds),
-                    range(&self.slices, z, bytes),
-                    whole(parts.seeds),
-                    whole(parts.scratch),
-                ];
-                bind(gpu, parts.sort, &entries)
-            })
-            .collect();
-        let record_bg = (0..depth)
-            .map(|z| {
-                let entries = [
-                    params.clone(),
-                    range(&self.tables, z, bytes),
-                    whole(parts.features),
-                    whole(parts.thresholds),
-                    whole(parts.links),
-                ];
-                bind(gpu, parts.record, &entries)
-            })
-            .collect();
-        let retarget_bg = (0..depth)
-            .map(|z| {
-                let entries = [
-                    params.clone(),
-                    range(&self.tables, z, bytes),
-                    whole(parts.links),
-                    whole(parts.features),
-                    whole(parts.thresholds),
-                    whole(parts.scratch),
-                    whole(parts.seeds),
-                ];
-                bind(gpu, parts.retarget, &entries)
-            })
-            .collect();
+        let sort_bg = per_slice(gpu, parts.sort, depth, |z| {
+            [
+                params.clone(),
+                whole(parts.intensity),
+                whole(parts.features),
+                whole(parts.thresholds),
+                range(&self.slices, z, bytes),
+                whole(parts.seeds),
+                whole(parts.scratch),
+            ]
+        });
+        let record_bg = per_slice(gpu, parts.record, depth, |z| {
+            [
+                params.clone(),
+                range(&self.tables, z, bytes),
+                whole(parts.features),
+                whole(parts.thresholds),
+                whole(parts.links),
+            ]
+        });
+        let retarget_bg = per_slice(gpu, parts.retarget, depth, |z| {
+            [
+                params.clone(),
+                range(&self.tables, z, bytes),
+                whole(parts.links),
+                whole(parts.features),
+                whole(parts.thresholds),
+                whole(parts.scratch),
+                whole(parts.seeds),
+            ]
+        });
         self.features = Some(TemporalFeaturePasses {
             sort_bg,
             record_bg,
             retarget_bg,
         });
     }
+}
+
+/// One bind group of `pipeline` per slice `z` of `0..depth`, its bindings
+/// `entries(z)`.
+fn per_slice<'a, const N: usize>(
+    gpu: &Gpu,
+    pipeline: &wgpu::ComputePipeline,
+    depth: u32,
+    entries: impl Fn(u32) -> [wgpu::BufferBinding<'a>; N],
+) -> Vec<wgpu::BindGroup> {
+    (0..depth).map(|z| bind(gpu, pipeline, &entries(z))).collect()
 }
 
 /// Entry `z` of `buffer` when it holds entries of `bytes` bytes back to back.

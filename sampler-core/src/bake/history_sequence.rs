@@ -75,29 +75,56 @@ impl Rows {
     }
 }
 
+/// Lengths of the running means scored: 8, 32 and the period `p` frames
+/// (none longer than the period).
+fn mean_lengths(p: usize) -> [usize; 3] {
+    [8.min(p), 32.min(p), p]
+}
+
+/// Row `r`'s error at every frame of the period: `e[t] = f_r(x_t + s_r) - I_r`.
+fn row_errors(rows: &Rows, r: usize, points: &[[u32; 2]], e: &mut [f64]) {
+    for (et, &x) in e.iter_mut().zip(points) {
+        *et = rows.value(r, x) - rows.integral[r];
+    }
+}
+
+/// The steady-state history of the periodic error `e` at every frame of the
+/// period: `h[t] = sum_k w[k] e[t - k]` (indices mod the period).
+fn periodic_history(e: &[f64], w: &[f64], h: &mut [f64]) {
+    let p = e.len();
+    for (t, ht) in h.iter_mut().enumerate() {
+        *ht = (0..p).map(|k| w[k] * e[(t + p - k) % p]).sum();
+    }
+}
+
+/// White noise's figures for an integrand of mean `integral` over a period
+/// of `p` frames: the history's summed square over the period, and the
+/// running means' squares ([`mean_lengths`]).
+fn white_norms(integral: f64, p: usize, alpha: f64) -> (f64, [f64; 3]) {
+    let v = integral * (1.0 - integral);
+    (
+        v * p as f64 * alpha / (2.0 - alpha),
+        mean_lengths(p).map(|n| v / n as f64),
+    )
+}
+
 /// The figures of a periodic sequence on rows, relative to white noise:
 /// history, mean 8, mean 32, mean of the period.
 fn figures(points: &[[u32; 2]], rows: &Rows, alpha: f64) -> [f64; 4] {
     let p = points.len();
-    let w = history_weights(p, alpha);
+    let (w, lengths) = (history_weights(p, alpha), mean_lengths(p));
     let (mut sq, mut white) = ([0.0f64; 4], [0.0f64; 4]);
-    let mut e = vec![0.0; p];
+    let (mut e, mut h) = (vec![0.0; p], vec![0.0; p]);
     for r in 0..rows.shift.len() {
-        let i = rows.integral[r];
-        let v = i * (1.0 - i);
-        for (t, et) in e.iter_mut().enumerate() {
-            *et = rows.value(r, points[t]) - i;
-        }
-        for t in 0..p {
-            let h: f64 = (0..p).map(|k| w[k] * e[(t + p - k) % p]).sum();
-            sq[0] += h * h;
-        }
-        white[0] += v * p as f64 * alpha / (2.0 - alpha);
-        for (j, n) in [(1usize, 8usize), (2, 32), (3, p)] {
-            let n = n.min(p);
-            let m: f64 = e[..n].iter().sum::<f64>() / n as f64;
-            sq[j] += m * m;
-            white[j] += v / n as f64;
+        row_errors(rows, r, points, &mut e);
+        periodic_history(&e, &w, &mut h);
+        sq[0] += h.iter().map(|x| x * x).sum::<f64>();
+        let (white_history, white_means) = white_norms(rows.integral[r], p, alpha);
+        white[0] += white_history;
+        for j in 0..3 {
+            let m = e[..lengths[j]].iter().sum::<f64>() / lengths[j] as f64;
+            sq[j + 1] += m * m;
+            white[j + 1] += white_means[j];
         }
     }
     [0, 1, 2, 3].map(|j| libm::sqrt(sq[j] / white[j].max(1e-300)))
@@ -184,35 +211,28 @@ pub fn bake_history_sequence(
     let w = history_weights(p, alpha);
     let w2: f64 = w.iter().map(|x| x * x).sum();
     let mut points = start.to_vec();
-    // Per row: error values and history over the period; normalisers.
-    let mut e = vec![0.0f64; n_rows * p];
+    // Per row: the history over the period and the running means' sums;
+    // white noise's normalisers.
+    let mean_n = mean_lengths(p);
     let mut h = vec![0.0f64; n_rows * p];
-    let mut hist_norm = 0.0;
-    let mut mean_norm = [0.0f64; 3];
-    let mean_n = [8usize.min(p), 32usize.min(p), p];
+    let mut sums = vec![[0.0f64; 3]; n_rows];
+    let (mut hist_norm, mut mean_norm) = (0.0, [0.0f64; 3]);
+    let mut e = vec![0.0f64; p];
     for r in 0..n_rows {
-        let i = rows.integral[r];
-        for t in 0..p {
-            e[r * p + t] = rows.value(r, points[t]) - i;
-        }
-        for t in 0..p {
-            h[r * p + t] = (0..p).map(|k| w[k] * e[r * p + (t + p - k) % p]).sum();
-        }
-        let v = i * (1.0 - i);
-        hist_norm += v * p as f64 * alpha / (2.0 - alpha);
+        row_errors(&rows, r, &points, &mut e);
+        periodic_history(&e, &w, &mut h[r * p..(r + 1) * p]);
+        sums[r] = mean_n.map(|n| e[..n].iter().sum());
+        let (white_history, white_means) = white_norms(rows.integral[r], p, alpha);
+        hist_norm += white_history;
         for j in 0..3 {
-            mean_norm[j] += v / mean_n[j] as f64;
+            mean_norm[j] += white_means[j];
         }
     }
-    // Current sums: history square sum, mean sums per row.
     let mut hist_sq: f64 = h.iter().map(|x| x * x).sum();
-    let mut sums = vec![[0.0f64; 3]; n_rows];
     let mut mean_sq = [0.0f64; 3];
-    for r in 0..n_rows {
+    for row in &sums {
         for j in 0..3 {
-            let s: f64 = e[r * p..r * p + mean_n[j]].iter().sum();
-            sums[r][j] = s;
-            mean_sq[j] += (s / mean_n[j] as f64) * (s / mean_n[j] as f64);
+            mean_sq[j] += (row[j] / mean_n[j] as f64) * (row[j] / mean_n[j] as f64);
         }
     }
     let score = |hist_sq: f64, mean_sq: &[f64; 3]| {
@@ -263,7 +283,6 @@ pub fn bake_history_sequence(
         if accept {
             points[t0] = new;
             for &(r, d) in &changed {
-                e[r * p + t0] += d;
                 let hr = &mut h[r * p..(r + 1) * p];
                 for k in 0..p {
                     hr[(t0 + k) % p] += d * w[k];
@@ -279,11 +298,9 @@ pub fn bake_history_sequence(
             current = candidate;
         }
     }
-    debug_assert!({
-        let exact = figures(&points, &rows, alpha)[0];
-        (libm::sqrt(hist_sq.max(0.0) / hist_norm) - exact).abs() < 1e-6
-    });
     let f = figures(&points, &rows, alpha);
+    // The incremental sums agree with the recomputation.
+    debug_assert!((libm::sqrt(hist_sq.max(0.0) / hist_norm) - f[0]).abs() < 1e-6);
     Ok((points, f))
 }
 
