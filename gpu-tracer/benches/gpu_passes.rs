@@ -10,7 +10,9 @@
 //! (`--mode temporal`: the same sorting and retargeting kernels bound on the
 //! frame's slice and table of the default 64x64x64 target) beside the
 //! walk's sort + retarget on a second permuter of the same 64x64 tile, the
-//! two in alternating order, all in each frame's submission. `GPU_PASSES_ROUNDS=N` measures `N` frames instead of 15.
+//! two in alternating order, all in each frame's submission. The sort runs
+//! as the tracer runs it (two passes of one invocation per seed); the
+//! per-block kernel (`sort_cs`, the same seeds) is timed beside it. `GPU_PASSES_ROUNDS=N` measures `N` frames instead of 15.
 //!
 //! ```text
 //! cargo bench -p gpu-tracer --bench gpu_passes
@@ -106,11 +108,12 @@ fn main() {
         gpu.queue.submit([e.finish()]);
     }
 
-    let timer = PassTimer::new(&gpu, 13);
+    let timer = PassTimer::new(&gpu, 14);
     let (mut trace_ms, mut sort_ms, mut retarget_ms, mut gbuffer_ms) = (vec![], vec![], vec![], vec![]);
     let (mut motion_ms, mut reproject_ms) = (vec![], vec![]);
     let (mut features_ms, mut fsort_ms, mut fretarget_ms) = (vec![], vec![], vec![]);
     let (mut tsort_ms, mut tretarget_ms, mut wsort_ms, mut wretarget_ms) = (vec![], vec![], vec![], vec![]);
+    let mut block_sort_ms = vec![];
     for t in 0..rounds + 1 {
         scene
             .set_cameras(&camera(t), &camera(t.saturating_sub(1)))
@@ -140,6 +143,8 @@ fn main() {
                         _ => walk.encode_step(&mut e, &pp, t, PermuteMode::Permute, Some((timer, 11))),
                     }
                 }
+                // The per-block sort kernel on the same seeds (its output is overwritten next frame).
+                permuter.encode_block_sort(&mut e, &pp, Some((timer, 13)));
                 timer.resolve(&mut e);
                 gpu.queue.submit([e.finish()]);
                 timer.read_ms(&gpu).expect("timestamps")
@@ -164,6 +169,7 @@ fn main() {
                 run(&|e| featured.encode_step(e, &pp, t, PermuteMode::Permute, None));
                 run(&|e| temporal.encode_step(e, &pp, t, PermuteMode::Temporal, None));
                 run(&|e| walk.encode_step(e, &pp, t, PermuteMode::Permute, None));
+                run(&|e| permuter.encode_block_sort(e, &pp, None));
                 let mut e = gpu.device.create_command_encoder(&Default::default());
                 tracer.encode_motion(&mut e, &tp, None);
                 let start = Instant::now();
@@ -171,7 +177,7 @@ fn main() {
                 gpu.wait().expect("wait");
                 ms.push(start.elapsed().as_secs_f64() * 1e3);
                 vec![
-                    ms[0], ms[2], 0.0, ms[3], ms[9], ms[4], ms[5], ms[6], 0.0, ms[7], 0.0, ms[8], 0.0,
+                    ms[0], ms[2], 0.0, ms[3], ms[10], ms[4], ms[5], ms[6], 0.0, ms[7], 0.0, ms[8], 0.0, ms[9],
                 ]
             }
         };
@@ -189,6 +195,7 @@ fn main() {
             tretarget_ms.push(times[10]);
             wsort_ms.push(times[11]);
             wretarget_ms.push(times[12]);
+            block_sort_ms.push(times[13]);
         }
     }
     // The filters, each chain on the traced frame and G-buffer (copied into
@@ -254,6 +261,7 @@ fn main() {
     for (name, ms) in [
         ("trace (1 spp)", tr),
         ("sort", so),
+        ("sort, per-block kernel", median(&mut block_sort_ms)),
         ("retarget", re),
         ("sort + retarget", so + re),
         ("g-buffer + motion", gb),

@@ -52,7 +52,7 @@ fn pipeline(gpu: &Gpu, module: &wgpu::ShaderModule, label: &str, entry_point: &s
 }
 
 impl Passes {
-    /// All sixteen pipelines from the one WGSL module, created from source.
+    /// All pipelines from the one WGSL module, created from source.
     fn from_wgsl(gpu: &Gpu) -> Self {
         let text = read_generated(WGSL_FILE);
         let module = module(gpu, WGSL_FILE, wgpu::ShaderSource::Wgsl(text.into()));
@@ -187,7 +187,7 @@ const FRAMES: u32 = 3;
 /// ```text
 /// first frame: seed_init
 /// each frame:  [clear_claims, claim, take, scan, list_free, recycle] (after the first)
-///              intensity (the renderer's colour), sort, retarget
+///              intensity (the renderer's colour), sort (and sort_rank + sort_gather), retarget
 /// ```
 fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
     for (k, &(w, h, block, tile_side, first)) in CASES.iter().enumerate() {
@@ -210,6 +210,8 @@ fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
             .collect();
         let seeds = gpu.storage_zeroed::<u32>("seeds", n_seeds);
         let scratch = gpu.storage_zeroed::<u32>("seeds (sorted / reprojected)", n_seeds);
+        let ranked = gpu.storage_zeroed::<u32>("seeds (ranked)", n_seeds);
+        let gathered = gpu.storage_zeroed::<u32>("seeds (sorted in two passes)", n_seeds);
         let colour = gpu.storage_zeroed::<Vec4>("colour", n_pixels);
         let intensity = gpu.storage_zeroed::<f32>("intensity", n_pixels);
         let motion_buf = gpu.storage_zeroed::<[f32; 2]>("motion", n_pixels);
@@ -415,7 +417,22 @@ fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
             .unwrap();
             assert_eq!(fast_next, f_next, "CPU fast path against the passes, {what}");
 
+            // The two-pass sort (rank, gather) first, into its own buffers.
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            passes.encode(
+                gpu,
+                &mut encoder,
+                "sort_rank",
+                &[&params, &intensity, &seeds, &ranked],
+                p.seed_count(),
+            );
+            passes.encode(
+                gpu,
+                &mut encoder,
+                "sort_gather",
+                &[&params, &tile_buf, &ranked, &gathered],
+                p.seed_count(),
+            );
             passes.encode(
                 gpu,
                 &mut encoder,
@@ -439,6 +456,11 @@ fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
                 gpu.read::<u32>(&scratch, n_seeds).unwrap(),
                 sorted,
                 "sort, {what}"
+            );
+            assert_eq!(
+                gpu.read::<u32>(&gathered, n_seeds).unwrap(),
+                sorted,
+                "sort_rank + sort_gather, {what}"
             );
             assert_eq!(
                 gpu.read::<u32>(&seeds, n_seeds).unwrap(),

@@ -126,9 +126,21 @@ fn sort_and_retarget_kernels_match_the_cpu_bit_for_bit() {
         sort_frame(&layout, c.frame, &values, &tile, &seeds, &mut cpu_sorted).unwrap();
         let mut cpu_next = vec![0; seeds.len()];
         permute_frame(&layout, c.frame, &values, &tile, &tables, &seeds, &mut cpu_next).unwrap();
-        assert_eq!(gpu_sorted, cpu_sorted, "sort pass, case {k}");
+        assert_eq!(gpu_sorted, cpu_sorted, "sort pass (rank + gather), case {k}");
         assert_eq!(gpu_next, cpu_next, "sort + retarget, case {k}");
         assert_ne!(cpu_next, seeds, "case {k} must move seeds");
+
+        // The per-block sort kernel writes the same sorted seeds.
+        permuter.upload_seeds(&gpu, &seeds).unwrap();
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        encoder.clear_buffer(permuter.sorted(), 0, None);
+        permuter.encode_block_sort(&mut encoder, &pipelines, None);
+        gpu.queue.submit([encoder.finish()]);
+        assert_eq!(
+            permuter.read_sorted(&gpu).unwrap(),
+            cpu_sorted,
+            "per-block sort kernel, case {k}"
+        );
     }
 }
 

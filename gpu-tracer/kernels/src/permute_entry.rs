@@ -8,8 +8,17 @@
 //! |---|---|---|---|---|---|
 //! | [`INTENSITY_ENTRY`] | `FrameParams` (uniform) | colour `[Vec4]` | intensity `[f32]` (out) | | |
 //! | [`SORT_ENTRY`] | `FrameParams` (uniform) | intensity `[f32]` | tile `[u32]` | seeds in `[u32]` | seeds out `[u32]` |
+//! | [`SORT_RANK_ENTRY`] | `FrameParams` (uniform) | intensity `[f32]` | seeds in `[u32]` | ranked `[u32]` (out) | |
+//! | [`SORT_GATHER_ENTRY`] | `FrameParams` (uniform) | tile `[u32]` | ranked `[u32]` | seeds out `[u32]` | |
 //! | [`RETARGET_ENTRY`] | `FrameParams` (uniform) | table `[u32]` | seeds in `[u32]` | seeds out `[u32]` | |
 //! | [`SEED_INIT_ENTRY`] | `FrameParams` (uniform; `frame` = salt) | seeds out `[u32]` | | | |
+//!
+//! The sorting pass comes in two forms that write the same seeds: [`SORT_ENTRY`]
+//! (one invocation per block: the simplest to integrate) and
+//! [`SORT_RANK_ENTRY`] then [`SORT_GATHER_ENTRY`] (one invocation per seed
+//! each, `sampler_core::sort_pixel`'s two passes: what the tracer runs, several
+//! times faster on hardware GPUs, whose per-invocation arrays live in scratch
+//! memory).
 //!
 //! The feature-aware permutation (`sampler_core::features::permute`) replaces
 //! the sort and retarget passes with these (storage buffers after the
@@ -32,8 +41,8 @@ use sampler_core::features::permute::{
     jump_link, record_link, retarget_features_linked, sort_block_features_at_offset,
 };
 use sampler_core::{
-    initial_seed, luma, retarget_pixel, sort_block_in_frame, walk_offset, FeatureThresholds, FrameParams,
-    SurfaceFeature,
+    initial_seed, luma, retarget_pixel, sort_block_in_frame, sort_gather_pixel, sort_rank_pixel, walk_offset,
+    FeatureThresholds, FrameParams, SurfaceFeature,
 };
 use spirv_std::spirv;
 
@@ -41,6 +50,10 @@ use spirv_std::spirv;
 pub const INTENSITY_ENTRY: &str = "permute_entry::intensity_cs";
 /// Entry point name of [`sort_cs`].
 pub const SORT_ENTRY: &str = "permute_entry::sort_cs";
+/// Entry point name of [`sort_rank_cs`].
+pub const SORT_RANK_ENTRY: &str = "permute_entry::sort_rank_cs";
+/// Entry point name of [`sort_gather_cs`].
+pub const SORT_GATHER_ENTRY: &str = "permute_entry::sort_gather_cs";
 /// Entry point name of [`retarget_cs`].
 pub const RETARGET_ENTRY: &str = "permute_entry::retarget_cs";
 /// Entry point name of [`seed_init_cs`].
@@ -109,6 +122,40 @@ pub fn sort_cs(
         let bx = i % blocks_x;
         let by = i / blocks_x;
         sort_block_in_frame(params, bx, by, intensity, tile, seeds_in, seeds_out);
+    }
+}
+
+/// One invocation per seed (linear index over the padded buffer): pass 1 of
+/// the two-pass sort, `sampler_core::sort_rank_pixel`.
+#[spirv(compute(threads(64)))]
+pub fn sort_rank_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] intensity: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] seeds_in: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] ranked: &mut [u32],
+) {
+    let i = linear_id(id);
+    if i < params.seed_count() {
+        sort_rank_pixel(params, i, intensity, seeds_in, ranked);
+    }
+}
+
+/// One invocation per seed: pass 2 of the two-pass sort,
+/// `sampler_core::sort_gather_pixel` at the walk's offset of `params.frame`
+/// (what [`sort_cs`] writes, after [`sort_rank_cs`]).
+#[spirv(compute(threads(64)))]
+pub fn sort_gather_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] tile: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] ranked: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] seeds_out: &mut [u32],
+) {
+    let i = linear_id(id);
+    if i < params.seed_count() {
+        let offset = walk_offset(params.frame, params.tile_log2);
+        sort_gather_pixel(params, offset, i, tile, ranked, seeds_out);
     }
 }
 

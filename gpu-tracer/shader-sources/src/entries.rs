@@ -4,7 +4,7 @@
 
 use kernels::permute_entry::{
     INTENSITY_ENTRY, JUMP_LINK_ENTRY, RECORD_LINK_ENTRY, RETARGET_ENTRY, RETARGET_FEATURES_ENTRY,
-    SEED_INIT_ENTRY, SORT_ENTRY, SORT_FEATURES_ENTRY,
+    SEED_INIT_ENTRY, SORT_ENTRY, SORT_FEATURES_ENTRY, SORT_GATHER_ENTRY, SORT_RANK_ENTRY,
 };
 use kernels::reproject_entry::{
     CLAIM_ENTRY, CLEAR_CLAIMS_ENTRY, LIST_FREE_ENTRY, RECYCLE_ENTRY, SCAN_ENTRY, TAKE_ENTRY,
@@ -46,7 +46,7 @@ pub struct Entry {
 /// group (permutation, feature-aware permutation, reprojection, then the
 /// a-priori samplers). All have 64-wide workgroups
 /// (`kernels::permute_entry::PERMUTE_WORKGROUP`).
-pub const ENTRIES: [Entry; 17] = [
+pub const ENTRIES: [Entry; 19] = [
     Entry {
         spirv: SEED_INIT_ENTRY,
         name: "permute_entry_seed_init_cs",
@@ -61,6 +61,16 @@ pub const ENTRIES: [Entry; 17] = [
         spirv: SORT_ENTRY,
         name: "permute_entry_sort_cs",
         bindings: &["params", "intensity", "tile", "seeds_in", "seeds_out"],
+    },
+    Entry {
+        spirv: SORT_RANK_ENTRY,
+        name: "permute_entry_sort_rank_cs",
+        bindings: &["params", "intensity", "seeds_in", "ranked"],
+    },
+    Entry {
+        spirv: SORT_GATHER_ENTRY,
+        name: "permute_entry_sort_gather_cs",
+        bindings: &["params", "tile", "ranked", "seeds_out"],
     },
     Entry {
         spirv: RETARGET_ENTRY,

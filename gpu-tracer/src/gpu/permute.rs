@@ -8,7 +8,8 @@ use super::timer::PassTimer;
 use super::GpuError;
 use kernels::permute_entry::{
     linear_dispatch, INTENSITY_ENTRY, JUMP_LINK_ENTRY, RECORD_LINK_ENTRY, RETARGET_ENTRY,
-    RETARGET_FEATURES_ENTRY, SEED_INIT_ENTRY, SORT_ENTRY, SORT_FEATURES_ENTRY,
+    RETARGET_FEATURES_ENTRY, SEED_INIT_ENTRY, SORT_ENTRY, SORT_FEATURES_ENTRY, SORT_GATHER_ENTRY,
+    SORT_RANK_ENTRY,
 };
 use sampler_core::features::permute::JUMP_ROUNDS;
 use sampler_core::{
@@ -49,6 +50,8 @@ pub enum PermuteMode {
 pub struct PermutePipelines {
     intensity: wgpu::ComputePipeline,
     sort: wgpu::ComputePipeline,
+    sort_rank: wgpu::ComputePipeline,
+    sort_gather: wgpu::ComputePipeline,
     retarget: wgpu::ComputePipeline,
     seed_init: wgpu::ComputePipeline,
     sort_features: wgpu::ComputePipeline,
@@ -66,6 +69,8 @@ impl PermutePipelines {
         Ok(PermutePipelines {
             intensity: gpu.pipeline(INTENSITY_ENTRY)?,
             sort: gpu.pipeline(SORT_ENTRY)?,
+            sort_rank: gpu.pipeline(SORT_RANK_ENTRY)?,
+            sort_gather: gpu.pipeline(SORT_GATHER_ENTRY)?,
             retarget: gpu.pipeline(RETARGET_ENTRY)?,
             seed_init: gpu.pipeline(SEED_INIT_ENTRY)?,
             sort_features: gpu.pipeline(SORT_FEATURES_ENTRY)?,
@@ -80,7 +85,10 @@ impl PermutePipelines {
 ///
 /// Seeds live in [`seeds`](Self::seeds) (`padded_width * padded_height`
 /// `u32`s, the buffer the tracer reads); the passes use a second buffer as
-/// the sort output and retarget back into `seeds`.
+/// the sort output and retarget back into `seeds`. The sort runs as two
+/// passes of one invocation per seed (`sampler_core::sort_pixel`: rank into a
+/// third buffer, then gather); [`encode_block_sort`](Self::encode_block_sort)
+/// runs the per-block kernel instead, which writes the same seeds.
 #[derive(Debug)]
 pub struct SeedPermuter {
     layout: FrameLayout,
@@ -88,10 +96,15 @@ pub struct SeedPermuter {
     /// The seed buffer the tracer reads (padded, row-major).
     pub seeds: wgpu::Buffer,
     scratch: wgpu::Buffer,
+    /// Seeds in the slots of their intensity ranks (the two-pass sort's
+    /// middle buffer, `seed_count` `u32`).
+    ranked: wgpu::Buffer,
     /// Per-pixel sort keys (luma of the colour buffer), `width * height` f32.
     pub intensity: wgpu::Buffer,
     intensity_bg: wgpu::BindGroup,
     sort_bg: wgpu::BindGroup,
+    rank_bg: wgpu::BindGroup,
+    gather_bg: wgpu::BindGroup,
     retarget_bg: Vec<wgpu::BindGroup>,
     seed_init_bg: wgpu::BindGroup,
     tile: wgpu::Buffer,
@@ -138,6 +151,7 @@ impl SeedPermuter {
         let params = gpu.uniform("frame params", &layout.params(0));
         let seeds = gpu.storage_zeroed::<u32>("seeds", layout.seed_count());
         let scratch = gpu.storage_zeroed::<u32>("seeds (sorted)", layout.seed_count());
+        let ranked = gpu.storage_zeroed::<u32>("seeds (ranked)", layout.seed_count());
         let intensity = gpu.storage_zeroed::<f32>("intensity", layout.pixel_count());
         let tile_buf = gpu.storage("dither tile", tile.values());
         let table_bufs: Vec<wgpu::Buffer> = (0..STEP_COUNT as u32)
@@ -148,6 +162,8 @@ impl SeedPermuter {
             &pipelines.sort,
             &[&params, &intensity, &tile_buf, &seeds, &scratch],
         );
+        let rank_bg = gpu.bind(&pipelines.sort_rank, &[&params, &intensity, &seeds, &ranked]);
+        let gather_bg = gpu.bind(&pipelines.sort_gather, &[&params, &tile_buf, &ranked, &scratch]);
         let retarget_bg = table_bufs
             .iter()
             .map(|t| gpu.bind(&pipelines.retarget, &[&params, t, &scratch, &seeds]))
@@ -158,9 +174,12 @@ impl SeedPermuter {
             params,
             seeds,
             scratch,
+            ranked,
             intensity,
             intensity_bg,
             sort_bg,
+            rank_bg,
+            gather_bg,
             retarget_bg,
             seed_init_bg,
             tile: tile_buf,
@@ -276,9 +295,9 @@ impl SeedPermuter {
         target: &SliceTables<'_>,
     ) -> Result<(), GpuError> {
         let buffers = PermuterParts {
-            sort: &pipelines.sort,
+            gather: &pipelines.sort_gather,
             retarget: &pipelines.retarget,
-            intensity: &self.intensity,
+            ranked: &self.ranked,
             seeds: &self.seeds,
             scratch: &self.scratch,
         };
@@ -398,8 +417,7 @@ impl SeedPermuter {
                     .as_ref()
                     .expect("PermuteMode::Temporal needs SeedPermuter::enable_temporal");
                 let z = (frame % passes.depth) as usize;
-                let blocks = params.blocks_x() * params.blocks_y();
-                dispatch(encoder, &pipelines.sort, &passes.sort_bg[z], blocks, timer);
+                self.encode_sort(encoder, pipelines, &passes.gather_bg[z], timer);
                 dispatch(
                     encoder,
                     &pipelines.retarget,
@@ -409,8 +427,7 @@ impl SeedPermuter {
                 );
             }
             PermuteMode::Sort | PermuteMode::Permute => {
-                let blocks = params.blocks_x() * params.blocks_y();
-                dispatch(encoder, &pipelines.sort, &self.sort_bg, blocks, timer);
+                self.encode_sort(encoder, pipelines, &self.gather_bg, timer);
                 if mode == PermuteMode::Permute {
                     let step = step_index(frame, params.tile_log2) as usize;
                     dispatch(
@@ -426,6 +443,47 @@ impl SeedPermuter {
                 }
             }
         }
+    }
+
+    /// Encodes the two-pass sort (rank, then gather with `gather`, the walk's
+    /// tile or a temporal slice) from [`seeds`](Self::seeds) into the sorted
+    /// buffer, in one compute pass timed as span `span` of `timer`.
+    fn encode_sort(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipelines: &PermutePipelines,
+        gather: &wgpu::BindGroup,
+        timer: Option<(&PassTimer, u32)>,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("sort (rank, gather)"),
+            timestamp_writes: timer.map(|(t, span)| t.writes(span)),
+        });
+        let (x, y) = linear_dispatch(self.layout.seed_count() as u32);
+        pass.set_pipeline(&pipelines.sort_rank);
+        pass.set_bind_group(0, &self.rank_bg, &[]);
+        pass.dispatch_workgroups(x, y, 1);
+        pass.set_pipeline(&pipelines.sort_gather);
+        pass.set_bind_group(0, gather, &[]);
+        pass.dispatch_workgroups(x, y, 1);
+    }
+
+    /// Encodes the sorting pass of frame `frame` (as set by
+    /// [`set_frame`](Self::set_frame)) against the walk's tile with the
+    /// per-block kernel (`kernels::permute_entry::sort_cs`, one invocation
+    /// per block) into the sorted buffer ([`read_sorted`](Self::read_sorted)):
+    /// the seeds [`encode_step`](Self::encode_step)'s two-pass sort writes,
+    /// for tests and for timing one form against the other (`timer` as in
+    /// `encode_step`).
+    pub fn encode_block_sort(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipelines: &PermutePipelines,
+        timer: Option<(&PassTimer, u32)>,
+    ) {
+        let params = self.layout.params(0);
+        let blocks = params.blocks_x() * params.blocks_y();
+        dispatch(encoder, &pipelines.sort, &self.sort_bg, blocks, timer);
     }
 
     /// Replaces the seed buffer with `seeds` (`padded_width * padded_height`).
@@ -457,6 +515,11 @@ impl SeedPermuter {
     /// [`GpuError::Readback`].
     pub fn read_seeds(&self, gpu: &Gpu) -> Result<Vec<u32>, GpuError> {
         gpu.read(&self.seeds, self.layout.seed_count())
+    }
+
+    /// The sort pass's output buffer (`seed_count` `u32`).
+    pub fn sorted(&self) -> &wgpu::Buffer {
+        &self.scratch
     }
 
     /// Reads the sort pass's output buffer back (blocking).

@@ -1,8 +1,8 @@
 //! The temporally blue permutation on the GPU
 //! ([`PermuteMode::Temporal`](super::PermuteMode::Temporal)): the sorting
 //! and retargeting kernels of the walk's permutation, unchanged, with
-//! frame `t`'s tile binding on slice `z = t mod D` of the target and its
-//! table binding on table `z`, at tile offset 0.
+//! frame `t`'s tile binding (the sort's gather pass) on slice `z = t mod D`
+//! of the target and its table binding on table `z`, at tile offset 0.
 //!
 //! Every slice and every table is uploaded once, into one buffer each
 //! (`D * W * W` words; 1 MiB each for the default 64x64x64 target). Each
@@ -42,8 +42,9 @@ pub(super) struct TemporalPasses {
     params: wgpu::Buffer,
     /// Bytes of one slice or table (`4 W^2`).
     entry_bytes: u64,
-    /// Per slice `z`: the sort pass against slice `z`.
-    pub sort_bg: Vec<wgpu::BindGroup>,
+    /// Per slice `z`: the sort's gather pass against slice `z` (its rank
+    /// pass reads no tile: the permuter's serves every slice).
+    pub gather_bg: Vec<wgpu::BindGroup>,
     /// Per slice `z`: the retarget pass with table `z` (slice `z` to `z + 1`).
     pub retarget_bg: Vec<wgpu::BindGroup>,
     /// Slices of the target (`D`), to pick `z = t mod D`.
@@ -92,14 +93,14 @@ pub(super) struct FeatureParts<'a> {
 
 /// What the temporal passes share with the
 /// [`SeedPermuter`](super::SeedPermuter) they belong to: its buffers and
-/// the walk's sorting and retargeting pipelines.
+/// the walk's sort-gather and retargeting pipelines.
 pub(super) struct PermuterParts<'a> {
-    /// `sort_cs`.
-    pub sort: &'a wgpu::ComputePipeline,
+    /// `sort_gather_cs`.
+    pub gather: &'a wgpu::ComputePipeline,
     /// `retarget_cs`.
     pub retarget: &'a wgpu::ComputePipeline,
-    /// Per-pixel sort keys.
-    pub intensity: &'a wgpu::Buffer,
+    /// The seeds in the slots of their ranks (`sort_rank_cs`'s output).
+    pub ranked: &'a wgpu::Buffer,
     /// The seed buffer (sort input, retarget output).
     pub seeds: &'a wgpu::Buffer,
     /// The sorted seeds (sort output, retarget input).
@@ -134,12 +135,11 @@ impl TemporalPasses {
             )));
         }
         let depth = target.depth();
-        let sort_bg = per_slice(gpu, buffers.sort, depth, |z| {
+        let gather_bg = per_slice(gpu, buffers.gather, depth, |z| {
             [
                 whole(&params),
-                whole(buffers.intensity),
                 range(&slices, z, bytes),
-                whole(buffers.seeds),
+                whole(buffers.ranked),
                 whole(buffers.scratch),
             ]
         });
@@ -156,7 +156,7 @@ impl TemporalPasses {
             tables,
             params,
             entry_bytes: bytes,
-            sort_bg,
+            gather_bg,
             retarget_bg,
             depth,
             features: None,

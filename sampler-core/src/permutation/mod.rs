@@ -7,6 +7,9 @@
 //!   ([`DitherTile`](crate::DitherTile)).
 //! - [`sort`]: the sorting pass on one block ([`sort_block`](crate::sort_block))
 //!   and the intensity key it sorts by.
+//! - [`sort_pixel`]: the same sorting pass as two passes of one call per
+//!   seed ([`sort_rank_pixel`](crate::sort_rank_pixel),
+//!   [`sort_gather_pixel`](crate::sort_gather_pixel)), the form the GPU runs.
 //! - [`retarget`]: the retarget tables that move seeds laid out for the tile
 //!   of frame `t` to frame `t + 1`'s ([`RetargetTables`](crate::RetargetTables)).
 //! - [`frame`]: what a renderer calls once a frame
@@ -32,4 +35,5 @@ pub mod frame;
 pub mod layout;
 pub mod retarget;
 pub mod sort;
+pub mod sort_pixel;
 pub mod temporal;
