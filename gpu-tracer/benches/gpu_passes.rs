@@ -11,8 +11,8 @@
 //! frame's slice and table of the default 64x64x64 target) beside the
 //! walk's sort + retarget on a second permuter of the same 64x64 tile, the
 //! two in alternating order, all in each frame's submission. The sort runs
-//! as the tracer runs it (two passes of one invocation per seed); the
-//! per-block kernel (`sort_cs`, the same seeds) is timed beside it. `GPU_PASSES_ROUNDS=N` measures `N` frames instead of 15.
+//! in the form the tracer picks for the device (`SortForm::for_device`); both
+//! forms (per block, per seed: the same seeds) are timed beside it. `GPU_PASSES_ROUNDS=N` measures `N` frames instead of 15.
 //!
 //! ```text
 //! cargo bench -p gpu-tracer --bench gpu_passes
@@ -28,7 +28,7 @@ use gpu_tracer::cornell::cornell_box;
 use gpu_tracer::filter::{FilterChain, FilterSettings};
 use gpu_tracer::gpu::{
     FilterPipelines, FrameFilterGpu, Gpu, PassTimer, PermuteMode, PermutePipelines, ReprojectPipelines,
-    SeedPermuter, SeedReprojector, TracePipelines, Tracer,
+    SeedPermuter, SeedReprojector, SortForm, TracePipelines, Tracer,
 };
 use gpu_tracer::{SceneGpu, TraceSettings};
 use sampler_core::FrameLayout;
@@ -108,12 +108,12 @@ fn main() {
         gpu.queue.submit([e.finish()]);
     }
 
-    let timer = PassTimer::new(&gpu, 14);
+    let timer = PassTimer::new(&gpu, 15);
     let (mut trace_ms, mut sort_ms, mut retarget_ms, mut gbuffer_ms) = (vec![], vec![], vec![], vec![]);
     let (mut motion_ms, mut reproject_ms) = (vec![], vec![]);
     let (mut features_ms, mut fsort_ms, mut fretarget_ms) = (vec![], vec![], vec![]);
     let (mut tsort_ms, mut tretarget_ms, mut wsort_ms, mut wretarget_ms) = (vec![], vec![], vec![], vec![]);
-    let mut block_sort_ms = vec![];
+    let (mut block_sort_ms, mut seed_sort_ms) = (vec![], vec![]);
     for t in 0..rounds + 1 {
         scene
             .set_cameras(&camera(t), &camera(t.saturating_sub(1)))
@@ -143,8 +143,9 @@ fn main() {
                         _ => walk.encode_step(&mut e, &pp, t, PermuteMode::Permute, Some((timer, 11))),
                     }
                 }
-                // The per-block sort kernel on the same seeds (its output is overwritten next frame).
-                permuter.encode_block_sort(&mut e, &pp, Some((timer, 13)));
+                // Both sort forms on the same seeds (their output is overwritten next frame).
+                permuter.encode_walk_sort(&mut e, &pp, SortForm::PerBlock, Some((timer, 13)));
+                permuter.encode_walk_sort(&mut e, &pp, SortForm::PerSeed, Some((timer, 14)));
                 timer.resolve(&mut e);
                 gpu.queue.submit([e.finish()]);
                 timer.read_ms(&gpu).expect("timestamps")
@@ -169,7 +170,8 @@ fn main() {
                 run(&|e| featured.encode_step(e, &pp, t, PermuteMode::Permute, None));
                 run(&|e| temporal.encode_step(e, &pp, t, PermuteMode::Temporal, None));
                 run(&|e| walk.encode_step(e, &pp, t, PermuteMode::Permute, None));
-                run(&|e| permuter.encode_block_sort(e, &pp, None));
+                run(&|e| permuter.encode_walk_sort(e, &pp, SortForm::PerBlock, None));
+                run(&|e| permuter.encode_walk_sort(e, &pp, SortForm::PerSeed, None));
                 let mut e = gpu.device.create_command_encoder(&Default::default());
                 tracer.encode_motion(&mut e, &tp, None);
                 let start = Instant::now();
@@ -177,7 +179,8 @@ fn main() {
                 gpu.wait().expect("wait");
                 ms.push(start.elapsed().as_secs_f64() * 1e3);
                 vec![
-                    ms[0], ms[2], 0.0, ms[3], ms[10], ms[4], ms[5], ms[6], 0.0, ms[7], 0.0, ms[8], 0.0, ms[9],
+                    ms[0], ms[2], 0.0, ms[3], ms[11], ms[4], ms[5], ms[6], 0.0, ms[7], 0.0, ms[8], 0.0,
+                    ms[9], ms[10],
                 ]
             }
         };
@@ -196,6 +199,7 @@ fn main() {
             wsort_ms.push(times[11]);
             wretarget_ms.push(times[12]);
             block_sort_ms.push(times[13]);
+            seed_sort_ms.push(times[14]);
         }
     }
     // The filters, each chain on the traced frame and G-buffer (copied into
@@ -246,8 +250,9 @@ fn main() {
         median(&mut gbuffer_ms),
     );
     println!(
-        "gpu_passes: {WIDTH}x{HEIGHT}, Cornell box 1 spp, 4x4 blocks, 64x64 tile, on {}",
-        gpu.describe()
+        "gpu_passes: {WIDTH}x{HEIGHT}, Cornell box 1 spp, 4x4 blocks, 64x64 tile, on {}; sort form {:?}",
+        gpu.describe(),
+        permuter.sort_form()
     );
     println!(
         "timing: {}",
@@ -261,7 +266,8 @@ fn main() {
     for (name, ms) in [
         ("trace (1 spp)", tr),
         ("sort", so),
-        ("sort, per-block kernel", median(&mut block_sort_ms)),
+        ("sort, per-block form", median(&mut block_sort_ms)),
+        ("sort, per-seed form", median(&mut seed_sort_ms)),
         ("retarget", re),
         ("sort + retarget", so + re),
         ("g-buffer + motion", gb),

@@ -3,7 +3,7 @@
 
 use conformance::fixtures::{random_table, random_tile};
 use glam::Vec4;
-use gpu_tracer::gpu::{Gpu, PermuteMode, PermutePipelines, SeedPermuter};
+use gpu_tracer::gpu::{Gpu, PermuteMode, PermutePipelines, SeedPermuter, SortForm};
 use sampler_core::sequences::seed::hash_u32;
 use sampler_core::*;
 
@@ -130,17 +130,20 @@ fn sort_and_retarget_kernels_match_the_cpu_bit_for_bit() {
         assert_eq!(gpu_next, cpu_next, "sort + retarget, case {k}");
         assert_ne!(cpu_next, seeds, "case {k} must move seeds");
 
-        // The per-block sort kernel writes the same sorted seeds.
+        // Both forms of the sort write the same sorted seeds (the step above
+        // ran the device's).
         permuter.upload_seeds(&gpu, &seeds).unwrap();
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        encoder.clear_buffer(permuter.sorted(), 0, None);
-        permuter.encode_block_sort(&mut encoder, &pipelines, None);
-        gpu.queue.submit([encoder.finish()]);
-        assert_eq!(
-            permuter.read_sorted(&gpu).unwrap(),
-            cpu_sorted,
-            "per-block sort kernel, case {k}"
-        );
+        for form in [SortForm::PerBlock, SortForm::PerSeed] {
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            encoder.clear_buffer(permuter.sorted(), 0, None);
+            permuter.encode_walk_sort(&mut encoder, &pipelines, form, None);
+            gpu.queue.submit([encoder.finish()]);
+            assert_eq!(
+                permuter.read_sorted(&gpu).unwrap(),
+                cpu_sorted,
+                "{form:?} sort, case {k}"
+            );
+        }
     }
 }
 
@@ -275,13 +278,13 @@ fn feature_aware_permutation_kernels_match_the_cpu_bit_for_bit() {
     }
 }
 
-/// The temporal mode on the GPU (`sort_cs` and `retarget_cs` bound on the
-/// frame's slice and table of the default target) against
-/// `sampler_core::permute_frame_temporal`: identical seeds after every frame
-/// of a run that crosses the wrap from slice 63 to slice 0, with a walk
-/// step in between on the same permuter (the walk's buffers stay intact),
-/// and whatever frame the parameters were last set to (the temporal passes
-/// bind frame 0's).
+/// The temporal mode on the GPU (the sort's and `retarget_cs`'s tile and
+/// table bindings on the frame's slice and table of the default target)
+/// against `sampler_core::permute_frame_temporal`: identical seeds after
+/// every frame of a run that crosses the wrap from slice 63 to slice 0, with
+/// a walk step in between on the same permuter (the walk's buffers stay
+/// intact), the two sort forms in turn, and whatever frame the parameters
+/// were last set to (the temporal passes bind frame 0's).
 #[test]
 fn temporal_kernels_match_the_cpu_bit_for_bit_across_the_wrap() {
     let Some(gpu) = Gpu::for_test("temporal_kernels_match_the_cpu_bit_for_bit_across_the_wrap") else {
@@ -311,12 +314,19 @@ fn temporal_kernels_match_the_cpu_bit_for_bit_across_the_wrap() {
             permute_frame_temporal(&layout, frame, &values, &target, &seeds, &mut next).unwrap();
             PermuteMode::Temporal
         };
+        let form = [SortForm::PerBlock, SortForm::PerSeed][frame as usize % 2];
+        permuter.set_sort_form(form);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         permuter.encode_step(&mut encoder, &pipelines, frame, mode, None);
         gpu.queue.submit([encoder.finish()]);
         let got = permuter.read_seeds(&gpu).unwrap();
         assert_ne!(next, seeds, "frame {frame} must move seeds");
-        assert_eq!(got, next, "frame {frame} ({mode:?}) on {}", gpu.describe());
+        assert_eq!(
+            got,
+            next,
+            "frame {frame} ({mode:?}, {form:?} sort) on {}",
+            gpu.describe()
+        );
         std::mem::swap(&mut seeds, &mut next);
     }
 }

@@ -13,7 +13,7 @@ mod trace;
 pub use context::{groups, Gpu, LazyPipeline, KERNELS_SPV, REQUIRE_GPU_ENV};
 pub use filter::{FilterPipelines, FrameFilterGpu};
 pub use headless::{prepare_headless_environment, RUNTIME_DIR_ENV};
-pub use permute::{PermuteMode, PermutePipelines, SeedPermuter};
+pub use permute::{PermuteMode, PermutePipelines, SeedPermuter, SortForm};
 pub use reproject::{ReprojectPipelines, SeedReprojector};
 pub use timer::PassTimer;
 pub use trace::{TracePipelines, Tracer};

@@ -42,8 +42,10 @@ pub(super) struct TemporalPasses {
     params: wgpu::Buffer,
     /// Bytes of one slice or table (`4 W^2`).
     entry_bytes: u64,
-    /// Per slice `z`: the sort's gather pass against slice `z` (its rank
-    /// pass reads no tile: the permuter's serves every slice).
+    /// Per slice `z`: the per-block sort against slice `z`.
+    pub sort_bg: Vec<wgpu::BindGroup>,
+    /// Per slice `z`: the per-seed sort's gather pass against slice `z` (its
+    /// rank pass reads no tile: the permuter's serves every slice).
     pub gather_bg: Vec<wgpu::BindGroup>,
     /// Per slice `z`: the retarget pass with table `z` (slice `z` to `z + 1`).
     pub retarget_bg: Vec<wgpu::BindGroup>,
@@ -93,12 +95,16 @@ pub(super) struct FeatureParts<'a> {
 
 /// What the temporal passes share with the
 /// [`SeedPermuter`](super::SeedPermuter) they belong to: its buffers and
-/// the walk's sort-gather and retargeting pipelines.
+/// the walk's sorting and retargeting pipelines.
 pub(super) struct PermuterParts<'a> {
+    /// `sort_cs`.
+    pub sort: &'a wgpu::ComputePipeline,
     /// `sort_gather_cs`.
     pub gather: &'a wgpu::ComputePipeline,
     /// `retarget_cs`.
     pub retarget: &'a wgpu::ComputePipeline,
+    /// Per-pixel sort keys.
+    pub intensity: &'a wgpu::Buffer,
     /// The seeds in the slots of their ranks (`sort_rank_cs`'s output).
     pub ranked: &'a wgpu::Buffer,
     /// The seed buffer (sort input, retarget output).
@@ -135,6 +141,15 @@ impl TemporalPasses {
             )));
         }
         let depth = target.depth();
+        let sort_bg = per_slice(gpu, buffers.sort, depth, |z| {
+            [
+                whole(&params),
+                whole(buffers.intensity),
+                range(&slices, z, bytes),
+                whole(buffers.seeds),
+                whole(buffers.scratch),
+            ]
+        });
         let gather_bg = per_slice(gpu, buffers.gather, depth, |z| {
             [
                 whole(&params),
@@ -156,6 +171,7 @@ impl TemporalPasses {
             tables,
             params,
             entry_bytes: bytes,
+            sort_bg,
             gather_bg,
             retarget_bg,
             depth,
