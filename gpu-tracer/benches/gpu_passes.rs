@@ -11,7 +11,7 @@
 //! frame's slice and table of the default 64x64x64 target) beside the
 //! walk's sort + retarget on a second permuter of the same 64x64 tile, the
 //! two in alternating order, all in each frame's submission. The sort runs
-//! in the form the tracer picks for the device (`SortForm::for_device`); both
+//! in the form the tracer picks for the device (`PassForm::for_device`); both
 //! forms (per block, per seed: the same seeds) are timed beside it. `GPU_PASSES_ROUNDS=N` measures `N` frames instead of 15.
 //!
 //! ```text
@@ -27,8 +27,8 @@
 use gpu_tracer::cornell::cornell_box;
 use gpu_tracer::filter::{FilterChain, FilterSettings};
 use gpu_tracer::gpu::{
-    FilterPipelines, FrameFilterGpu, Gpu, PassTimer, PermuteMode, PermutePipelines, ReprojectPipelines,
-    SeedPermuter, SeedReprojector, SortForm, TracePipelines, Tracer,
+    FilterPipelines, FrameFilterGpu, Gpu, PassForm, PassTimer, PermuteMode, PermutePipelines,
+    ReprojectPipelines, SeedPermuter, SeedReprojector, TracePipelines, Tracer,
 };
 use gpu_tracer::{SceneGpu, TraceSettings};
 use sampler_core::FrameLayout;
@@ -82,7 +82,7 @@ fn main() {
     let permuter = SeedPermuter::new(&gpu, &pp, layout, &tile, &tables, &color).expect("permuter");
     let mut tracer = Tracer::new(&gpu, &tp, &scene, &params, &permuter.seeds, color).expect("tracer");
     let rp = ReprojectPipelines::new(&gpu).expect("reproject pipelines");
-    let reprojector = SeedReprojector::new(&gpu, &rp, layout, &permuter.seeds).expect("reprojector");
+    let mut reprojector = SeedReprojector::new(&gpu, &rp, layout, &permuter.seeds).expect("reprojector");
     tracer.enable_motion(&gpu, &tp, &reprojector.motion);
     // A second permuter, feature-aware, fed by the tracer's feature pass.
     let mut featured = SeedPermuter::new(&gpu, &pp, layout, &tile, &tables, &tracer.color).expect("permuter");
@@ -108,9 +108,9 @@ fn main() {
         gpu.queue.submit([e.finish()]);
     }
 
-    let timer = PassTimer::new(&gpu, 15);
+    let timer = PassTimer::new(&gpu, 16);
     let (mut trace_ms, mut sort_ms, mut retarget_ms, mut gbuffer_ms) = (vec![], vec![], vec![], vec![]);
-    let (mut motion_ms, mut reproject_ms) = (vec![], vec![]);
+    let (mut motion_ms, mut reproject_ms, mut reproject_seed_ms) = (vec![], vec![], vec![]);
     let (mut features_ms, mut fsort_ms, mut fretarget_ms) = (vec![], vec![], vec![]);
     let (mut tsort_ms, mut tretarget_ms, mut wsort_ms, mut wretarget_ms) = (vec![], vec![], vec![], vec![]);
     let (mut block_sort_ms, mut seed_sort_ms) = (vec![], vec![]);
@@ -127,7 +127,11 @@ fn main() {
                 let mut e = gpu.device.create_command_encoder(&Default::default());
                 tracer.encode_gbuffer(&mut e, &tp, Some((timer, 3)));
                 tracer.encode_motion(&mut e, &tp, Some((timer, 4)));
+                // The reprojection in both forms, one after the other (the seeds move twice).
+                reprojector.set_form(PassForm::PerGroup);
                 reprojector.encode(&mut e, &rp, Some((timer, 5)));
+                reprojector.set_form(PassForm::PerSeed);
+                reprojector.encode(&mut e, &rp, Some((timer, 15)));
                 tracer.encode_trace(&mut e, &tp, Some((timer, 0)));
                 permuter.encode_intensity(&mut e, &pp);
                 permuter.encode_step(&mut e, &pp, t, PermuteMode::Permute, Some((timer, 1)));
@@ -144,8 +148,8 @@ fn main() {
                     }
                 }
                 // Both sort forms on the same seeds (their output is overwritten next frame).
-                permuter.encode_walk_sort(&mut e, &pp, SortForm::PerBlock, Some((timer, 13)));
-                permuter.encode_walk_sort(&mut e, &pp, SortForm::PerSeed, Some((timer, 14)));
+                permuter.encode_walk_sort(&mut e, &pp, PassForm::PerGroup, Some((timer, 13)));
+                permuter.encode_walk_sort(&mut e, &pp, PassForm::PerSeed, Some((timer, 14)));
                 timer.resolve(&mut e);
                 gpu.queue.submit([e.finish()]);
                 timer.read_ms(&gpu).expect("timestamps")
@@ -165,13 +169,16 @@ fn main() {
                 // Sort and retarget together, then sort alone: retarget = difference.
                 run(&|e| permuter.encode_step(e, &pp, t, PermuteMode::Permute, None));
                 run(&|e| tracer.encode_gbuffer(e, &tp, None));
+                reprojector.set_form(PassForm::PerGroup);
+                run(&|e| reprojector.encode(e, &rp, None));
+                reprojector.set_form(PassForm::PerSeed);
                 run(&|e| reprojector.encode(e, &rp, None));
                 run(&|e| tracer.encode_features(e, &tp, None));
                 run(&|e| featured.encode_step(e, &pp, t, PermuteMode::Permute, None));
                 run(&|e| temporal.encode_step(e, &pp, t, PermuteMode::Temporal, None));
                 run(&|e| walk.encode_step(e, &pp, t, PermuteMode::Permute, None));
-                run(&|e| permuter.encode_walk_sort(e, &pp, SortForm::PerBlock, None));
-                run(&|e| permuter.encode_walk_sort(e, &pp, SortForm::PerSeed, None));
+                run(&|e| permuter.encode_walk_sort(e, &pp, PassForm::PerGroup, None));
+                run(&|e| permuter.encode_walk_sort(e, &pp, PassForm::PerSeed, None));
                 let mut e = gpu.device.create_command_encoder(&Default::default());
                 tracer.encode_motion(&mut e, &tp, None);
                 let start = Instant::now();
@@ -179,8 +186,8 @@ fn main() {
                 gpu.wait().expect("wait");
                 ms.push(start.elapsed().as_secs_f64() * 1e3);
                 vec![
-                    ms[0], ms[2], 0.0, ms[3], ms[11], ms[4], ms[5], ms[6], 0.0, ms[7], 0.0, ms[8], 0.0,
-                    ms[9], ms[10],
+                    ms[0], ms[2], 0.0, ms[3], ms[12], ms[4], ms[6], ms[7], 0.0, ms[8], 0.0, ms[9], 0.0,
+                    ms[10], ms[11], ms[5],
                 ]
             }
         };
@@ -200,6 +207,7 @@ fn main() {
             wretarget_ms.push(times[12]);
             block_sort_ms.push(times[13]);
             seed_sort_ms.push(times[14]);
+            reproject_seed_ms.push(times[15]);
         }
     }
     // The filters, each chain on the traced frame and G-buffer (copied into
@@ -272,7 +280,8 @@ fn main() {
         ("sort + retarget", so + re),
         ("g-buffer + motion", gb),
         ("reprojection motion pass", median(&mut motion_ms)),
-        ("reprojection (6 passes)", median(&mut reproject_ms)),
+        ("reprojection, per chunk", median(&mut reproject_ms)),
+        ("reprojection, per seed", median(&mut reproject_seed_ms)),
         ("feature pass", median(&mut features_ms)),
         ("feature-aware sort", median(&mut fsort_ms)),
         ("feature-aware retarget", median(&mut fretarget_ms)),

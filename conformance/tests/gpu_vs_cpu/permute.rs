@@ -3,7 +3,7 @@
 
 use conformance::fixtures::{random_table, random_tile};
 use glam::Vec4;
-use gpu_tracer::gpu::{Gpu, PermuteMode, PermutePipelines, SeedPermuter, SortForm};
+use gpu_tracer::gpu::{Gpu, PassForm, PermuteMode, PermutePipelines, SeedPermuter};
 use sampler_core::sequences::seed::hash_u32;
 use sampler_core::*;
 
@@ -133,7 +133,7 @@ fn sort_and_retarget_kernels_match_the_cpu_bit_for_bit() {
         // Both forms of the sort write the same sorted seeds (the step above
         // ran the device's).
         permuter.upload_seeds(&gpu, &seeds).unwrap();
-        for form in [SortForm::PerBlock, SortForm::PerSeed] {
+        for form in [PassForm::PerGroup, PassForm::PerSeed] {
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             encoder.clear_buffer(permuter.sorted(), 0, None);
             permuter.encode_walk_sort(&mut encoder, &pipelines, form, None);
@@ -314,7 +314,7 @@ fn temporal_kernels_match_the_cpu_bit_for_bit_across_the_wrap() {
             permute_frame_temporal(&layout, frame, &values, &target, &seeds, &mut next).unwrap();
             PermuteMode::Temporal
         };
-        let form = [SortForm::PerBlock, SortForm::PerSeed][frame as usize % 2];
+        let form = [PassForm::PerGroup, PassForm::PerSeed][frame as usize % 2];
         permuter.set_sort_form(form);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         permuter.encode_step(&mut encoder, &pipelines, frame, mode, None);

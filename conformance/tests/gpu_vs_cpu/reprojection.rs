@@ -47,12 +47,12 @@ fn motion_fields(w: u32, h: u32, salt: u32) -> Vec<(&'static str, Vec<[f32; 2]>)
 }
 
 /// The GPU reprojection (six passes of `sampler_core::reprojection::passes`,
-/// one atomic) against `sampler_core::reproject_frame`: identical seed
+/// one atomic), in both forms (per chunk, per seed), against `sampler_core::reproject_frame`: identical seed
 /// buffers on random and adversarial motion fields, frames with padding on
 /// both axes and several chunks.
 #[test]
 fn reprojection_kernels_match_the_cpu_bit_for_bit() {
-    use gpu_tracer::gpu::{ReprojectPipelines, SeedReprojector};
+    use gpu_tracer::gpu::{PassForm, ReprojectPipelines, SeedReprojector};
     let Some(gpu) = Gpu::for_test("reprojection_kernels_match_the_cpu_bit_for_bit") else {
         return;
     };
@@ -66,23 +66,25 @@ fn reprojection_kernels_match_the_cpu_bit_for_bit() {
             .map(|i| hash_u32(i ^ (k as u32) << 20))
             .collect();
         let seed_buffer = gpu.storage("seeds", &seeds);
-        let reprojector = SeedReprojector::new(&gpu, &pipelines, layout, &seed_buffer).unwrap();
+        let mut reprojector = SeedReprojector::new(&gpu, &pipelines, layout, &seed_buffer).unwrap();
         for (name, motion) in motion_fields(w, h, k as u32) {
-            gpu.queue
-                .write_buffer(&seed_buffer, 0, bytemuck::cast_slice(&seeds));
-            reprojector.upload_motion(&gpu, &motion).unwrap();
-            let mut encoder = gpu.device.create_command_encoder(&Default::default());
-            reprojector.encode(&mut encoder, &pipelines, None);
-            gpu.queue.submit([encoder.finish()]);
-            let got: Vec<u32> = gpu.read(&seed_buffer, layout.seed_count()).unwrap();
-
             let mut claims = vec![0; seeds.len()];
             let mut expected = vec![0; seeds.len()];
             let stats = reproject_frame(&layout, &motion, &seeds, &mut claims, &mut expected).unwrap();
-            assert_eq!(got, expected, "{w}x{h}, {name}");
             if name == "uniform shift" || name == "rotation" {
                 assert!(stats.followed > stats.recycled, "{name}: {stats:?}");
                 assert_ne!(expected, seeds, "{name} must move seeds");
+            }
+            reprojector.upload_motion(&gpu, &motion).unwrap();
+            for form in [PassForm::PerGroup, PassForm::PerSeed] {
+                reprojector.set_form(form);
+                gpu.queue
+                    .write_buffer(&seed_buffer, 0, bytemuck::cast_slice(&seeds));
+                let mut encoder = gpu.device.create_command_encoder(&Default::default());
+                reprojector.encode(&mut encoder, &pipelines, None);
+                gpu.queue.submit([encoder.finish()]);
+                let got: Vec<u32> = gpu.read(&seed_buffer, layout.seed_count()).unwrap();
+                assert_eq!(got, expected, "{w}x{h}, {name}, {form:?}");
             }
         }
     }

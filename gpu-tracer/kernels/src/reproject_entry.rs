@@ -19,6 +19,17 @@
 //! clear `n = seed_count`, claim `n = width * height`, take `n = chunks`,
 //! scan `n = 1` (one workgroup), list `n = chunks`, recycle `n = chunks`,
 //! where `chunks = sampler_core::reprojection::passes::chunk_count(params)`.
+//!
+//! The per-seed form (`sampler_core::reprojection::seed_passes`, the same
+//! output; faster on hardware GPUs) replaces take, list and recycle, with a
+//! `flags` buffer (`[u32]`, `seed_count`):
+//!
+//! | entry | 0 | 1 | 2 | 3 | 4 | 5 | 6 |
+//! |---|---|---|---|---|---|---|---|
+//! | [`TAKE_SEED_ENTRY`] (`n = seed_count`) | params | motion | claims | seeds in | seeds out | flags (out) | |
+//! | [`COUNT_FLAGS_ENTRY`] (`n = chunks`) | params | flags | counts (out) | | | | |
+//! | [`LIST_FREE_SEED_ENTRY`] (`n = seed_count`, after scan) | params | flags | counts | free (out) | | | |
+//! | [`RECYCLE_SEED_ENTRY`] (`n = seed_count`) | params | flags | counts | free | seeds in | seeds out | |
 
 use crate::permute_entry::linear_id;
 use glam::{UVec3, Vec2};
@@ -26,6 +37,7 @@ use sampler_core::reprojection::passes::{
     chunk_count, claim_pixel, clear_claim, list_free_chunk, offset_chunk_counts, recycle_chunk, scan_segment,
     sum_chunk_counts, take_chunk, SCAN_LANES,
 };
+use sampler_core::reprojection::seed_passes::{count_chunk_flags, list_free_seed, recycle_seed, take_seed};
 use sampler_core::{FrameParams, CLAIM_NONE};
 use spirv_std::arch::{atomic_u_min, workgroup_memory_barrier_with_group_sync};
 use spirv_std::memory::{Scope, Semantics};
@@ -43,6 +55,14 @@ pub const SCAN_ENTRY: &str = "reproject_entry::scan_cs";
 pub const LIST_FREE_ENTRY: &str = "reproject_entry::list_free_cs";
 /// Entry point name of [`recycle_cs`].
 pub const RECYCLE_ENTRY: &str = "reproject_entry::recycle_cs";
+/// Entry point name of [`take_seed_cs`].
+pub const TAKE_SEED_ENTRY: &str = "reproject_entry::take_seed_cs";
+/// Entry point name of [`count_flags_cs`].
+pub const COUNT_FLAGS_ENTRY: &str = "reproject_entry::count_flags_cs";
+/// Entry point name of [`list_free_seed_cs`].
+pub const LIST_FREE_SEED_ENTRY: &str = "reproject_entry::list_free_seed_cs";
+/// Entry point name of [`recycle_seed_cs`].
+pub const RECYCLE_SEED_ENTRY: &str = "reproject_entry::recycle_seed_cs";
 
 /// Pass 1, one invocation per seed: every claims entry to `CLAIM_NONE`.
 #[spirv(compute(threads(64)))]
@@ -182,5 +202,68 @@ pub fn recycle_cs(
     let c = linear_id(id);
     if c < chunk_count(params) {
         recycle_chunk(params, c, motion, claims, counts, free, seeds_in, seeds_out);
+    }
+}
+
+/// Pass 3a of the per-seed form, one invocation per seed: `take_seed`.
+#[spirv(compute(threads(64)))]
+pub fn take_seed_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] motion: &[Vec2],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] claims: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] seeds_in: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] seeds_out: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] flags: &mut [u32],
+) {
+    let i = linear_id(id);
+    if i < params.seed_count() {
+        take_seed(params, i, motion, claims, seeds_in, seeds_out, flags);
+    }
+}
+
+/// Pass 3b of the per-seed form, one invocation per chunk: `count_chunk_flags`.
+#[spirv(compute(threads(64)))]
+pub fn count_flags_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] flags: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] counts: &mut [u32],
+) {
+    let c = linear_id(id);
+    if c < chunk_count(params) {
+        count_chunk_flags(params, c, flags, counts);
+    }
+}
+
+/// Pass 5 of the per-seed form, one invocation per seed: `list_free_seed`.
+#[spirv(compute(threads(64)))]
+pub fn list_free_seed_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] flags: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] counts: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] free: &mut [u32],
+) {
+    let i = linear_id(id);
+    if i < params.seed_count() {
+        list_free_seed(i, flags, counts, free);
+    }
+}
+
+/// Pass 6 of the per-seed form, one invocation per seed: `recycle_seed`.
+#[spirv(compute(threads(64)))]
+pub fn recycle_seed_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] flags: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] counts: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] free: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] seeds_in: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] seeds_out: &mut [u32],
+) {
+    let i = linear_id(id);
+    if i < params.seed_count() {
+        recycle_seed(i, flags, counts, free, seeds_in, seeds_out);
     }
 }

@@ -4,6 +4,7 @@
 mod context;
 mod filter;
 mod headless;
+mod pass_form;
 mod permute;
 mod reproject;
 mod temporal;
@@ -13,7 +14,8 @@ mod trace;
 pub use context::{groups, Gpu, LazyPipeline, KERNELS_SPV, REQUIRE_GPU_ENV};
 pub use filter::{FilterPipelines, FrameFilterGpu};
 pub use headless::{prepare_headless_environment, RUNTIME_DIR_ENV};
-pub use permute::{PermuteMode, PermutePipelines, SeedPermuter, SortForm};
+pub use pass_form::PassForm;
+pub use permute::{PermuteMode, PermutePipelines, SeedPermuter};
 pub use reproject::{ReprojectPipelines, SeedReprojector};
 pub use timer::PassTimer;
 pub use trace::{TracePipelines, Tracer};

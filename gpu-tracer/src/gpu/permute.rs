@@ -3,6 +3,7 @@
 //! frames.
 
 use super::context::Gpu;
+use super::pass_form::PassForm;
 use super::temporal::{FeatureParts, PermuterParts, TemporalPasses};
 use super::timer::PassTimer;
 use super::GpuError;
@@ -43,33 +44,6 @@ pub enum PermuteMode {
     /// (`sampler_core::permute_frame_features_temporal`); seed reprojection
     /// moves the seeds before the trace as in [`Permute`](Self::Permute).
     Temporal,
-}
-
-/// Which kernels run the sorting pass. Both write the same seeds, bit for
-/// bit (`sampler_core::sort_pixel`); they differ in speed by device.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum SortForm {
-    /// `sort_cs`: one invocation per block sorts it with `O(n^2)`
-    /// comparisons in local arrays. Fastest on a CPU rasteriser (lavapipe:
-    /// 0.58x the per-seed form's time at 720p).
-    PerBlock,
-    /// `sort_rank_cs` then `sort_gather_cs`: two passes of one invocation
-    /// per seed, `O(n)` each, no local array. Fastest on hardware GPUs,
-    /// where local arrays live in scratch memory (NVIDIA H100: 0.42x the
-    /// per-block form's time at 720p).
-    PerSeed,
-}
-
-impl SortForm {
-    /// The faster form for `gpu`'s adapter: [`PerBlock`](Self::PerBlock) on a
-    /// CPU (software) adapter, [`PerSeed`](Self::PerSeed) on any other.
-    pub fn for_device(gpu: &Gpu) -> Self {
-        if gpu.info.device_type == wgpu::DeviceType::Cpu {
-            SortForm::PerBlock
-        } else {
-            SortForm::PerSeed
-        }
-    }
 }
 
 /// The compute pipelines of the permutation (plain and feature-aware), created once per device.
@@ -113,7 +87,7 @@ impl PermutePipelines {
 /// Seeds live in [`seeds`](Self::seeds) (`padded_width * padded_height`
 /// `u32`s, the buffer the tracer reads); the passes use a second buffer as
 /// the sort output and retarget back into `seeds`. The sort runs in the
-/// [`SortForm`] chosen for the device ([`set_sort_form`](Self::set_sort_form)
+/// [`PassForm`] chosen for the device ([`set_sort_form`](Self::set_sort_form)
 /// changes it); the per-seed form ranks into a third buffer first.
 #[derive(Debug)]
 pub struct SeedPermuter {
@@ -137,7 +111,7 @@ pub struct SeedPermuter {
     tables: Vec<wgpu::Buffer>,
     features: Option<FeaturePasses>,
     temporal: Option<TemporalPasses>,
-    sort_form: SortForm,
+    sort_form: PassForm,
 }
 
 /// The buffers and bind groups of the feature-aware passes
@@ -213,7 +187,7 @@ impl SeedPermuter {
             tables: table_bufs,
             features: None,
             temporal: None,
-            sort_form: SortForm::for_device(gpu),
+            sort_form: PassForm::for_device(gpu),
         })
     }
 
@@ -477,13 +451,13 @@ impl SeedPermuter {
     }
 
     /// The form the sorting pass runs in (at creation,
-    /// [`SortForm::for_device`]).
-    pub fn sort_form(&self) -> SortForm {
+    /// [`PassForm::for_device`]).
+    pub fn sort_form(&self) -> PassForm {
         self.sort_form
     }
 
     /// Runs the sorting pass in `form` from now on (the same seeds either way).
-    pub fn set_sort_form(&mut self, form: SortForm) {
+    pub fn set_sort_form(&mut self, form: PassForm) {
         self.sort_form = form;
     }
 
@@ -498,7 +472,7 @@ impl SeedPermuter {
         &self,
         encoder: &mut wgpu::CommandEncoder,
         pipelines: &PermutePipelines,
-        form: SortForm,
+        form: PassForm,
         timer: Option<(&PassTimer, u32)>,
     ) {
         self.encode_sort(encoder, pipelines, form, [&self.sort_bg, &self.gather_bg], timer);
@@ -512,7 +486,7 @@ impl SeedPermuter {
         &self,
         encoder: &mut wgpu::CommandEncoder,
         pipelines: &PermutePipelines,
-        form: SortForm,
+        form: PassForm,
         groups: [&wgpu::BindGroup; 2],
         timer: Option<(&PassTimer, u32)>,
     ) {
@@ -522,14 +496,14 @@ impl SeedPermuter {
             timestamp_writes: timer.map(|(t, span)| t.writes(span)),
         });
         match form {
-            SortForm::PerBlock => {
+            PassForm::PerGroup => {
                 let params = self.layout.params(0);
                 let (x, y) = linear_dispatch(params.blocks_x() * params.blocks_y());
                 pass.set_pipeline(&pipelines.sort);
                 pass.set_bind_group(0, block, &[]);
                 pass.dispatch_workgroups(x, y, 1);
             }
-            SortForm::PerSeed => {
+            PassForm::PerSeed => {
                 let (x, y) = linear_dispatch(self.layout.seed_count() as u32);
                 pass.set_pipeline(&pipelines.sort_rank);
                 pass.set_bind_group(0, &self.rank_bg, &[]);

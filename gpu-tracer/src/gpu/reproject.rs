@@ -1,19 +1,22 @@
 //! The seed reprojection on the GPU: the six passes of
-//! `sampler_core::reprojection::passes` over device-resident buffers, bit for
-//! bit what `sampler_core::reproject_frame` computes on the CPU.
+//! `sampler_core::reprojection::passes` (or, per seed, those of
+//! `sampler_core::reprojection::seed_passes`) over device-resident buffers,
+//! bit for bit what `sampler_core::reproject_frame` computes on the CPU.
 
 use super::context::Gpu;
+use super::pass_form::PassForm;
 use super::timer::PassTimer;
 use super::GpuError;
 use glam::Vec2;
 use kernels::reproject_entry::{
-    CLAIM_ENTRY, CLEAR_CLAIMS_ENTRY, LIST_FREE_ENTRY, RECYCLE_ENTRY, SCAN_ENTRY, TAKE_ENTRY,
+    CLAIM_ENTRY, CLEAR_CLAIMS_ENTRY, COUNT_FLAGS_ENTRY, LIST_FREE_ENTRY, LIST_FREE_SEED_ENTRY, RECYCLE_ENTRY,
+    RECYCLE_SEED_ENTRY, SCAN_ENTRY, TAKE_ENTRY, TAKE_SEED_ENTRY,
 };
 use sampler_core::reprojection::passes::chunk_count;
 use sampler_core::reprojection::MAX_REPROJECT_SEEDS;
 use sampler_core::{Buffer, FrameLayout};
 
-/// The six compute pipelines of the reprojection, created once per device.
+/// The compute pipelines of the reprojection (both forms), created once per device.
 #[derive(Debug)]
 pub struct ReprojectPipelines {
     clear: wgpu::ComputePipeline,
@@ -22,6 +25,10 @@ pub struct ReprojectPipelines {
     scan: wgpu::ComputePipeline,
     list_free: wgpu::ComputePipeline,
     recycle: wgpu::ComputePipeline,
+    take_seed: wgpu::ComputePipeline,
+    count_flags: wgpu::ComputePipeline,
+    list_free_seed: wgpu::ComputePipeline,
+    recycle_seed: wgpu::ComputePipeline,
 }
 
 impl ReprojectPipelines {
@@ -37,6 +44,10 @@ impl ReprojectPipelines {
             scan: gpu.pipeline(SCAN_ENTRY)?,
             list_free: gpu.pipeline(LIST_FREE_ENTRY)?,
             recycle: gpu.pipeline(RECYCLE_ENTRY)?,
+            take_seed: gpu.pipeline(TAKE_SEED_ENTRY)?,
+            count_flags: gpu.pipeline(COUNT_FLAGS_ENTRY)?,
+            list_free_seed: gpu.pipeline(LIST_FREE_SEED_ENTRY)?,
+            recycle_seed: gpu.pipeline(RECYCLE_SEED_ENTRY)?,
         })
     }
 }
@@ -46,7 +57,9 @@ impl ReprojectPipelines {
 /// [`encode`](Self::encode) moves the seeds of `seeds` (the buffer given to
 /// [`new`](Self::new), `padded_width * padded_height` `u32`, laid out for
 /// the previous frame's screen) along [`motion`](Self::motion) and leaves
-/// the result in `seeds` again (through a scratch buffer and one copy).
+/// the result in `seeds` again (through a scratch buffer and one copy), in
+/// the [`PassForm`] chosen for the device ([`set_form`](Self::set_form)
+/// changes it).
 #[derive(Debug)]
 pub struct SeedReprojector {
     layout: FrameLayout,
@@ -64,12 +77,17 @@ pub struct SeedReprojector {
     scan_bg: wgpu::BindGroup,
     list_free_bg: wgpu::BindGroup,
     recycle_bg: wgpu::BindGroup,
+    take_seed_bg: wgpu::BindGroup,
+    count_flags_bg: wgpu::BindGroup,
+    list_free_seed_bg: wgpu::BindGroup,
+    recycle_seed_bg: wgpu::BindGroup,
+    form: PassForm,
 }
 
 impl SeedReprojector {
     /// Allocates the scratch buffers (claims, chunk counts, free list,
-    /// output: about `12 * seed_count` bytes, plus `8 * width * height` of
-    /// motion) and wires the passes to `seeds`.
+    /// flags, output: about `16 * seed_count` bytes, plus `8 * width * height`
+    /// of motion) and wires the passes to `seeds`.
     ///
     /// # Errors
     /// [`GpuError::Input`] when the padded frame has more than
@@ -93,6 +111,7 @@ impl SeedReprojector {
         let counts = gpu.storage_zeroed::<u32>("chunk counts", 2 * chunk_count(&frame) as usize);
         let free = gpu.storage_zeroed::<u32>("free sources", layout.seed_count());
         let out = gpu.storage_zeroed::<u32>("seeds (reprojected)", layout.seed_count());
+        let flags = gpu.storage_zeroed::<u32>("reprojection flags", layout.seed_count());
         Ok(SeedReprojector {
             layout,
             clear_bg: gpu.bind(&pipelines.clear, &[&params, &claims]),
@@ -107,6 +126,17 @@ impl SeedReprojector {
                 &pipelines.recycle,
                 &[&params, &motion, &claims, &counts, &free, seeds, &out],
             ),
+            take_seed_bg: gpu.bind(
+                &pipelines.take_seed,
+                &[&params, &motion, &claims, seeds, &out, &flags],
+            ),
+            count_flags_bg: gpu.bind(&pipelines.count_flags, &[&params, &flags, &counts]),
+            list_free_seed_bg: gpu.bind(&pipelines.list_free_seed, &[&params, &flags, &counts, &free]),
+            recycle_seed_bg: gpu.bind(
+                &pipelines.recycle_seed,
+                &[&params, &flags, &counts, &free, seeds, &out],
+            ),
+            form: PassForm::for_device(gpu),
             motion,
             seeds: seeds.clone(),
             out,
@@ -118,9 +148,22 @@ impl SeedReprojector {
         &self.layout
     }
 
-    /// Encodes the six passes and the copy back into the seed buffer.
-    /// `timer` (if any, with its span index) times the six passes as one
-    /// span (the copy back is not timed).
+    /// The form the take, list and recycle passes run in (at creation,
+    /// [`PassForm::for_device`]).
+    pub fn form(&self) -> PassForm {
+        self.form
+    }
+
+    /// Runs the take, list and recycle passes in `form` from now on (the
+    /// same seeds either way).
+    pub fn set_form(&mut self, form: PassForm) {
+        self.form = form;
+    }
+
+    /// Encodes the passes (six per chunk, or seven with the per-seed form's
+    /// count pass) and the copy back into the seed buffer. `timer` (if any,
+    /// with its span index) times the passes as one span (the copy back is
+    /// not timed).
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -135,14 +178,26 @@ impl SeedReprojector {
         });
         // One compute pass: wgpu orders dispatches inside it and inserts the
         // barriers storage-buffer hazards need.
-        let steps: [(&wgpu::ComputePipeline, &wgpu::BindGroup, u32); 6] = [
-            (&pipelines.clear, &self.clear_bg, p.seed_count()),
-            (&pipelines.claim, &self.claim_bg, p.pixel_count()),
-            (&pipelines.take, &self.take_bg, chunks),
-            (&pipelines.scan, &self.scan_bg, 1),
-            (&pipelines.list_free, &self.list_free_bg, chunks),
-            (&pipelines.recycle, &self.recycle_bg, chunks),
-        ];
+        let n = p.seed_count();
+        let steps: Vec<(&wgpu::ComputePipeline, &wgpu::BindGroup, u32)> = match self.form {
+            PassForm::PerGroup => vec![
+                (&pipelines.clear, &self.clear_bg, n),
+                (&pipelines.claim, &self.claim_bg, p.pixel_count()),
+                (&pipelines.take, &self.take_bg, chunks),
+                (&pipelines.scan, &self.scan_bg, 1),
+                (&pipelines.list_free, &self.list_free_bg, chunks),
+                (&pipelines.recycle, &self.recycle_bg, chunks),
+            ],
+            PassForm::PerSeed => vec![
+                (&pipelines.clear, &self.clear_bg, n),
+                (&pipelines.claim, &self.claim_bg, p.pixel_count()),
+                (&pipelines.take_seed, &self.take_seed_bg, n),
+                (&pipelines.count_flags, &self.count_flags_bg, chunks),
+                (&pipelines.scan, &self.scan_bg, 1),
+                (&pipelines.list_free_seed, &self.list_free_seed_bg, n),
+                (&pipelines.recycle_seed, &self.recycle_seed_bg, n),
+            ],
+        };
         for (pipeline, bind_group, n) in steps {
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, bind_group, &[]);

@@ -51,7 +51,8 @@
 //! The claim step is one `atomicMin` per pixel on a claims buffer cleared to
 //! [`CLAIM_NONE`] ([`claim`] computes the source and key); the winners' step
 //! is a per-pixel comparison ([`take_if_won`]); the recycling step is a pair
-//! of prefix sums ([`crate::reprojection::passes`]).
+//! of prefix sums ([`crate::reprojection::passes`], or per seed for hardware
+//! GPUs: [`crate::reprojection::seed_passes`]).
 //!
 //! # CPU form
 //!
@@ -71,6 +72,7 @@ mod claims;
 mod frame;
 pub mod passes;
 mod ring;
+pub mod seed_passes;
 mod sweep;
 #[cfg(test)]
 mod tests;

@@ -271,6 +271,40 @@ mod tests {
         }
     }
 
+    /// The per-seed form (`seed_passes`: passes 3a, 3b, 5 and 6 per seed or
+    /// per chunk of flags), in order on one thread.
+    fn seed_passes(l: &FrameLayout, motion: &[Vec2], seeds_in: &[u32], out: &mut [u32]) {
+        use crate::reprojection::seed_passes::{count_chunk_flags, list_free_seed, recycle_seed, take_seed};
+        let p = l.params(0);
+        let n = l.seed_count();
+        let mut claims = [CLAIM_NONE; CAP];
+        let mut flags = [u32::MAX; CAP];
+        let mut free = [0u32; CAP];
+        let mut counts = [0u32; 2 * CAP / REPROJECT_CHUNK as usize + 2];
+        for y in 0..p.height {
+            for x in 0..p.width {
+                let (s, k) = claim_pixel(&p, x, y, motion);
+                if s != CLAIM_NONE {
+                    claims[s as usize] = claims[s as usize].min(k);
+                }
+            }
+        }
+        for i in 0..n as u32 {
+            take_seed(&p, i, motion, &claims[..n], seeds_in, out, &mut flags[..n]);
+        }
+        let chunks = chunk_count(&p);
+        for c in 0..chunks {
+            count_chunk_flags(&p, c, &flags[..n], &mut counts);
+        }
+        scan_chunk_counts(chunks, &mut counts);
+        for i in 0..n as u32 {
+            list_free_seed(i, &flags[..n], &counts, &mut free);
+        }
+        for i in 0..n as u32 {
+            recycle_seed(i, &flags[..n], &counts, &free, seeds_in, out);
+        }
+    }
+
     /// Pass 4 as the GPU runs it (segment sums, a scan of the lanes' sums,
     /// segment offsets) equals the one-thread scan, for chunk counts around
     /// multiples of the lanes.
@@ -362,6 +396,9 @@ mod tests {
                 let mut got = [0u32; CAP];
                 passes(&l, &motion[..m], &seeds[..n], &mut got[..n]);
                 assert_eq!(got[..n], expected[..n], "{w}x{h}, field {f}");
+                let mut got = [0u32; CAP];
+                seed_passes(&l, &motion[..m], &seeds[..n], &mut got[..n]);
+                assert_eq!(got[..n], expected[..n], "per seed, {w}x{h}, field {f}");
             }
         }
     }

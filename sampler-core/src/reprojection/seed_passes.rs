@@ -1,0 +1,142 @@
+//! The reprojection's take, list and recycle passes one seed at a time: the
+//! form for hardware GPUs.
+//!
+//! [`passes`](super::passes) runs passes 3, 5 and 6 as one invocation per
+//! chunk of [`REPROJECT_CHUNK`] seeds walking its chunk in order (a running
+//! count gives each pixel without a seed, and each unclaimed source, its
+//! place in the recycling order). That is a few thousand invocations with
+//! long serial loops, each step recomputing a claim: cheap on a CPU
+//! rasteriser, slow on a GPU. The same output, bit for bit, comes from one
+//! invocation per seed and a flags word per seed:
+//!
+//! | pass | invocations | reads | writes |
+//! |---|---|---|---|
+//! | 3a. take | one per seed | motion, claims, seeds in | winners' and padding seeds out; `flags[i]` ([`take_seed`]) |
+//! | 3b. count | one per chunk | flags | the chunk's two counts ([`count_chunk_flags`]) |
+//! | 4. scan | as in [`passes`](super::passes) | | |
+//! | 5. list | one per seed | flags, offsets | `free[k]` for an unclaimed source ([`list_free_seed`]) |
+//! | 6. recycle | one per seed | flags, offsets, free list, seeds in | the seed of a pixel without one ([`recycle_seed`]) |
+//!
+//! A flagged seed finds its place by counting the same flag on the seeds
+//! before it in its chunk: the running count of the chunk passes. The count
+//! pass reads one word per seed instead of recomputing claims. Clear, claim
+//! and scan are the chunk form's.
+
+use super::claims::{claim_at, index_bits, CLAIM_NONE};
+use super::passes::REPROJECT_CHUNK;
+use crate::permutation::layout::FrameParams;
+use glam::Vec2;
+
+/// Flag of a visible pixel that took no seed in pass 3a (it lost its claim,
+/// or had no source): it gets a recycled seed in pass 6.
+pub const FLAG_NEEDS_SEED: u32 = 1;
+/// Flag of a visible pixel that nobody claimed: its seed is recycled.
+pub const FLAG_FREE_SOURCE: u32 = 2;
+
+/// Pass 3a for padded-buffer index `i` (`< params.seed_count()`): a winner
+/// takes its source's seed and a padding seed stays (both into
+/// `seeds_out[i]`); `flags[i]` gets [`FLAG_NEEDS_SEED`] and
+/// [`FLAG_FREE_SOURCE`] as they hold (`0` for padding). `claims` holds every
+/// claim (pass 2 done).
+#[inline]
+pub fn take_seed(
+    params: &FrameParams,
+    i: u32,
+    motion: &[Vec2],
+    claims: &[u32],
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+    flags: &mut [u32],
+) {
+    let x = i % params.padded_width;
+    let y = i / params.padded_width;
+    if x >= params.width || y >= params.height {
+        seeds_out[i as usize] = seeds_in[i as usize];
+        flags[i as usize] = 0;
+        return;
+    }
+    let m = motion[y.wrapping_mul(params.width).wrapping_add(x) as usize];
+    let (source, key) = claim_at(params, index_bits(params.seed_count()), x, y, [m.x, m.y]);
+    let mut flag = 0;
+    if source != CLAIM_NONE && claims[source as usize] == key {
+        seeds_out[i as usize] = seeds_in[source as usize];
+    } else {
+        flag |= FLAG_NEEDS_SEED;
+    }
+    if claims[i as usize] == CLAIM_NONE {
+        flag |= FLAG_FREE_SOURCE;
+    }
+    flags[i as usize] = flag;
+}
+
+/// The first index of the chunk holding `i`, and the chunk.
+#[inline]
+fn chunk_of(i: u32) -> (u32, u32) {
+    let chunk = i / REPROJECT_CHUNK;
+    (chunk.wrapping_mul(REPROJECT_CHUNK), chunk)
+}
+
+/// How many of the indices `[start, end)` carry `flag`.
+#[inline]
+fn count_flag(flags: &[u32], start: u32, end: u32, flag: u32) -> u32 {
+    let mut n = 0u32;
+    let mut j = start;
+    while j < end {
+        if flags[j as usize] & flag != 0 {
+            n = n.wrapping_add(1);
+        }
+        j = j.wrapping_add(1);
+    }
+    n
+}
+
+/// Pass 3b for chunk `chunk`: `counts[2 * chunk]` = its pixels without a
+/// seed, `counts[2 * chunk + 1]` = its unclaimed sources (what the chunk
+/// form's take pass writes), from the flags of pass 3a.
+#[inline]
+pub fn count_chunk_flags(params: &FrameParams, chunk: u32, flags: &[u32], counts: &mut [u32]) {
+    let start = chunk.wrapping_mul(REPROJECT_CHUNK);
+    let end = start.wrapping_add(REPROJECT_CHUNK).min(params.seed_count());
+    let mut need = 0u32;
+    let mut free = 0u32;
+    let mut j = start;
+    while j < end {
+        let f = flags[j as usize];
+        need = need.wrapping_add(f & FLAG_NEEDS_SEED);
+        free = free.wrapping_add((f & FLAG_FREE_SOURCE) >> 1);
+        j = j.wrapping_add(1);
+    }
+    counts[(chunk * 2) as usize] = need;
+    counts[(chunk * 2 + 1) as usize] = free;
+}
+
+/// Pass 5 for index `i`: an unclaimed source writes itself to `free[k]`,
+/// `k` = its chunk's offset (`counts[2 * chunk + 1]` after the scan) plus
+/// the unclaimed sources before it in the chunk.
+#[inline]
+pub fn list_free_seed(i: u32, flags: &[u32], counts: &[u32], free: &mut [u32]) {
+    if flags[i as usize] & FLAG_FREE_SOURCE != 0 {
+        let (start, chunk) = chunk_of(i);
+        let k = counts[(chunk * 2 + 1) as usize].wrapping_add(count_flag(flags, start, i, FLAG_FREE_SOURCE));
+        free[k as usize] = i;
+    }
+}
+
+/// Pass 6 for index `i`: a pixel without a seed takes `seeds_in[free[k]]`,
+/// `k` = its chunk's offset (`counts[2 * chunk]` after the scan) plus the
+/// pixels without a seed before it in the chunk.
+#[inline]
+pub fn recycle_seed(
+    i: u32,
+    flags: &[u32],
+    counts: &[u32],
+    free: &[u32],
+    seeds_in: &[u32],
+    seeds_out: &mut [u32],
+) {
+    if flags[i as usize] & FLAG_NEEDS_SEED != 0 {
+        let (start, chunk) = chunk_of(i);
+        let k = counts[(chunk * 2) as usize].wrapping_add(count_flag(flags, start, i, FLAG_NEEDS_SEED));
+        seeds_out[i as usize] = seeds_in[free[k as usize] as usize];
+    }
+}
