@@ -108,10 +108,11 @@ fn main() {
         gpu.queue.submit([e.finish()]);
     }
 
-    let timer = PassTimer::new(&gpu, 16);
+    let timer = PassTimer::new(&gpu, 18);
     let (mut trace_ms, mut sort_ms, mut retarget_ms, mut gbuffer_ms) = (vec![], vec![], vec![], vec![]);
     let (mut motion_ms, mut reproject_ms, mut reproject_seed_ms) = (vec![], vec![], vec![]);
     let (mut features_ms, mut fsort_ms, mut fretarget_ms) = (vec![], vec![], vec![]);
+    let (mut fsort_seed_ms, mut fretarget_seed_ms) = (vec![], vec![]);
     let (mut tsort_ms, mut tretarget_ms, mut wsort_ms, mut wretarget_ms) = (vec![], vec![], vec![], vec![]);
     let (mut block_sort_ms, mut seed_sort_ms) = (vec![], vec![]);
     for t in 0..rounds + 1 {
@@ -136,7 +137,11 @@ fn main() {
                 permuter.encode_intensity(&mut e, &pp);
                 permuter.encode_step(&mut e, &pp, t, PermuteMode::Permute, Some((timer, 1)));
                 tracer.encode_features(&mut e, &tp, Some((timer, 6)));
+                // The feature-aware step with each sort form (the seeds move twice).
+                featured.set_sort_form(PassForm::PerGroup);
                 featured.encode_step(&mut e, &pp, t, PermuteMode::Permute, Some((timer, 7)));
+                featured.set_sort_form(PassForm::PerSeed);
+                featured.encode_step(&mut e, &pp, t, PermuteMode::Permute, Some((timer, 16)));
                 // The temporal permutation and the walk's, in alternating order from frame to frame.
                 let (first, second) = if t % 2 == 0 { (9, 11) } else { (11, 9) };
                 temporal.encode_intensity(&mut e, &pp);
@@ -174,6 +179,9 @@ fn main() {
                 reprojector.set_form(PassForm::PerSeed);
                 run(&|e| reprojector.encode(e, &rp, None));
                 run(&|e| tracer.encode_features(e, &tp, None));
+                featured.set_sort_form(PassForm::PerGroup);
+                run(&|e| featured.encode_step(e, &pp, t, PermuteMode::Permute, None));
+                featured.set_sort_form(PassForm::PerSeed);
                 run(&|e| featured.encode_step(e, &pp, t, PermuteMode::Permute, None));
                 run(&|e| temporal.encode_step(e, &pp, t, PermuteMode::Temporal, None));
                 run(&|e| walk.encode_step(e, &pp, t, PermuteMode::Permute, None));
@@ -186,8 +194,8 @@ fn main() {
                 gpu.wait().expect("wait");
                 ms.push(start.elapsed().as_secs_f64() * 1e3);
                 vec![
-                    ms[0], ms[2], 0.0, ms[3], ms[12], ms[4], ms[6], ms[7], 0.0, ms[8], 0.0, ms[9], 0.0,
-                    ms[10], ms[11], ms[5],
+                    ms[0], ms[2], 0.0, ms[3], ms[13], ms[4], ms[6], ms[7], 0.0, ms[9], 0.0, ms[10], 0.0,
+                    ms[11], ms[12], ms[5], ms[8], 0.0,
                 ]
             }
         };
@@ -201,6 +209,8 @@ fn main() {
             features_ms.push(times[6]);
             fsort_ms.push(times[7]);
             fretarget_ms.push(times[8]);
+            fsort_seed_ms.push(times[16]);
+            fretarget_seed_ms.push(times[17]);
             tsort_ms.push(times[9]);
             tretarget_ms.push(times[10]);
             wsort_ms.push(times[11]);
@@ -283,8 +293,10 @@ fn main() {
         ("reprojection, per chunk", median(&mut reproject_ms)),
         ("reprojection, per seed", median(&mut reproject_seed_ms)),
         ("feature pass", median(&mut features_ms)),
-        ("feature-aware sort", median(&mut fsort_ms)),
+        ("feature-aware sort, per block", median(&mut fsort_ms)),
+        ("feature-aware sort, per seed", median(&mut fsort_seed_ms)),
         ("feature-aware retarget", median(&mut fretarget_ms)),
+        ("  (after the per-seed sort)", median(&mut fretarget_seed_ms)),
         ("walk beside it: sort", median(&mut wsort_ms)),
         ("walk beside it: retarget", median(&mut wretarget_ms)),
         (

@@ -89,7 +89,9 @@ pub use permutation::retarget::{
     pack_offset, retarget_destination, unpack_offset, RetargetTable, RetargetTables, IDENTITY_PACKED,
 };
 pub use permutation::sort::{intensity_key, luma, sort_block, Intensity, DEFAULT_BLOCK, MAX_BLOCK_PIXELS};
-pub use permutation::sort_pixel::{sort_gather_pixel, sort_rank_pixel};
+pub use permutation::sort_pixel::{
+    sort_gather_pixel, sort_gather_pixel_in_groups, sort_rank_pixel, sort_rank_pixel_in_groups, PixelGroups,
+};
 pub use permutation::temporal::{permute_frame_temporal, SliceTables};
 pub use reprojection::{reproject_frame, ReprojectStats, CLAIM_NONE};
 pub use sequences::owen::{owen_scramble, owen_sobol, owen_sobol_u32, shuffle_index};

@@ -208,10 +208,11 @@ fn mismatched_sizes_are_errors() {
     .is_err());
 }
 
-/// The feature-aware permutation on the GPU (`sort_features_cs`,
-/// `record_link_cs`, `jump_link_cs`, `retarget_features_cs`) against
-/// `sampler_core::permute_frame_features`: identical seeds, on frames with
-/// several surfaces, creases, background and padding.
+/// The feature-aware permutation on the GPU (`sort_features_cs` or the
+/// per-seed sort, `record_link_cs`, `jump_link_cs`, `retarget_features_cs`)
+/// against `sampler_core::permute_frame_features`: identical seeds in both
+/// sort forms, on frames with several surfaces, creases, background and
+/// padding.
 #[test]
 fn feature_aware_permutation_kernels_match_the_cpu_bit_for_bit() {
     use conformance::fixtures::banded_features;
@@ -250,10 +251,22 @@ fn feature_aware_permutation_kernels_match_the_cpu_bit_for_bit() {
         permuter.upload_intensity(&gpu, &values).unwrap();
         permuter.upload_features(&gpu, &features).unwrap();
         permuter.set_frame(&gpu, frame);
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        permuter.encode_step(&mut encoder, &pipelines, frame, PermuteMode::Permute, None);
-        gpu.queue.submit([encoder.finish()]);
-        let gpu_next = permuter.read_seeds(&gpu).unwrap();
+        let mut gpu_next = Vec::new();
+        for form in [PassForm::PerGroup, PassForm::PerSeed] {
+            permuter.set_sort_form(form);
+            permuter.upload_seeds(&gpu, &seeds).unwrap();
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            permuter.encode_step(&mut encoder, &pipelines, frame, PermuteMode::Permute, None);
+            gpu.queue.submit([encoder.finish()]);
+            let next = permuter.read_seeds(&gpu).unwrap();
+            if form == PassForm::PerSeed {
+                assert_eq!(
+                    next, gpu_next,
+                    "{w}x{h}: the per-seed sort against the per-block sort"
+                );
+            }
+            gpu_next = next;
+        }
 
         let n = seeds.len();
         let (mut sorted_buf, mut sources, mut cpu_next) = (vec![0; n], vec![0; n], vec![0; n]);
@@ -336,8 +349,8 @@ fn temporal_kernels_match_the_cpu_bit_for_bit_across_the_wrap() {
 /// 0's parameters) against `sampler_core::permute_frame_features_temporal`:
 /// identical seeds after every frame of a run across the wrap from slice 63
 /// to slice 0, with a feature-aware walk step in between on the same
-/// permuter, and the temporal target enabled before the features (the
-/// other order is the tracer's).
+/// permuter, the two sort forms in turn, and the temporal target enabled
+/// before the features (the other order is the tracer's).
 #[test]
 fn feature_aware_temporal_kernels_match_the_cpu_bit_for_bit() {
     use conformance::fixtures::banded_features;
@@ -402,11 +415,18 @@ fn feature_aware_temporal_kernels_match_the_cpu_bit_for_bit() {
             assert_ne!(next, plain, "frame {frame}: the features must change something");
             PermuteMode::Temporal
         };
+        let form = [PassForm::PerGroup, PassForm::PerSeed][frame as usize % 2];
+        permuter.set_sort_form(form);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         permuter.encode_step(&mut encoder, &pipelines, frame, mode, None);
         gpu.queue.submit([encoder.finish()]);
         let got = permuter.read_seeds(&gpu).unwrap();
-        assert_eq!(got, next, "frame {frame} ({mode:?}) on {}", gpu.describe());
+        assert_eq!(
+            got,
+            next,
+            "frame {frame} ({mode:?}, {form:?} sort) on {}",
+            gpu.describe()
+        );
         std::mem::swap(&mut seeds, &mut next);
     }
 }

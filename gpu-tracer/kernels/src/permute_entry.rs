@@ -35,14 +35,25 @@
 //!
 //! (`JUMP_ROUNDS` is `sampler_core::features::permute::JUMP_ROUNDS`, even,
 //! so the last round writes `links` again.)
+//!
+//! The feature-aware sort per seed (`sampler_core::features::sort_pixel`; the
+//! seeds [`SORT_FEATURES_ENTRY`] writes), one invocation per seed each, with
+//! `groups` and `ranked` `seed_count` `u32` scratch:
+//!
+//! | entry | 1 | 2 | 3 | 4 | 5 |
+//! |---|---|---|---|---|---|
+//! | [`SURFACE_GROUP_ENTRY`] | features | thresholds | groups (out) | | |
+//! | [`SORT_RANK_FEATURES_ENTRY`] | intensity `[f32]` | groups | seeds in | ranked (out) | |
+//! | [`SORT_GATHER_FEATURES_ENTRY`] | tile `[u32]` | groups | ranked | seeds out (sorted) | |
 
 use glam::{UVec3, Vec4};
 use sampler_core::features::permute::{
     jump_link, record_link, retarget_features_linked, sort_block_features_at_offset,
 };
+use sampler_core::features::sort_pixel::surface_group_pixel;
 use sampler_core::{
-    initial_seed, luma, retarget_pixel, sort_block_in_frame, sort_gather_pixel, sort_rank_pixel, walk_offset,
-    FeatureThresholds, FrameParams, SurfaceFeature,
+    initial_seed, luma, retarget_pixel, sort_block_in_frame, sort_gather_pixel, sort_gather_pixel_in_groups,
+    sort_rank_pixel, sort_rank_pixel_in_groups, walk_offset, FeatureThresholds, FrameParams, SurfaceFeature,
 };
 use spirv_std::spirv;
 
@@ -60,6 +71,12 @@ pub const RETARGET_ENTRY: &str = "permute_entry::retarget_cs";
 pub const SEED_INIT_ENTRY: &str = "permute_entry::seed_init_cs";
 /// Entry point name of [`sort_features_cs`].
 pub const SORT_FEATURES_ENTRY: &str = "permute_entry::sort_features_cs";
+/// Entry point name of [`surface_group_cs`].
+pub const SURFACE_GROUP_ENTRY: &str = "permute_entry::surface_group_cs";
+/// Entry point name of [`sort_rank_features_cs`].
+pub const SORT_RANK_FEATURES_ENTRY: &str = "permute_entry::sort_rank_features_cs";
+/// Entry point name of [`sort_gather_features_cs`].
+pub const SORT_GATHER_FEATURES_ENTRY: &str = "permute_entry::sort_gather_features_cs";
 /// Entry point name of [`record_link_cs`].
 pub const RECORD_LINK_ENTRY: &str = "permute_entry::record_link_cs";
 /// Entry point name of [`jump_link_cs`].
@@ -223,6 +240,58 @@ pub fn sort_features_cs(
             seeds_in,
             seeds_out,
         );
+    }
+}
+
+/// One invocation per seed: pass 1 of the feature-aware per-seed sort,
+/// `sampler_core::features::sort_pixel::surface_group_pixel`.
+#[spirv(compute(threads(64)))]
+pub fn surface_group_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] features: &[SurfaceFeature],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] thresholds: &[FeatureThresholds],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] groups: &mut [u32],
+) {
+    let i = linear_id(id);
+    if i < params.seed_count() {
+        surface_group_pixel(params, i, features, &thresholds[0], groups);
+    }
+}
+
+/// One invocation per seed: pass 2 of the feature-aware per-seed sort,
+/// `sampler_core::sort_rank_pixel_in_groups` with the groups of pass 1.
+#[spirv(compute(threads(64)))]
+pub fn sort_rank_features_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] intensity: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] groups: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] seeds_in: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] ranked: &mut [u32],
+) {
+    let i = linear_id(id);
+    if i < params.seed_count() {
+        sort_rank_pixel_in_groups(params, i, intensity, groups, seeds_in, ranked);
+    }
+}
+
+/// One invocation per seed: pass 3 of the feature-aware per-seed sort,
+/// `sampler_core::sort_gather_pixel_in_groups` at the walk's offset of
+/// `params.frame` (what [`sort_features_cs`] writes).
+#[spirv(compute(threads(64)))]
+pub fn sort_gather_features_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] tile: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] groups: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] ranked: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] seeds_out: &mut [u32],
+) {
+    let i = linear_id(id);
+    if i < params.seed_count() {
+        let offset = walk_offset(params.frame, params.tile_log2);
+        sort_gather_pixel_in_groups(params, offset, i, tile, groups, ranked, seeds_out);
     }
 }
 

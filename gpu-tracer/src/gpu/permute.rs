@@ -10,7 +10,7 @@ use super::GpuError;
 use kernels::permute_entry::{
     linear_dispatch, INTENSITY_ENTRY, JUMP_LINK_ENTRY, RECORD_LINK_ENTRY, RETARGET_ENTRY,
     RETARGET_FEATURES_ENTRY, SEED_INIT_ENTRY, SORT_ENTRY, SORT_FEATURES_ENTRY, SORT_GATHER_ENTRY,
-    SORT_RANK_ENTRY,
+    SORT_GATHER_FEATURES_ENTRY, SORT_RANK_ENTRY, SORT_RANK_FEATURES_ENTRY, SURFACE_GROUP_ENTRY,
 };
 use sampler_core::features::permute::JUMP_ROUNDS;
 use sampler_core::{
@@ -56,6 +56,9 @@ pub struct PermutePipelines {
     retarget: wgpu::ComputePipeline,
     seed_init: wgpu::ComputePipeline,
     sort_features: wgpu::ComputePipeline,
+    surface_group: wgpu::ComputePipeline,
+    sort_rank_features: wgpu::ComputePipeline,
+    sort_gather_features: wgpu::ComputePipeline,
     record_link: wgpu::ComputePipeline,
     jump_link: wgpu::ComputePipeline,
     retarget_features: wgpu::ComputePipeline,
@@ -75,6 +78,9 @@ impl PermutePipelines {
             retarget: gpu.pipeline(RETARGET_ENTRY)?,
             seed_init: gpu.pipeline(SEED_INIT_ENTRY)?,
             sort_features: gpu.pipeline(SORT_FEATURES_ENTRY)?,
+            surface_group: gpu.pipeline(SURFACE_GROUP_ENTRY)?,
+            sort_rank_features: gpu.pipeline(SORT_RANK_FEATURES_ENTRY)?,
+            sort_gather_features: gpu.pipeline(SORT_GATHER_FEATURES_ENTRY)?,
             record_link: gpu.pipeline(RECORD_LINK_ENTRY)?,
             jump_link: gpu.pipeline(JUMP_LINK_ENTRY)?,
             retarget_features: gpu.pipeline(RETARGET_FEATURES_ENTRY)?,
@@ -122,7 +128,14 @@ struct FeaturePasses {
     thresholds: wgpu::Buffer,
     /// The links of the cut retarget (the jump rounds' first buffer).
     links: wgpu::Buffer,
+    /// Each visible pixel's surface group in its block (the per-seed sort's).
+    groups: wgpu::Buffer,
+    /// The per-block grouped sort.
     sort_bg: wgpu::BindGroup,
+    /// The per-seed grouped sort: groups, rank, gather.
+    group_bg: wgpu::BindGroup,
+    rank_bg: wgpu::BindGroup,
+    gather_bg: wgpu::BindGroup,
     /// Per retarget table: the links pass and the cut retarget.
     record_bg: Vec<wgpu::BindGroup>,
     /// The jump rounds: `links -> links_b`, then `links_b -> links`.
@@ -207,6 +220,19 @@ impl SeedPermuter {
         let thresholds = gpu.storage("feature thresholds", std::slice::from_ref(thresholds));
         let links = gpu.storage_zeroed::<u32>("retarget links", self.layout.seed_count());
         let links_b = gpu.storage_zeroed::<u32>("retarget links (jump)", self.layout.seed_count());
+        let groups = gpu.storage_zeroed::<u32>("surface groups", self.layout.seed_count());
+        let group_bg = gpu.bind(
+            &pipelines.surface_group,
+            &[&self.params, &features, &thresholds, &groups],
+        );
+        let rank_bg = gpu.bind(
+            &pipelines.sort_rank_features,
+            &[&self.params, &self.intensity, &groups, &self.seeds, &self.ranked],
+        );
+        let gather_bg = gpu.bind(
+            &pipelines.sort_gather_features,
+            &[&self.params, &self.tile, &groups, &self.ranked, &self.scratch],
+        );
         let sort_bg = gpu.bind(
             &pipelines.sort_features,
             &[
@@ -255,7 +281,11 @@ impl SeedPermuter {
             features,
             thresholds,
             links,
+            groups,
             sort_bg,
+            group_bg,
+            rank_bg,
+            gather_bg,
             record_bg,
             jump_bg,
             retarget_bg,
@@ -269,6 +299,9 @@ impl SeedPermuter {
         if let (Some(f), Some(t)) = (&self.features, &mut self.temporal) {
             let parts = FeatureParts {
                 sort: &pipelines.sort_features,
+                gather: &pipelines.sort_gather_features,
+                groups: &f.groups,
+                ranked: &self.ranked,
                 record: &pipelines.record_link,
                 retarget: &pipelines.retarget_features,
                 intensity: &self.intensity,
@@ -401,8 +434,9 @@ impl SeedPermuter {
             PermuteMode::Permute if self.features.is_some() => {
                 let f = self.features.as_ref().expect("checked");
                 let step = step_index(frame, params.tile_log2) as usize;
-                let groups = [&f.sort_bg, &f.record_bg[step], &f.retarget_bg[step]];
-                encode_feature_passes(encoder, pipelines, &params, groups, &f.jump_bg, timer);
+                self.encode_feature_sort(encoder, pipelines, f, [&f.sort_bg, &f.gather_bg], timer);
+                let groups = [&f.record_bg[step], &f.retarget_bg[step]];
+                encode_feature_retarget(encoder, pipelines, &params, groups, &f.jump_bg, timer);
             }
             PermuteMode::Temporal if self.features.is_some() => {
                 let f = self.features.as_ref().expect("checked");
@@ -412,8 +446,9 @@ impl SeedPermuter {
                     .and_then(|t| t.features.as_ref().map(|tf| (t.depth, tf)));
                 let (depth, tf) = passes.expect("PermuteMode::Temporal needs SeedPermuter::enable_temporal");
                 let z = (frame % depth) as usize;
-                let groups = [&tf.sort_bg[z], &tf.record_bg[z], &tf.retarget_bg[z]];
-                encode_feature_passes(encoder, pipelines, &params, groups, &f.jump_bg, timer);
+                self.encode_feature_sort(encoder, pipelines, f, [&tf.sort_bg[z], &tf.gather_bg[z]], timer);
+                let groups = [&tf.record_bg[z], &tf.retarget_bg[z]];
+                encode_feature_retarget(encoder, pipelines, &params, groups, &f.jump_bg, timer);
             }
             PermuteMode::Temporal => {
                 let passes = self
@@ -515,6 +550,49 @@ impl SeedPermuter {
         }
     }
 
+    /// Encodes the feature-aware sorting pass of `f` in the permuter's form
+    /// with `groups` (the per-block kernel's and the gather pass's bind
+    /// groups: the walk's tile or a temporal slice; the group and rank passes
+    /// read no tile), in one compute pass timed as span `span` of `timer`.
+    fn encode_feature_sort(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipelines: &PermutePipelines,
+        f: &FeaturePasses,
+        groups: [&wgpu::BindGroup; 2],
+        timer: Option<(&PassTimer, u32)>,
+    ) {
+        let [block, gather] = groups;
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("feature-aware sort"),
+            timestamp_writes: timer.map(|(t, span)| t.writes(span)),
+        });
+        let steps = match self.sort_form {
+            PassForm::PerGroup => {
+                let params = self.layout.params(0);
+                vec![(
+                    &pipelines.sort_features,
+                    block,
+                    params.blocks_x() * params.blocks_y(),
+                )]
+            }
+            PassForm::PerSeed => {
+                let n = self.layout.seed_count() as u32;
+                vec![
+                    (&pipelines.surface_group, &f.group_bg, n),
+                    (&pipelines.sort_rank_features, &f.rank_bg, n),
+                    (&pipelines.sort_gather_features, gather, n),
+                ]
+            }
+        };
+        for (pipeline, bind_group, n) in steps {
+            let (x, y) = linear_dispatch(n);
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, bind_group, &[]);
+            pass.dispatch_workgroups(x, y, 1);
+        }
+    }
+
     /// Replaces the seed buffer with `seeds` (`padded_width * padded_height`).
     ///
     /// # Errors
@@ -579,23 +657,20 @@ fn dispatch(
     pass.dispatch_workgroups(x, y, 1);
 }
 
-/// Encodes the feature-aware permutation's passes with `groups` (the sort's,
-/// the links pass's and the cut retarget's bind groups) and `jump` (the jump
-/// rounds' two): the grouped sort, timed as span `span` of `timer`, then the
-/// links, the jump rounds and the cut retarget in one compute pass (wgpu
-/// orders the dispatches and puts barriers between them), timed as span
-/// `span + 1`.
-fn encode_feature_passes(
+/// Encodes the feature-aware permutation's retarget with `groups` (the
+/// links pass's and the cut retarget's bind groups) and `jump` (the jump
+/// rounds' two): the links, the jump rounds and the cut retarget in one
+/// compute pass (wgpu orders the dispatches and puts barriers between them),
+/// timed as span `span + 1` of `timer` (the sort before it is span `span`).
+fn encode_feature_retarget(
     encoder: &mut wgpu::CommandEncoder,
     pipelines: &PermutePipelines,
     params: &FrameParams,
-    groups: [&wgpu::BindGroup; 3],
+    groups: [&wgpu::BindGroup; 2],
     jump: &[wgpu::BindGroup; 2],
     timer: Option<(&PassTimer, u32)>,
 ) {
-    let [sort, record, retarget] = groups;
-    let blocks = params.blocks_x() * params.blocks_y();
-    dispatch(encoder, &pipelines.sort_features, sort, blocks, timer);
+    let [record, retarget] = groups;
     let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
         label: Some("feature-aware retarget"),
         timestamp_writes: timer.map(|(t, span)| t.writes(span + 1)),

@@ -64,6 +64,9 @@ pub(super) struct TemporalPasses {
 pub(super) struct TemporalFeaturePasses {
     /// Per slice: `sort_features_cs` against slice `z`.
     pub sort_bg: Vec<wgpu::BindGroup>,
+    /// Per slice: `sort_gather_features_cs` against slice `z` (the per-seed
+    /// form's group and rank passes read no tile: the permuter's serve).
+    pub gather_bg: Vec<wgpu::BindGroup>,
     /// Per slice: `record_link_cs` with table `z`.
     pub record_bg: Vec<wgpu::BindGroup>,
     /// Per slice: `retarget_features_cs` with table `z`.
@@ -75,6 +78,12 @@ pub(super) struct TemporalFeaturePasses {
 pub(super) struct FeatureParts<'a> {
     /// `sort_features_cs`.
     pub sort: &'a wgpu::ComputePipeline,
+    /// `sort_gather_features_cs`.
+    pub gather: &'a wgpu::ComputePipeline,
+    /// Each visible pixel's surface group (`surface_group_cs`'s output).
+    pub groups: &'a wgpu::Buffer,
+    /// The seeds in the slots of their ranks (`sort_rank_features_cs`'s output).
+    pub ranked: &'a wgpu::Buffer,
     /// `record_link_cs`.
     pub record: &'a wgpu::ComputePipeline,
     /// `retarget_features_cs`.
@@ -195,6 +204,15 @@ impl TemporalPasses {
                 whole(parts.scratch),
             ]
         });
+        let gather_bg = per_slice(gpu, parts.gather, depth, |z| {
+            [
+                params.clone(),
+                range(&self.slices, z, bytes),
+                whole(parts.groups),
+                whole(parts.ranked),
+                whole(parts.scratch),
+            ]
+        });
         let record_bg = per_slice(gpu, parts.record, depth, |z| {
             [
                 params.clone(),
@@ -217,6 +235,7 @@ impl TemporalPasses {
         });
         self.features = Some(TemporalFeaturePasses {
             sort_bg,
+            gather_bg,
             record_bg,
             retarget_bg,
         });

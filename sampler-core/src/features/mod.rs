@@ -9,6 +9,9 @@
 //!   and retargeting cut at edges
 //!   ([`permute_frame_features`](crate::permute_frame_features)), and the
 //!   per-block / per-seed functions the GPU kernels call.
+//! - [`sort_pixel`]: the grouped sorting pass as three passes of one call per
+//!   seed (the surface group of each pixel, then the plain per-seed sort's
+//!   rank and gather in groups), the form hardware GPUs run.
 //! - [`temporal`]: the same against the temporally blue permutation's
 //!   target ([`permute_frame_features_temporal`](crate::permute_frame_features_temporal)).
 //! - [`isolated`]: the fresh seed of a position that cannot move without
@@ -19,6 +22,7 @@
 mod cpu;
 pub mod isolated;
 pub mod permute;
+pub mod sort_pixel;
 mod step;
 pub mod surface;
 pub mod temporal;

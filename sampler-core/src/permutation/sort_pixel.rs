@@ -26,16 +26,50 @@
 //!
 //! The rank pass does not read the tile: one `ranked` buffer serves any tile
 //! and offset (the walk's tile or a temporal slice).
+//!
+//! # Groups
+//!
+//! The feature-aware sort ([`crate::features::sort_pixel`]) sorts each group
+//! of one surface inside a block on its own: ranks ordered by `(group, key,
+//! index)` and `(group, dither, index)`, as
+//! [`sort_block_grouped`](crate::features::permute::sort_block_grouped). Both
+//! passes take the groups as a [`PixelGroups`]; a plain `u32` (every pixel in
+//! that one group) is the plain sort.
 
 use super::dither::tile_texel;
 use super::layout::FrameParams;
 use super::sort::{intensity_key, Intensity};
 use glam::UVec2;
 
+/// Each visible pixel's group inside its block, by padded-buffer index.
+/// Groups order the ranks: a lower group's pixels rank first.
+pub trait PixelGroups {
+    /// The group of the visible pixel at padded-buffer index `seed_index`.
+    fn group(&self, seed_index: u32) -> u32;
+}
+
+/// Every pixel in this one group: the plain sorting pass. (A `u32`, not a
+/// unit struct: naga rejects the empty struct rust-gpu would emit.)
+impl PixelGroups for u32 {
+    #[inline]
+    fn group(&self, _seed_index: u32) -> u32 {
+        *self
+    }
+}
+
+/// A buffer of groups indexed by padded-buffer index (`seed_count` long;
+/// entries of padding positions are not read).
+impl PixelGroups for [u32] {
+    #[inline]
+    fn group(&self, seed_index: u32) -> u32 {
+        self[seed_index as usize]
+    }
+}
+
 /// The visible rectangle of the block holding padded position `(x, y)`:
 /// its corner `(x0, y0)` and size `(w, h)`, both `>= 1` for a visible pixel.
 #[inline]
-fn visible_block(params: &FrameParams, x: u32, y: u32) -> (u32, u32, u32, u32) {
+pub(crate) fn visible_block(params: &FrameParams, x: u32, y: u32) -> (u32, u32, u32, u32) {
     let x0 = x - x % params.block;
     let y0 = y - y % params.block;
     let w = if params.width - x0 < params.block {
@@ -73,6 +107,21 @@ pub fn sort_rank_pixel<T: Intensity>(
     seeds_in: &[u32],
     ranked: &mut [u32],
 ) {
+    sort_rank_pixel_in_groups(params, seed_index, intensities, &0u32, seeds_in, ranked);
+}
+
+/// [`sort_rank_pixel`] within `groups`: ranks ordered by `(group, key,
+/// index)`, so each group's seeds land on the slots its positions' ranks
+/// take in [`sort_gather_pixel_in_groups`] with the same groups.
+#[inline]
+pub fn sort_rank_pixel_in_groups<T: Intensity, G: PixelGroups + ?Sized>(
+    params: &FrameParams,
+    seed_index: u32,
+    intensities: &[T],
+    groups: &G,
+    seeds_in: &[u32],
+    ranked: &mut [u32],
+) {
     let x = seed_index % params.padded_width;
     let y = seed_index / params.padded_width;
     if x >= params.width || y >= params.height {
@@ -81,14 +130,18 @@ pub fn sort_rank_pixel<T: Intensity>(
     }
     let (x0, y0, w, h) = visible_block(params, x, y);
     let own = intensity_key(intensities[(y * params.width + x) as usize].intensity());
+    let own_group = groups.group(seed_index);
     let own_index = (y - y0) * w + (x - x0);
     let mut rank = 0u32;
     for dy in 0..h {
         let row = (y0 + dy) * params.width + x0;
+        let seed_row = (y0 + dy) * params.padded_width + x0;
         for dx in 0..w {
             let key = intensity_key(intensities[(row + dx) as usize].intensity());
+            let group = groups.group(seed_row + dx);
             let index = dy * w + dx;
-            if key < own || (key == own && index < own_index) {
+            let below = key < own || (key == own && index < own_index);
+            if group < own_group || (group == own_group && below) {
                 rank += 1;
             }
         }
@@ -113,6 +166,21 @@ pub fn sort_gather_pixel(
     ranked: &[u32],
     seeds_out: &mut [u32],
 ) {
+    sort_gather_pixel_in_groups(params, offset, seed_index, tile, &0u32, ranked, seeds_out);
+}
+
+/// [`sort_gather_pixel`] within `groups`: ranks ordered by `(group, dither,
+/// index)` (after [`sort_rank_pixel_in_groups`] with the same groups).
+#[inline]
+pub fn sort_gather_pixel_in_groups<G: PixelGroups + ?Sized>(
+    params: &FrameParams,
+    offset: UVec2,
+    seed_index: u32,
+    tile: &[u32],
+    groups: &G,
+    ranked: &[u32],
+    seeds_out: &mut [u32],
+) {
     let x = seed_index % params.padded_width;
     let y = seed_index / params.padded_width;
     if x >= params.width || y >= params.height {
@@ -121,13 +189,17 @@ pub fn sort_gather_pixel(
     }
     let (x0, y0, w, h) = visible_block(params, x, y);
     let own = tile[tile_texel(UVec2::new(x, y), offset, params.tile_log2) as usize];
+    let own_group = groups.group(seed_index);
     let own_index = (y - y0) * w + (x - x0);
     let mut rank = 0u32;
     for dy in 0..h {
+        let seed_row = (y0 + dy) * params.padded_width + x0;
         for dx in 0..w {
             let value = tile[tile_texel(UVec2::new(x0 + dx, y0 + dy), offset, params.tile_log2) as usize];
+            let group = groups.group(seed_row + dx);
             let index = dy * w + dx;
-            if value < own || (value == own && index < own_index) {
+            let below = value < own || (value == own && index < own_index);
+            if group < own_group || (group == own_group && below) {
                 rank += 1;
             }
         }
