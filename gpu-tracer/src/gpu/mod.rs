@@ -2,6 +2,7 @@
 //! group of GPU passes.
 
 mod context;
+mod dispatch;
 mod filter;
 mod headless;
 mod pass_form;

@@ -3,14 +3,15 @@
 //! frames.
 
 use super::context::Gpu;
+use super::dispatch::{encode_pass, Dispatch};
 use super::pass_form::PassForm;
 use super::temporal::{FeatureParts, PermuterParts, TemporalPasses};
 use super::timer::PassTimer;
 use super::GpuError;
 use kernels::permute_entry::{
-    linear_dispatch, INTENSITY_ENTRY, JUMP_LINK_ENTRY, RECORD_LINK_ENTRY, RETARGET_ENTRY,
-    RETARGET_FEATURES_ENTRY, SEED_INIT_ENTRY, SORT_ENTRY, SORT_FEATURES_ENTRY, SORT_GATHER_ENTRY,
-    SORT_GATHER_FEATURES_ENTRY, SORT_RANK_ENTRY, SORT_RANK_FEATURES_ENTRY, SURFACE_GROUP_ENTRY,
+    INTENSITY_ENTRY, JUMP_LINK_ENTRY, RECORD_LINK_ENTRY, RETARGET_ENTRY, RETARGET_FEATURES_ENTRY,
+    SEED_INIT_ENTRY, SORT_ENTRY, SORT_FEATURES_ENTRY, SORT_GATHER_ENTRY, SORT_GATHER_FEATURES_ENTRY,
+    SORT_RANK_ENTRY, SORT_RANK_FEATURES_ENTRY, SURFACE_GROUP_ENTRY,
 };
 use sampler_core::features::permute::JUMP_ROUNDS;
 use sampler_core::{
@@ -386,24 +387,22 @@ impl SeedPermuter {
     /// Encodes white-noise seeds with salt `frame` (as set by
     /// [`set_frame`](Self::set_frame)) into [`seeds`](Self::seeds).
     pub fn encode_seed_init(&self, encoder: &mut wgpu::CommandEncoder, pipelines: &PermutePipelines) {
-        dispatch(
-            encoder,
+        let init = [(
             &pipelines.seed_init,
             &self.seed_init_bg,
             self.layout.seed_count() as u32,
-            None,
-        );
+        )];
+        encode_pass(encoder, "seed init", &init, None);
     }
 
     /// Encodes the colour -> intensity pass.
     pub fn encode_intensity(&self, encoder: &mut wgpu::CommandEncoder, pipelines: &PermutePipelines) {
-        dispatch(
-            encoder,
+        let intensity = [(
             &pipelines.intensity,
             &self.intensity_bg,
             self.layout.pixel_count() as u32,
-            None,
-        );
+        )];
+        encode_pass(encoder, "intensity", &intensity, None);
     }
 
     /// Encodes the passes that turn frame `frame`'s seeds and intensities into
@@ -457,12 +456,12 @@ impl SeedPermuter {
                     .expect("PermuteMode::Temporal needs SeedPermuter::enable_temporal");
                 let z = (frame % passes.depth) as usize;
                 let groups = [&passes.sort_bg[z], &passes.gather_bg[z]];
-                self.encode_sort(encoder, pipelines, self.sort_form, groups, timer);
-                dispatch(
+                self.encode_plain_sort(encoder, pipelines, self.sort_form, groups, timer);
+                let retarget = [(&pipelines.retarget, &passes.retarget_bg[z], params.seed_count())];
+                encode_pass(
                     encoder,
-                    &pipelines.retarget,
-                    &passes.retarget_bg[z],
-                    params.seed_count(),
+                    "retarget",
+                    &retarget,
                     timer.map(|(t, span)| (t, span + 1)),
                 );
             }
@@ -470,11 +469,11 @@ impl SeedPermuter {
                 self.encode_walk_sort(encoder, pipelines, self.sort_form, timer);
                 if mode == PermuteMode::Permute {
                     let step = step_index(frame, params.tile_log2) as usize;
-                    dispatch(
+                    let retarget = [(&pipelines.retarget, &self.retarget_bg[step], params.seed_count())];
+                    encode_pass(
                         encoder,
-                        &pipelines.retarget,
-                        &self.retarget_bg[step],
-                        params.seed_count(),
+                        "retarget",
+                        &retarget,
                         timer.map(|(t, span)| (t, span + 1)),
                     );
                 } else {
@@ -510,87 +509,80 @@ impl SeedPermuter {
         form: PassForm,
         timer: Option<(&PassTimer, u32)>,
     ) {
-        self.encode_sort(encoder, pipelines, form, [&self.sort_bg, &self.gather_bg], timer);
+        self.encode_plain_sort(encoder, pipelines, form, [&self.sort_bg, &self.gather_bg], timer);
     }
 
-    /// Encodes the sorting pass in `form` with `groups` (the per-block
-    /// kernel's and the gather pass's bind groups: the walk's tile or a
-    /// temporal slice; the rank pass reads no tile), in one compute pass timed
-    /// as span `span` of `timer`.
+    /// Encodes a sorting pass in `form`, in one compute pass labelled
+    /// `label` timed as span `span` of `timer`: `per_block` (the per-block
+    /// kernel and its bind group, one invocation per block) or `per_seed`
+    /// (the per-seed passes in order, one invocation per seed each).
     fn encode_sort(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        label: &str,
+        form: PassForm,
+        per_block: (&wgpu::ComputePipeline, &wgpu::BindGroup),
+        per_seed: &[(&wgpu::ComputePipeline, &wgpu::BindGroup)],
+        timer: Option<(&PassTimer, u32)>,
+    ) {
+        let dispatches: Vec<Dispatch<'_>> = match form {
+            PassForm::PerGroup => {
+                let params = self.layout.params(0);
+                vec![(per_block.0, per_block.1, params.blocks_x() * params.blocks_y())]
+            }
+            PassForm::PerSeed => {
+                let n = self.layout.seed_count() as u32;
+                per_seed.iter().map(|&(p, bg)| (p, bg, n)).collect()
+            }
+        };
+        encode_pass(encoder, label, &dispatches, timer);
+    }
+
+    /// Encodes the plain sorting pass in `form` with `tile_groups` (the
+    /// per-block kernel's and the gather pass's bind groups: the walk's tile
+    /// or a temporal slice; the rank pass reads no tile).
+    fn encode_plain_sort(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         pipelines: &PermutePipelines,
         form: PassForm,
-        groups: [&wgpu::BindGroup; 2],
+        tile_groups: [&wgpu::BindGroup; 2],
         timer: Option<(&PassTimer, u32)>,
     ) {
-        let [block, gather] = groups;
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("sort"),
-            timestamp_writes: timer.map(|(t, span)| t.writes(span)),
-        });
-        match form {
-            PassForm::PerGroup => {
-                let params = self.layout.params(0);
-                let (x, y) = linear_dispatch(params.blocks_x() * params.blocks_y());
-                pass.set_pipeline(&pipelines.sort);
-                pass.set_bind_group(0, block, &[]);
-                pass.dispatch_workgroups(x, y, 1);
-            }
-            PassForm::PerSeed => {
-                let (x, y) = linear_dispatch(self.layout.seed_count() as u32);
-                pass.set_pipeline(&pipelines.sort_rank);
-                pass.set_bind_group(0, &self.rank_bg, &[]);
-                pass.dispatch_workgroups(x, y, 1);
-                pass.set_pipeline(&pipelines.sort_gather);
-                pass.set_bind_group(0, gather, &[]);
-                pass.dispatch_workgroups(x, y, 1);
-            }
-        }
+        let [block, gather] = tile_groups;
+        let per_seed = [
+            (&pipelines.sort_rank, &self.rank_bg),
+            (&pipelines.sort_gather, gather),
+        ];
+        self.encode_sort(encoder, "sort", form, (&pipelines.sort, block), &per_seed, timer);
     }
 
     /// Encodes the feature-aware sorting pass of `f` in the permuter's form
-    /// with `groups` (the per-block kernel's and the gather pass's bind
-    /// groups: the walk's tile or a temporal slice; the group and rank passes
-    /// read no tile), in one compute pass timed as span `span` of `timer`.
+    /// with `tile_groups` (as [`encode_plain_sort`](Self::encode_plain_sort)'s;
+    /// the group and rank passes read no tile).
     fn encode_feature_sort(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         pipelines: &PermutePipelines,
         f: &FeaturePasses,
-        groups: [&wgpu::BindGroup; 2],
+        tile_groups: [&wgpu::BindGroup; 2],
         timer: Option<(&PassTimer, u32)>,
     ) {
-        let [block, gather] = groups;
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("feature-aware sort"),
-            timestamp_writes: timer.map(|(t, span)| t.writes(span)),
-        });
-        let steps = match self.sort_form {
-            PassForm::PerGroup => {
-                let params = self.layout.params(0);
-                vec![(
-                    &pipelines.sort_features,
-                    block,
-                    params.blocks_x() * params.blocks_y(),
-                )]
-            }
-            PassForm::PerSeed => {
-                let n = self.layout.seed_count() as u32;
-                vec![
-                    (&pipelines.surface_group, &f.group_bg, n),
-                    (&pipelines.sort_rank_features, &f.rank_bg, n),
-                    (&pipelines.sort_gather_features, gather, n),
-                ]
-            }
-        };
-        for (pipeline, bind_group, n) in steps {
-            let (x, y) = linear_dispatch(n);
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, bind_group, &[]);
-            pass.dispatch_workgroups(x, y, 1);
-        }
+        let [block, gather] = tile_groups;
+        let per_seed = [
+            (&pipelines.surface_group, &f.group_bg),
+            (&pipelines.sort_rank_features, &f.rank_bg),
+            (&pipelines.sort_gather_features, gather),
+        ];
+        let per_block = (&pipelines.sort_features, block);
+        self.encode_sort(
+            encoder,
+            "feature-aware sort",
+            self.sort_form,
+            per_block,
+            &per_seed,
+            timer,
+        );
     }
 
     /// Replaces the seed buffer with `seeds` (`padded_width * padded_height`).
@@ -638,25 +630,6 @@ impl SeedPermuter {
     }
 }
 
-/// Encodes one linear dispatch of `n` invocations in its own compute pass,
-/// optionally timed as span `span` of `timer`.
-fn dispatch(
-    encoder: &mut wgpu::CommandEncoder,
-    pipeline: &wgpu::ComputePipeline,
-    bind_group: &wgpu::BindGroup,
-    n: u32,
-    timer: Option<(&PassTimer, u32)>,
-) {
-    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-        label: None,
-        timestamp_writes: timer.map(|(t, span)| t.writes(span)),
-    });
-    pass.set_pipeline(pipeline);
-    pass.set_bind_group(0, bind_group, &[]);
-    let (x, y) = linear_dispatch(n);
-    pass.dispatch_workgroups(x, y, 1);
-}
-
 /// Encodes the feature-aware permutation's retarget with `groups` (the
 /// links pass's and the cut retarget's bind groups) and `jump` (the jump
 /// rounds' two): the links, the jump rounds and the cut retarget in one
@@ -671,20 +644,12 @@ fn encode_feature_retarget(
     timer: Option<(&PassTimer, u32)>,
 ) {
     let [record, retarget] = groups;
-    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-        label: Some("feature-aware retarget"),
-        timestamp_writes: timer.map(|(t, span)| t.writes(span + 1)),
-    });
-    let (x, y) = linear_dispatch(params.seed_count());
-    pass.set_pipeline(&pipelines.record_link);
-    pass.set_bind_group(0, record, &[]);
-    pass.dispatch_workgroups(x, y, 1);
-    pass.set_pipeline(&pipelines.jump_link);
+    let n = params.seed_count();
+    let mut dispatches: Vec<Dispatch<'_>> = vec![(&pipelines.record_link, record, n)];
     for round in 0..JUMP_ROUNDS {
-        pass.set_bind_group(0, &jump[(round % 2) as usize], &[]);
-        pass.dispatch_workgroups(x, y, 1);
+        dispatches.push((&pipelines.jump_link, &jump[(round % 2) as usize], n));
     }
-    pass.set_pipeline(&pipelines.retarget_features);
-    pass.set_bind_group(0, retarget, &[]);
-    pass.dispatch_workgroups(x, y, 1);
+    dispatches.push((&pipelines.retarget_features, retarget, n));
+    let timer = timer.map(|(t, span)| (t, span + 1));
+    encode_pass(encoder, "feature-aware retarget", &dispatches, timer);
 }

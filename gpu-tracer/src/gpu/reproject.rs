@@ -4,6 +4,7 @@
 //! bit for bit what `sampler_core::reproject_frame` computes on the CPU.
 
 use super::context::Gpu;
+use super::dispatch::{encode_pass, Dispatch};
 use super::pass_form::PassForm;
 use super::timer::PassTimer;
 use super::GpuError;
@@ -172,14 +173,8 @@ impl SeedReprojector {
     ) {
         let p = self.layout.params(0);
         let chunks = chunk_count(&p);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("seed reprojection"),
-            timestamp_writes: timer.map(|(t, span)| t.writes(span)),
-        });
-        // One compute pass: wgpu orders dispatches inside it and inserts the
-        // barriers storage-buffer hazards need.
         let n = p.seed_count();
-        let steps: Vec<(&wgpu::ComputePipeline, &wgpu::BindGroup, u32)> = match self.form {
+        let steps: Vec<Dispatch<'_>> = match self.form {
             PassForm::PerGroup => vec![
                 (&pipelines.clear, &self.clear_bg, n),
                 (&pipelines.claim, &self.claim_bg, p.pixel_count()),
@@ -198,13 +193,7 @@ impl SeedReprojector {
                 (&pipelines.recycle_seed, &self.recycle_seed_bg, n),
             ],
         };
-        for (pipeline, bind_group, n) in steps {
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, bind_group, &[]);
-            let (x, y) = kernels::permute_entry::linear_dispatch(n);
-            pass.dispatch_workgroups(x, y, 1);
-        }
-        drop(pass);
+        encode_pass(encoder, "seed reprojection", &steps, timer);
         let bytes = p.seed_count() as u64 * 4;
         encoder.copy_buffer_to_buffer(&self.out, 0, &self.seeds, 0, bytes);
     }
