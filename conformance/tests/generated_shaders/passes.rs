@@ -183,6 +183,8 @@ struct FeatureBuffers {
     features: wgpu::Buffer,
     thresholds: wgpu::Buffer,
     sorted: wgpu::Buffer,
+    groups: wgpu::Buffer,
+    sorted_per_seed: wgpu::Buffer,
     links: wgpu::Buffer,
     links_b: wgpu::Buffer,
     out: wgpu::Buffer,
@@ -228,11 +230,15 @@ fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
         let claims = gpu.storage_zeroed::<u32>("claims", n_seeds);
         let counts = gpu.storage_zeroed::<u32>("chunk counts", 2 * chunks as usize);
         let free = gpu.storage_zeroed::<u32>("free", n_seeds);
+        let flags = gpu.storage_zeroed::<u32>("reprojection flags", n_seeds);
+        let reprojected = gpu.storage_zeroed::<u32>("seeds (reprojected per seed)", n_seeds);
         let features = conformance::fixtures::banded_features(w, h, 3, true, salt);
         let feature_bufs = FeatureBuffers {
             features: gpu.storage("features", &features),
             thresholds: gpu.storage("thresholds", &[FeatureThresholds::DEFAULT]),
             sorted: gpu.storage_zeroed::<u32>("feature-sorted seeds", n_seeds),
+            groups: gpu.storage_zeroed::<u32>("surface groups", n_seeds),
+            sorted_per_seed: gpu.storage_zeroed::<u32>("feature-sorted seeds (per seed)", n_seeds),
             links: gpu.storage_zeroed::<u32>("links", n_seeds),
             links_b: gpu.storage_zeroed::<u32>("links (jump)", n_seeds),
             out: gpu.storage_zeroed::<u32>("feature-permuted seeds", n_seeds),
@@ -259,6 +265,35 @@ fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
                 // The camera moved: reproject the seeds along the motion.
                 let m = motion(w, h, k as u32 + t, salt + t);
                 gpu.queue.write_buffer(&motion_buf, 0, bytemuck::cast_slice(&m));
+                // The per-seed form first, into its own output (the chunk
+                // form below clears and claims again).
+                let mut encoder = gpu.device.create_command_encoder(&Default::default());
+                let per_seed: [(&str, &[&wgpu::Buffer], u32); 7] = [
+                    ("clear_claims", &[&params, &claims], n_seeds as u32),
+                    ("claim", &[&params, &motion_buf, &claims], n_pixels as u32),
+                    (
+                        "take_seed",
+                        &[&params, &motion_buf, &claims, &seeds, &reprojected, &flags],
+                        n_seeds as u32,
+                    ),
+                    ("count_flags", &[&params, &flags, &counts], chunks),
+                    ("scan", &[&params, &counts], 1),
+                    (
+                        "list_free_seed",
+                        &[&params, &flags, &counts, &free],
+                        n_seeds as u32,
+                    ),
+                    (
+                        "recycle_seed",
+                        &[&params, &flags, &counts, &free, &seeds, &reprojected],
+                        n_seeds as u32,
+                    ),
+                ];
+                for (pass, buffers, n) in per_seed {
+                    passes.encode(gpu, &mut encoder, pass, buffers, n);
+                }
+                gpu.queue.submit([encoder.finish()]);
+                let per_seed_out = gpu.read::<u32>(&reprojected, n_seeds).unwrap();
                 let mut encoder = gpu.device.create_command_encoder(&Default::default());
                 let steps: [(&str, &[&wgpu::Buffer], u32); 6] = [
                     ("clear_claims", &[&params, &claims], n_seeds as u32),
@@ -290,6 +325,7 @@ fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
                     cpu,
                     "reprojection, {what}"
                 );
+                assert_eq!(per_seed_out, cpu, "reprojection per seed, {what}");
             }
 
             // The renderer's frame, reduced to intensities by the GPU.
@@ -320,7 +356,22 @@ fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
             // First the feature-aware passes from the same seeds, into their own buffers.
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             let fb = &feature_bufs;
-            let steps: [(&str, &[&wgpu::Buffer], u32); 2] = [
+            let steps: [(&str, &[&wgpu::Buffer], u32); 5] = [
+                (
+                    "surface_group",
+                    &[&params, &fb.features, &fb.thresholds, &fb.groups],
+                    p.seed_count(),
+                ),
+                (
+                    "sort_rank_features",
+                    &[&params, &intensity, &fb.groups, &seeds, &ranked],
+                    p.seed_count(),
+                ),
+                (
+                    "sort_gather_features",
+                    &[&params, &tile_buf, &fb.groups, &ranked, &fb.sorted_per_seed],
+                    p.seed_count(),
+                ),
                 (
                     "sort_features",
                     &[
@@ -406,6 +457,11 @@ fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
                 gpu.read::<u32>(&fb.sorted, n_seeds).unwrap(),
                 f_sorted,
                 "sort_features, {what}"
+            );
+            assert_eq!(
+                gpu.read::<u32>(&fb.sorted_per_seed, n_seeds).unwrap(),
+                f_sorted,
+                "surface_group + sort_rank_features + sort_gather_features, {what}"
             );
             assert_eq!(gpu_links, f_sources, "record_link, {what}");
             assert_eq!(

@@ -4,10 +4,12 @@
 
 use kernels::permute_entry::{
     INTENSITY_ENTRY, JUMP_LINK_ENTRY, RECORD_LINK_ENTRY, RETARGET_ENTRY, RETARGET_FEATURES_ENTRY,
-    SEED_INIT_ENTRY, SORT_ENTRY, SORT_FEATURES_ENTRY, SORT_GATHER_ENTRY, SORT_RANK_ENTRY,
+    SEED_INIT_ENTRY, SORT_ENTRY, SORT_FEATURES_ENTRY, SORT_GATHER_ENTRY, SORT_GATHER_FEATURES_ENTRY,
+    SORT_RANK_ENTRY, SORT_RANK_FEATURES_ENTRY, SURFACE_GROUP_ENTRY,
 };
 use kernels::reproject_entry::{
-    CLAIM_ENTRY, CLEAR_CLAIMS_ENTRY, LIST_FREE_ENTRY, RECYCLE_ENTRY, SCAN_ENTRY, TAKE_ENTRY,
+    CLAIM_ENTRY, CLEAR_CLAIMS_ENTRY, COUNT_FLAGS_ENTRY, LIST_FREE_ENTRY, LIST_FREE_SEED_ENTRY, RECYCLE_ENTRY,
+    RECYCLE_SEED_ENTRY, SCAN_ENTRY, TAKE_ENTRY, TAKE_SEED_ENTRY,
 };
 use kernels::sampler_entry::{SCREEN_SOBOL_ENTRY, SPATIOTEMPORAL_ENTRY, ZSOBOL_ENTRY};
 
@@ -46,7 +48,7 @@ pub struct Entry {
 /// group (permutation, feature-aware permutation, reprojection, then the
 /// a-priori samplers). All have 64-wide workgroups
 /// (`kernels::permute_entry::PERMUTE_WORKGROUP`).
-pub const ENTRIES: [Entry; 19] = [
+pub const ENTRIES: [Entry; 26] = [
     Entry {
         spirv: SEED_INIT_ENTRY,
         name: "permute_entry_seed_init_cs",
@@ -89,6 +91,21 @@ pub const ENTRIES: [Entry; 19] = [
             "seeds_in",
             "seeds_out",
         ],
+    },
+    Entry {
+        spirv: SURFACE_GROUP_ENTRY,
+        name: "permute_entry_surface_group_cs",
+        bindings: &["params", "features", "thresholds", "groups"],
+    },
+    Entry {
+        spirv: SORT_RANK_FEATURES_ENTRY,
+        name: "permute_entry_sort_rank_features_cs",
+        bindings: &["params", "intensity", "groups", "seeds_in", "ranked"],
+    },
+    Entry {
+        spirv: SORT_GATHER_FEATURES_ENTRY,
+        name: "permute_entry_sort_gather_features_cs",
+        bindings: &["params", "tile", "groups", "ranked", "seeds_out"],
     },
     Entry {
         spirv: RECORD_LINK_ENTRY,
@@ -150,6 +167,26 @@ pub const ENTRIES: [Entry; 19] = [
             "seeds_in",
             "seeds_out",
         ],
+    },
+    Entry {
+        spirv: TAKE_SEED_ENTRY,
+        name: "reproject_entry_take_seed_cs",
+        bindings: &["params", "motion", "claims", "seeds_in", "seeds_out", "flags"],
+    },
+    Entry {
+        spirv: COUNT_FLAGS_ENTRY,
+        name: "reproject_entry_count_flags_cs",
+        bindings: &["params", "flags", "counts"],
+    },
+    Entry {
+        spirv: LIST_FREE_SEED_ENTRY,
+        name: "reproject_entry_list_free_seed_cs",
+        bindings: &["params", "flags", "counts", "free"],
+    },
+    Entry {
+        spirv: RECYCLE_SEED_ENTRY,
+        name: "reproject_entry_recycle_seed_cs",
+        bindings: &["params", "flags", "counts", "free", "seeds_in", "seeds_out"],
     },
     Entry {
         spirv: SCREEN_SOBOL_ENTRY,

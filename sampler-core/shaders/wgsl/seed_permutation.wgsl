@@ -4,7 +4,7 @@
 // reproject_entry.rs, sampler-core), rebuild the SPIR-V with
 // gpu-tracer/build-shaders.sh, then rerun `cargo run -p shader-sources`.
 // Bindings, buffer sizes, dispatch sizes and pass order: sampler-core/shaders/README.md.
-// WGSL, one module with the entry points permute_entry_seed_init_cs, permute_entry_intensity_cs, permute_entry_sort_cs, permute_entry_sort_rank_cs, permute_entry_sort_gather_cs, permute_entry_retarget_cs, permute_entry_sort_features_cs, permute_entry_record_link_cs, permute_entry_jump_link_cs, permute_entry_retarget_features_cs, reproject_entry_clear_claims_cs, reproject_entry_claim_cs, reproject_entry_take_cs, reproject_entry_scan_cs, reproject_entry_list_free_cs, reproject_entry_recycle_cs, sampler_entry_screen_sobol_cs, sampler_entry_zsobol_cs, sampler_entry_spatiotemporal_cs.
+// WGSL, one module with the entry points permute_entry_seed_init_cs, permute_entry_intensity_cs, permute_entry_sort_cs, permute_entry_sort_rank_cs, permute_entry_sort_gather_cs, permute_entry_retarget_cs, permute_entry_sort_features_cs, permute_entry_surface_group_cs, permute_entry_sort_rank_features_cs, permute_entry_sort_gather_features_cs, permute_entry_record_link_cs, permute_entry_jump_link_cs, permute_entry_retarget_features_cs, reproject_entry_clear_claims_cs, reproject_entry_claim_cs, reproject_entry_take_cs, reproject_entry_scan_cs, reproject_entry_list_free_cs, reproject_entry_recycle_cs, reproject_entry_take_seed_cs, reproject_entry_count_flags_cs, reproject_entry_list_free_seed_cs, reproject_entry_recycle_seed_cs, sampler_entry_screen_sobol_cs, sampler_entry_zsobol_cs, sampler_entry_spatiotemporal_cs.
 
 struct Vec4Array {
     values: array<vec4<f32>>,
@@ -89,7 +89,7 @@ var<private> global: vec3<u32>;
 @group(0) @binding(1) 
 var<storage> intensity_color: Vec4Array;
 @group(0) @binding(0) 
-var<uniform> retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params: FrameParamsBlock;
+var<uniform> retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params: FrameParamsBlock;
 @group(0) @binding(1) 
 var<storage> retarget_table_or_record_link_table_or_retarget_features_table: U32Array;
 @group(0) @binding(2) 
@@ -105,7 +105,7 @@ var<storage, read_write> jump_link_links_out: U32Array;
 @group(0) @binding(1) 
 var<storage, read_write> seed_init_seeds_out: U32Array;
 @group(0) @binding(1) 
-var<storage> sort_rank_intensity_or_sort_features_intensity_or_sort_intensity: F32Array;
+var<storage> sort_rank_intensity_or_sort_features_intensity_or_sort_rank_features_intensity_or_sort_intensity: F32Array;
 @group(0) @binding(3) 
 var<storage, read_write> sort_rank_ranked: U32Array;
 @group(0) @binding(2) 
@@ -115,7 +115,7 @@ var<storage> record_link_thresholds_or_sort_features_thresholds: FeatureThreshol
 @group(0) @binding(4) 
 var<storage, read_write> record_link_links: U32Array;
 @group(0) @binding(1) 
-var<storage> sort_gather_tile_or_spatiotemporal_tile: U32Array;
+var<storage> sort_gather_tile_or_sort_gather_features_tile_or_spatiotemporal_tile: U32Array;
 @group(0) @binding(2) 
 var<storage> sort_gather_ranked: U32Array;
 @group(0) @binding(4) 
@@ -124,16 +124,28 @@ var<storage> sort_features_tile: U32Array;
 var<storage> sort_features_seeds_in_or_retarget_features_seeds_in_or_recycle_seeds_in: U32Array;
 @group(0) @binding(6) 
 var<storage, read_write> sort_features_seeds_out_or_retarget_features_seeds_out_or_recycle_seeds_out: U32Array;
+@group(0) @binding(1) 
+var<storage> surface_group_features: SurfaceFeatureArray;
+@group(0) @binding(2) 
+var<storage> surface_group_thresholds: FeatureThresholdsArray;
+@group(0) @binding(3) 
+var<storage, read_write> surface_group_groups: U32Array;
 @group(0) @binding(2) 
 var<storage> retarget_features_links: U32Array;
 @group(0) @binding(3) 
 var<storage> retarget_features_features: SurfaceFeatureArray;
 @group(0) @binding(4) 
 var<storage> retarget_features_thresholds: FeatureThresholdsArray;
+@group(0) @binding(2) 
+var<storage> sort_rank_features_groups_or_sort_gather_features_groups: U32Array;
 @group(0) @binding(3) 
-var<storage> sort_seeds_in_or_take_seeds_in: U32Array;
+var<storage> sort_rank_features_seeds_in_or_sort_seeds_in_or_take_seed_seeds_in_or_take_seeds_in: U32Array;
 @group(0) @binding(4) 
-var<storage, read_write> sort_seeds_out_or_take_seeds_out: U32Array;
+var<storage, read_write> sort_rank_features_ranked: U32Array;
+@group(0) @binding(3) 
+var<storage> sort_gather_features_ranked: U32Array;
+@group(0) @binding(4) 
+var<storage, read_write> sort_gather_features_seeds_out_or_sort_seeds_out_or_take_seed_seeds_out_or_take_seeds_out: U32Array;
 @group(0) @binding(2) 
 var<storage> sort_tile: U32Array;
 @group(0) @binding(0) 
@@ -146,9 +158,9 @@ var<storage, read_write> screen_sobol_samples_or_spatiotemporal_samples: Vec2Arr
 var<storage, read_write> zsobol_samples: Vec2Array;
 var<private> global_1: array<u32, 12> = array<u32, 12>(1363u, 1118u, 1524u, 392u, 3680u, 816u, 1472u, 320u, 1792u, 1280u, 3072u, 2048u);
 @group(0) @binding(1) 
-var<storage> recycle_motion_or_take_motion_or_claim_motion: Vec2Array;
+var<storage> recycle_motion_or_take_seed_motion_or_take_motion_or_claim_motion: Vec2Array;
 @group(0) @binding(2) 
-var<storage> recycle_claims_or_take_claims: U32Array;
+var<storage> recycle_claims_or_take_seed_claims_or_take_claims: U32Array;
 @group(0) @binding(3) 
 var<storage> recycle_counts: U32Array;
 @group(0) @binding(4) 
@@ -156,11 +168,23 @@ var<storage> recycle_free: U32Array;
 @group(0) @binding(1) 
 var<storage> list_free_claims: U32Array;
 @group(0) @binding(2) 
-var<storage> list_free_counts: U32Array;
+var<storage> list_free_counts_or_recycle_seed_counts_or_list_free_seed_counts: U32Array;
 @group(0) @binding(3) 
-var<storage, read_write> list_free_free: U32Array;
+var<storage, read_write> list_free_free_or_list_free_seed_free: U32Array;
+@group(0) @binding(5) 
+var<storage, read_write> take_seed_flags: U32Array;
+@group(0) @binding(1) 
+var<storage> count_flags_flags_or_recycle_seed_flags_or_list_free_seed_flags: U32Array;
+@group(0) @binding(2) 
+var<storage, read_write> count_flags_counts: U32Array;
 @group(0) @binding(1) 
 var<storage, read_write> clear_claims_claims: U32Array;
+@group(0) @binding(3) 
+var<storage> recycle_seed_free: U32Array;
+@group(0) @binding(4) 
+var<storage> recycle_seed_seeds_in: U32Array;
+@group(0) @binding(5) 
+var<storage, read_write> recycle_seed_seeds_out: U32Array;
 var<private> global_2: u32;
 @group(0) @binding(1) 
 var<storage, read_write> scan_counts: U32Array;
@@ -179,11 +203,11 @@ fn function_() {
         default: {
             let _e19 = global;
             let _e29 = ((_e19.y * 4194240u) + _e19.x);
-            let _e32 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
-            let _e35 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            let _e32 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e35 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
             if (_e29 < (_e32 * _e35)) {
-                let _e40 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.frame;
-                let _e43 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.tile_log2_;
+                let _e40 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.frame;
+                let _e43 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.tile_log2_;
                 let _e47 = (((32u - _e43) & 31u) & 31u);
                 let _e53 = (_e32 == 0u);
                 if _e53 {
@@ -255,8 +279,8 @@ fn function_1() {
         default: {
             let _e10 = global;
             let _e18 = ((_e10.y * 4194240u) + _e10.x);
-            let _e21 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.width;
-            let _e24 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.height;
+            let _e21 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.width;
+            let _e24 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
             if (_e18 < (_e21 * _e24)) {
                 if (_e18 < arrayLength((&intensity_color.values))) {
                 } else {
@@ -283,8 +307,8 @@ fn function_2() {
             let _e8 = global;
             let _e10 = arrayLength((&jump_link_links_in.values));
             let _e16 = ((_e8.y * 4194240u) + _e8.x);
-            let _e19 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
-            let _e22 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            let _e19 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e22 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
             if (_e16 < (_e19 * _e22)) {
                 if (_e16 < _e10) {
                 } else {
@@ -319,8 +343,8 @@ fn function_3() {
         default: {
             let _e13 = global;
             let _e19 = ((_e13.y * 4194240u) + _e13.x);
-            let _e22 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
-            let _e25 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            let _e22 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e25 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
             if (_e19 < (_e22 * _e25)) {
                 let _e28 = (_e22 == 0u);
                 if _e28 {
@@ -329,7 +353,7 @@ fn function_3() {
                 if _e28 {
                     break;
                 }
-                let _e33 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.frame;
+                let _e33 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.frame;
                 let _e37 = ((_e33 * 747796405u) + 2891336453u);
                 let _e45 = (((_e37 >> bitcast<u32>((((_e37 >> bitcast<u32>(28i)) + 4u) & 31u))) ^ _e37) * 277803737u);
                 let _e51 = ((((((_e19 / _e22) * _e22) + (_e19 % _e22)) ^ ((_e45 >> bitcast<u32>(22i)) ^ _e45)) * 747796405u) + 2891336453u);
@@ -376,12 +400,12 @@ fn function_4() {
     switch bitcast<i32>(0u) {
         default: {
             let _e15 = global;
-            let _e17 = arrayLength((&sort_rank_intensity_or_sort_features_intensity_or_sort_intensity.values));
+            let _e17 = arrayLength((&sort_rank_intensity_or_sort_features_intensity_or_sort_rank_features_intensity_or_sort_intensity.values));
             let _e19 = arrayLength((&retarget_seeds_in_or_sort_rank_seeds_in.values));
             let _e21 = arrayLength((&sort_rank_ranked.values));
             let _e25 = ((_e15.y * 4194240u) + _e15.x);
-            let _e28 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
-            let _e31 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            let _e28 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e31 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
             if (_e25 < (_e28 * _e31)) {
                 let _e34 = (_e28 == 0u);
                 if _e34 {
@@ -392,15 +416,15 @@ fn function_4() {
                     break;
                 }
                 let _e36 = (_e25 / _e28);
-                let _e39 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.width;
+                let _e39 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.width;
                 if (_e35 >= _e39) {
                     phi_3046_ = true;
                 } else {
-                    let _e43 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.height;
+                    let _e43 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
                     let _e44 = (_e36 >= _e43);
                     if _e44 {
                     } else {
-                        let _e47 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.block;
+                        let _e47 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.block;
                         let _e48 = (_e47 == 0u);
                         if _e48 {
                             break;
@@ -418,7 +442,7 @@ fn function_4() {
                         } else {
                             break;
                         }
-                        let _e64 = sort_rank_intensity_or_sort_features_intensity_or_sort_intensity.values[_e60];
+                        let _e64 = sort_rank_intensity_or_sort_features_intensity_or_sort_rank_features_intensity_or_sort_intensity.values[_e60];
                         let _e65 = bitcast<u32>(_e64);
                         if ((_e65 & 2147483648u) == 0u) {
                             phi_2848_ = (_e65 | 2147483648u);
@@ -471,7 +495,7 @@ fn function_4() {
                                             phi_102952_ = true;
                                             break;
                                         }
-                                        let _e129 = sort_rank_intensity_or_sort_features_intensity_or_sort_intensity.values[_e125];
+                                        let _e129 = sort_rank_intensity_or_sort_features_intensity_or_sort_rank_features_intensity_or_sort_intensity.values[_e125];
                                         let _e130 = bitcast<u32>(_e129);
                                         if ((_e130 & 2147483648u) == 0u) {
                                             phi_2948_ = (_e130 | 2147483648u);
@@ -607,11 +631,11 @@ fn function_5() {
             let _e32 = global;
             let _e36 = arrayLength((&record_link_features_or_sort_features_features.values));
             let _e44 = ((_e32.y * 4194240u) + _e32.x);
-            let _e47 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
-            let _e50 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            let _e47 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e50 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
             if (_e44 < (_e47 * _e50)) {
-                let _e55 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.frame;
-                let _e58 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.tile_log2_;
+                let _e55 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.frame;
+                let _e58 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.tile_log2_;
                 let _e62 = (((32u - _e58) & 31u) & 31u);
                 if (0u < arrayLength((&record_link_thresholds_or_sort_features_thresholds.values))) {
                 } else {
@@ -679,16 +703,16 @@ fn function_5() {
                     break;
                 }
                 let _e124 = (_e122 / _e47);
-                let _e127 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.width;
+                let _e127 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.width;
                 if (_e70 < _e127) {
-                    let _e131 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.height;
+                    let _e131 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
                     phi_3219_ = (_e71 < _e131);
                 } else {
                     phi_3219_ = false;
                 }
                 let _e134 = phi_3219_;
                 if (_e123 < _e127) {
-                    let _e138 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.height;
+                    let _e138 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
                     phi_3229_ = (_e124 < _e138);
                 } else {
                     phi_3229_ = false;
@@ -844,15 +868,15 @@ fn function_6() {
     switch bitcast<i32>(0u) {
         default: {
             let _e18 = global;
-            let _e20 = arrayLength((&sort_gather_tile_or_spatiotemporal_tile.values));
+            let _e20 = arrayLength((&sort_gather_tile_or_sort_gather_features_tile_or_spatiotemporal_tile.values));
             let _e22 = arrayLength((&sort_gather_ranked.values));
             let _e24 = arrayLength((&retarget_seeds_out_or_sort_gather_seeds_out.values));
             let _e28 = ((_e18.y * 4194240u) + _e18.x);
-            let _e31 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
-            let _e34 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            let _e31 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e34 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
             if (_e28 < (_e31 * _e34)) {
-                let _e39 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.frame;
-                let _e42 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.tile_log2_;
+                let _e39 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.frame;
+                let _e42 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.tile_log2_;
                 let _e46 = (((32u - _e42) & 31u) & 31u);
                 let _e48 = ((_e39 * 3242174889u) >> bitcast<u32>(_e46));
                 let _e51 = ((_e39 * 2447445414u) >> bitcast<u32>(_e46));
@@ -865,15 +889,15 @@ fn function_6() {
                     break;
                 }
                 let _e54 = (_e28 / _e31);
-                let _e57 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.width;
+                let _e57 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.width;
                 if (_e53 >= _e57) {
                     phi_3795_ = true;
                 } else {
-                    let _e61 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.height;
+                    let _e61 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
                     let _e62 = (_e54 >= _e61);
                     if _e62 {
                     } else {
-                        let _e65 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.block;
+                        let _e65 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.block;
                         let _e66 = (_e65 == 0u);
                         if _e66 {
                             break;
@@ -893,7 +917,7 @@ fn function_6() {
                         } else {
                             break;
                         }
-                        let _e91 = sort_gather_tile_or_spatiotemporal_tile.values[_e87];
+                        let _e91 = sort_gather_tile_or_sort_gather_features_tile_or_spatiotemporal_tile.values[_e87];
                         phi_102980_ = false;
                         phi_3605_ = type_12(0u, select(_e65, _e74, (_e74 < _e65)));
                         phi_3608_ = 0u;
@@ -939,7 +963,7 @@ fn function_6() {
                                             phi_102975_ = true;
                                             break;
                                         }
-                                        let _e154 = sort_gather_tile_or_spatiotemporal_tile.values[_e150];
+                                        let _e154 = sort_gather_tile_or_sort_gather_features_tile_or_spatiotemporal_tile.values[_e150];
                                         if (_e154 < _e91) {
                                             phi_3749_ = true;
                                         } else {
@@ -1267,8 +1291,8 @@ fn function_7() {
             let _e103 = global;
             let _e113 = arrayLength((&sort_features_seeds_in_or_retarget_features_seeds_in_or_recycle_seeds_in.values));
             let _e115 = arrayLength((&sort_features_seeds_out_or_retarget_features_seeds_out_or_recycle_seeds_out.values));
-            let _e118 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
-            let _e121 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.block;
+            let _e118 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e121 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.block;
             let _e122 = (_e121 == 0u);
             if _e122 {
                 break;
@@ -1284,7 +1308,7 @@ fn function_7() {
             }
             let _e128 = phi_3855_;
             let _e132 = ((_e103.y * 4194240u) + _e103.x);
-            let _e135 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            let _e135 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
             if _e122 {
                 break;
             }
@@ -1299,8 +1323,8 @@ fn function_7() {
             }
             let _e141 = phi_3879_;
             if (_e132 < (_e128 * _e141)) {
-                let _e146 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.frame;
-                let _e149 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.tile_log2_;
+                let _e146 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.frame;
+                let _e149 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.tile_log2_;
                 let _e153 = (((32u - _e149) & 31u) & 31u);
                 let _e159 = (_e128 == 0u);
                 if _e159 {
@@ -1427,18 +1451,18 @@ fn function_7() {
                                 if (_e274 < _e118) {
                                     if (_e275 < _e135) {
                                         let _e279 = ((_e275 * _e118) + _e274);
-                                        let _e282 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.width;
+                                        let _e282 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.width;
                                         if (_e274 < _e282) {
-                                            let _e286 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.height;
+                                            let _e286 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
                                             let _e287 = (_e275 < _e286);
                                             if _e287 {
                                                 let _e289 = ((_e275 * _e282) + _e274);
-                                                if (_e289 < arrayLength((&sort_rank_intensity_or_sort_features_intensity_or_sort_intensity.values))) {
+                                                if (_e289 < arrayLength((&sort_rank_intensity_or_sort_features_intensity_or_sort_rank_features_intensity_or_sort_intensity.values))) {
                                                 } else {
                                                     phi_102996_ = true;
                                                     break;
                                                 }
-                                                let _e293 = sort_rank_intensity_or_sort_features_intensity_or_sort_intensity.values[_e289];
+                                                let _e293 = sort_rank_intensity_or_sort_features_intensity_or_sort_rank_features_intensity_or_sort_intensity.values[_e289];
                                                 let _e294 = bitcast<u32>(_e293);
                                                 if ((_e294 & 2147483648u) == 0u) {
                                                     phi_4428_ = (_e294 | 2147483648u);
@@ -2789,6 +2813,620 @@ fn function_7() {
 }
 
 fn function_8() {
+    var phi_6007_: type_12;
+    var phi_103153_: bool;
+    var phi_6011_: u32;
+    var phi_6014_: u32;
+    var phi_6016_: u32;
+    var phi_6018_: u32;
+    var phi_6020_: u32;
+    var phi_6034_: u32;
+    var phi_6052_: bool;
+    var phi_6035_: u32;
+    var local_40: bool;
+    var local_41: u32;
+    var local_42: u32;
+    var phi_6073_: type_12;
+    var local_43: u32;
+    var local_44: u32;
+    var phi_6101_: type_12;
+    var phi_6104_: u32;
+    var phi_6106_: u32;
+    var phi_6108_: u32;
+    var phi_6110_: u32;
+    var phi_6112_: u32;
+    var phi_6102_: type_12;
+    var phi_6135_: type_12;
+    var phi_6156_: bool;
+    var local_45: u32;
+    var phi_6454_: f32;
+    var phi_6455_: f32;
+    var phi_6470_: vec3<f32>;
+    var phi_6518_: f32;
+    var phi_6519_: f32;
+    var phi_6534_: vec3<f32>;
+    var phi_6549_: bool;
+    var phi_6550_: bool;
+    var phi_6551_: bool;
+    var phi_6552_: bool;
+    var phi_6271_: f32;
+    var phi_6272_: f32;
+    var phi_6287_: vec3<f32>;
+    var phi_6335_: f32;
+    var phi_6336_: f32;
+    var phi_6351_: vec3<f32>;
+    var phi_6366_: bool;
+    var phi_6367_: bool;
+    var phi_6368_: bool;
+    var phi_6369_: bool;
+    var phi_6553_: bool;
+    var phi_6570_: type_12;
+    var phi_6586_: type_12;
+    var phi_6590_: u32;
+    var phi_6591_: u32;
+    var phi_6592_: u32;
+    var phi_6593_: u32;
+    var phi_6594_: u32;
+    var phi_6595_: u32;
+    var phi_6596_: u32;
+    var phi_6597_: u32;
+    var phi_6598_: u32;
+    var phi_6599_: u32;
+    var phi_6105_: u32;
+    var phi_6107_: u32;
+    var phi_6109_: u32;
+    var phi_6111_: u32;
+    var phi_6113_: u32;
+    var phi_103145_: bool;
+    var phi_103199_: bool;
+    var phi_6600_: u32;
+    var phi_6601_: u32;
+    var phi_6602_: u32;
+    var phi_6603_: u32;
+    var phi_6604_: u32;
+    var phi_103198_: bool;
+    var phi_6012_: u32;
+    var phi_6015_: u32;
+    var phi_6017_: u32;
+    var phi_6019_: u32;
+    var phi_6021_: u32;
+    var phi_6605_: bool;
+    var phi_103197_: bool;
+    var phi_6610_: u32;
+    var local_46: u32;
+    var local_47: u32;
+    var phi_6628_: bool;
+    var phi_6611_: u32;
+    var local_48: u32;
+    var local_49: u32;
+    var local_50: u32;
+    var local_51: u32;
+    var local_52: u32;
+    var local_53: u32;
+    var break_condition_25: bool;
+    var break_condition_26: bool;
+    var break_condition_27: bool;
+    var break_condition_28: bool;
+
+    switch bitcast<i32>(0u) {
+        default: {
+            let _e24 = global;
+            let _e26 = arrayLength((&surface_group_features.values));
+            let _e34 = ((_e24.y * 4194240u) + _e24.x);
+            let _e37 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e40 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            if (_e34 < (_e37 * _e40)) {
+                if (0u < arrayLength((&surface_group_thresholds.values))) {
+                } else {
+                    break;
+                }
+                let _e44 = (_e37 == 0u);
+                if _e44 {
+                    break;
+                }
+                let _e45 = (_e34 % _e37);
+                if _e44 {
+                    break;
+                }
+                let _e46 = (_e34 / _e37);
+                let _e49 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.width;
+                if (_e45 >= _e49) {
+                } else {
+                    let _e53 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
+                    if (_e46 >= _e53) {
+                    } else {
+                        let _e57 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.block;
+                        let _e58 = (_e57 == 0u);
+                        if _e58 {
+                            break;
+                        }
+                        let _e60 = (_e45 - (_e45 % _e57));
+                        if _e58 {
+                            break;
+                        }
+                        let _e62 = (_e46 - (_e46 % _e57));
+                        let _e63 = (_e49 - _e60);
+                        let _e65 = select(_e57, _e63, (_e63 < _e57));
+                        let _e66 = (_e53 - _e62);
+                        let _e69 = (_e65 * select(_e57, _e66, (_e66 < _e57)));
+                        let _e73 = (((_e46 - _e62) * _e65) + (_e45 - _e60));
+                        if (_e73 < 32u) {
+                            phi_6007_ = type_12((1u << bitcast<u32>((_e73 & 31u))), 0u);
+                        } else {
+                            phi_6007_ = type_12(0u, (1u << bitcast<u32>(((_e73 - 32u) & 31u))));
+                        }
+                        let _e85 = phi_6007_;
+                        phi_103153_ = false;
+                        phi_6011_ = _e85.member_1;
+                        phi_6014_ = _e85.member;
+                        phi_6016_ = _e85.member_1;
+                        phi_6018_ = _e85.member;
+                        phi_6020_ = 1u;
+                        loop {
+                            let _e89 = phi_103153_;
+                            let _e91 = phi_6011_;
+                            let _e93 = phi_6014_;
+                            let _e95 = phi_6016_;
+                            let _e97 = phi_6018_;
+                            let _e99 = phi_6020_;
+                            local_46 = _e95;
+                            local_47 = _e97;
+                            if ((_e93 | _e91) == 0u) {
+                                phi_103198_ = _e89;
+                                phi_6012_ = u32();
+                                phi_6015_ = u32();
+                                phi_6017_ = u32();
+                                phi_6019_ = u32();
+                                phi_6021_ = u32();
+                                phi_6605_ = false;
+                            } else {
+                                let _e102 = (_e99 < _e69);
+                                if _e102 {
+                                    phi_6034_ = 0u;
+                                    loop {
+                                        let _e104 = phi_6034_;
+                                        local_41 = _e104;
+                                        local_42 = _e104;
+                                        local_43 = _e104;
+                                        local_44 = _e104;
+                                        local_45 = _e104;
+                                        let _e105 = (_e104 < 32u);
+                                        local_40 = _e105;
+                                        if _e105 {
+                                            phi_6052_ = ((_e93 & (1u << bitcast<u32>((_e104 & 31u)))) != 0u);
+                                        } else {
+                                            phi_6052_ = ((_e91 & (1u << bitcast<u32>(((_e104 - 32u) & 31u)))) != 0u);
+                                        }
+                                        let _e118 = phi_6052_;
+                                        if _e118 {
+                                            phi_6035_ = u32();
+                                        } else {
+                                            phi_6035_ = (_e104 + 1u);
+                                        }
+                                        let _e121 = phi_6035_;
+                                        let _e122 = select(true, false, _e118);
+                                        break_condition_25 = _e122;
+                                        continue;
+                                        continuing {
+                                            phi_6034_ = _e121;
+                                            let _e726 = break_condition_25;
+                                            break if !(_e726);
+                                        }
+                                    }
+                                    let _e125 = local_40;
+                                    if _e125 {
+                                        let _e136 = local_42;
+                                        phi_6073_ = type_12((_e93 & ~((1u << bitcast<u32>((_e136 & 31u))))), _e91);
+                                    } else {
+                                        let _e127 = local_41;
+                                        phi_6073_ = type_12(_e93, (_e91 & ~((1u << bitcast<u32>(((_e127 - 32u) & 31u))))));
+                                    }
+                                    let _e144 = phi_6073_;
+                                    let _e147 = (_e65 == 0u);
+                                    if _e147 {
+                                        phi_103197_ = true;
+                                        break;
+                                    }
+                                    let _e149 = local_43;
+                                    if _e147 {
+                                        phi_103197_ = true;
+                                        break;
+                                    }
+                                    let _e155 = local_44;
+                                    let _e157 = ((((_e62 + (_e149 / _e65)) * _e49) + _e60) + (_e155 % _e65));
+                                    if (_e157 < _e26) {
+                                    } else {
+                                        phi_103197_ = true;
+                                        break;
+                                    }
+                                    let _e161 = surface_group_features.values[_e157];
+                                    phi_6101_ = type_12(0u, _e69);
+                                    phi_6104_ = _e144.member_1;
+                                    phi_6106_ = _e144.member;
+                                    phi_6108_ = _e95;
+                                    phi_6110_ = _e97;
+                                    phi_6112_ = _e99;
+                                    loop {
+                                        let _e164 = phi_6101_;
+                                        let _e166 = phi_6104_;
+                                        let _e168 = phi_6106_;
+                                        let _e170 = phi_6108_;
+                                        let _e172 = phi_6110_;
+                                        let _e174 = phi_6112_;
+                                        local_49 = _e166;
+                                        local_50 = _e168;
+                                        local_51 = _e170;
+                                        local_52 = _e172;
+                                        local_53 = _e174;
+                                        if (_e164.member < _e164.member_1) {
+                                            phi_6102_ = type_12((_e164.member + 1u), _e164.member_1);
+                                            phi_6135_ = type_12(1u, _e164.member);
+                                        } else {
+                                            phi_6102_ = _e164;
+                                            phi_6135_ = type_12(0u, type_12().member_1);
+                                        }
+                                        let _e185 = phi_6102_;
+                                        let _e187 = phi_6135_;
+                                        let _e191 = (bitcast<i32>(_e187.member) != 0i);
+                                        break_condition_26 = _e191;
+                                        if _e191 {
+                                            let _e192 = (_e187.member_1 < 32u);
+                                            if _e192 {
+                                                phi_6156_ = ((_e172 & (1u << bitcast<u32>((_e187.member_1 & 31u)))) != 0u);
+                                            } else {
+                                                phi_6156_ = ((_e170 & (1u << bitcast<u32>(((_e187.member_1 - 32u) & 31u)))) != 0u);
+                                            }
+                                            let _e205 = phi_6156_;
+                                            if _e205 {
+                                                phi_6595_ = _e166;
+                                                phi_6596_ = _e168;
+                                                phi_6597_ = _e170;
+                                                phi_6598_ = _e172;
+                                                phi_6599_ = _e174;
+                                            } else {
+                                                if _e147 {
+                                                    phi_103145_ = true;
+                                                    break;
+                                                }
+                                                if _e147 {
+                                                    phi_103145_ = true;
+                                                    break;
+                                                }
+                                                let _e211 = ((((_e62 + (_e187.member_1 / _e65)) * _e49) + _e60) + (_e187.member_1 % _e65));
+                                                if (_e211 < _e26) {
+                                                } else {
+                                                    phi_103145_ = true;
+                                                    break;
+                                                }
+                                                let _e215 = surface_group_features.values[_e211];
+                                                let _e217 = local_45;
+                                                if (_e217 > _e187.member_1) {
+                                                    if (_e161.id != _e215.id) {
+                                                        phi_6369_ = false;
+                                                    } else {
+                                                        if (_e161.id == 4294967295u) {
+                                                            phi_6368_ = true;
+                                                        } else {
+                                                            let _e375 = surface_group_thresholds.values[0u].depth_relative;
+                                                            if (abs((_e161.depth - _e215.depth)) <= (_e375 * select(_e215.depth, _e161.depth, (_e161.depth > _e215.depth)))) {
+                                                                if (_e161.normal == _e215.normal) {
+                                                                    phi_6366_ = true;
+                                                                } else {
+                                                                    let _e388 = (f32((bitcast<i32>(((_e161.normal & 65535u) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                                                    let _e390 = select(_e388, -1f, (_e388 < -1f));
+                                                                    let _e399 = (f32((bitcast<i32>(((_e161.normal >> bitcast<u32>(16i)) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                                                    let _e401 = select(_e399, -1f, (_e399 < -1f));
+                                                                    let _e403 = (1f - abs(_e390));
+                                                                    let _e404 = abs(_e401);
+                                                                    let _e405 = (_e403 - _e404);
+                                                                    if (_e405 < 0f) {
+                                                                        phi_6271_ = ((1f - _e404) * select(1f, -1f, (_e390 < 0f)));
+                                                                        phi_6272_ = (_e403 * select(1f, -1f, (_e401 < 0f)));
+                                                                    } else {
+                                                                        phi_6271_ = _e390;
+                                                                        phi_6272_ = _e401;
+                                                                    }
+                                                                    let _e415 = phi_6271_;
+                                                                    let _e417 = phi_6272_;
+                                                                    let _e423 = sqrt((((_e415 * _e415) + (_e417 * _e417)) + (_e405 * _e405)));
+                                                                    if (_e423 > 0f) {
+                                                                        phi_6287_ = vec3<f32>((_e415 / _e423), (_e417 / _e423), (_e405 / _e423));
+                                                                    } else {
+                                                                        phi_6287_ = vec3<f32>(0f, 0f, 1f);
+                                                                    }
+                                                                    let _e430 = phi_6287_;
+                                                                    let _e438 = (f32((bitcast<i32>(((_e215.normal & 65535u) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                                                    let _e440 = select(_e438, -1f, (_e438 < -1f));
+                                                                    let _e449 = (f32((bitcast<i32>(((_e215.normal >> bitcast<u32>(16i)) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                                                    let _e451 = select(_e449, -1f, (_e449 < -1f));
+                                                                    let _e453 = (1f - abs(_e440));
+                                                                    let _e454 = abs(_e451);
+                                                                    let _e455 = (_e453 - _e454);
+                                                                    if (_e455 < 0f) {
+                                                                        phi_6335_ = ((1f - _e454) * select(1f, -1f, (_e440 < 0f)));
+                                                                        phi_6336_ = (_e453 * select(1f, -1f, (_e451 < 0f)));
+                                                                    } else {
+                                                                        phi_6335_ = _e440;
+                                                                        phi_6336_ = _e451;
+                                                                    }
+                                                                    let _e465 = phi_6335_;
+                                                                    let _e467 = phi_6336_;
+                                                                    let _e473 = sqrt((((_e465 * _e465) + (_e467 * _e467)) + (_e455 * _e455)));
+                                                                    if (_e473 > 0f) {
+                                                                        phi_6351_ = vec3<f32>((_e465 / _e473), (_e467 / _e473), (_e455 / _e473));
+                                                                    } else {
+                                                                        phi_6351_ = vec3<f32>(0f, 0f, 1f);
+                                                                    }
+                                                                    let _e480 = phi_6351_;
+                                                                    let _e495 = surface_group_thresholds.values[0u].normal_cos;
+                                                                    phi_6366_ = ((((_e430.x * _e480.x) + (_e430.y * _e480.y)) + (_e430.z * _e480.z)) >= _e495);
+                                                                }
+                                                                let _e498 = phi_6366_;
+                                                                phi_6367_ = _e498;
+                                                            } else {
+                                                                phi_6367_ = false;
+                                                            }
+                                                            let _e500 = phi_6367_;
+                                                            phi_6368_ = _e500;
+                                                        }
+                                                        let _e502 = phi_6368_;
+                                                        phi_6369_ = _e502;
+                                                    }
+                                                    let _e504 = phi_6369_;
+                                                    phi_6553_ = _e504;
+                                                } else {
+                                                    if (_e215.id != _e161.id) {
+                                                        phi_6552_ = false;
+                                                    } else {
+                                                        if (_e215.id == 4294967295u) {
+                                                            phi_6551_ = true;
+                                                        } else {
+                                                            let _e232 = surface_group_thresholds.values[0u].depth_relative;
+                                                            if (abs((_e215.depth - _e161.depth)) <= (_e232 * select(_e161.depth, _e215.depth, (_e215.depth > _e161.depth)))) {
+                                                                if (_e215.normal == _e161.normal) {
+                                                                    phi_6549_ = true;
+                                                                } else {
+                                                                    let _e245 = (f32((bitcast<i32>(((_e215.normal & 65535u) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                                                    let _e247 = select(_e245, -1f, (_e245 < -1f));
+                                                                    let _e256 = (f32((bitcast<i32>(((_e215.normal >> bitcast<u32>(16i)) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                                                    let _e258 = select(_e256, -1f, (_e256 < -1f));
+                                                                    let _e260 = (1f - abs(_e247));
+                                                                    let _e261 = abs(_e258);
+                                                                    let _e262 = (_e260 - _e261);
+                                                                    if (_e262 < 0f) {
+                                                                        phi_6454_ = ((1f - _e261) * select(1f, -1f, (_e247 < 0f)));
+                                                                        phi_6455_ = (_e260 * select(1f, -1f, (_e258 < 0f)));
+                                                                    } else {
+                                                                        phi_6454_ = _e247;
+                                                                        phi_6455_ = _e258;
+                                                                    }
+                                                                    let _e272 = phi_6454_;
+                                                                    let _e274 = phi_6455_;
+                                                                    let _e280 = sqrt((((_e272 * _e272) + (_e274 * _e274)) + (_e262 * _e262)));
+                                                                    if (_e280 > 0f) {
+                                                                        phi_6470_ = vec3<f32>((_e272 / _e280), (_e274 / _e280), (_e262 / _e280));
+                                                                    } else {
+                                                                        phi_6470_ = vec3<f32>(0f, 0f, 1f);
+                                                                    }
+                                                                    let _e287 = phi_6470_;
+                                                                    let _e295 = (f32((bitcast<i32>(((_e161.normal & 65535u) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                                                    let _e297 = select(_e295, -1f, (_e295 < -1f));
+                                                                    let _e306 = (f32((bitcast<i32>(((_e161.normal >> bitcast<u32>(16i)) << bitcast<u32>(16i))) >> bitcast<u32>(16i))) * 0.00003051851f);
+                                                                    let _e308 = select(_e306, -1f, (_e306 < -1f));
+                                                                    let _e310 = (1f - abs(_e297));
+                                                                    let _e311 = abs(_e308);
+                                                                    let _e312 = (_e310 - _e311);
+                                                                    if (_e312 < 0f) {
+                                                                        phi_6518_ = ((1f - _e311) * select(1f, -1f, (_e297 < 0f)));
+                                                                        phi_6519_ = (_e310 * select(1f, -1f, (_e308 < 0f)));
+                                                                    } else {
+                                                                        phi_6518_ = _e297;
+                                                                        phi_6519_ = _e308;
+                                                                    }
+                                                                    let _e322 = phi_6518_;
+                                                                    let _e324 = phi_6519_;
+                                                                    let _e330 = sqrt((((_e322 * _e322) + (_e324 * _e324)) + (_e312 * _e312)));
+                                                                    if (_e330 > 0f) {
+                                                                        phi_6534_ = vec3<f32>((_e322 / _e330), (_e324 / _e330), (_e312 / _e330));
+                                                                    } else {
+                                                                        phi_6534_ = vec3<f32>(0f, 0f, 1f);
+                                                                    }
+                                                                    let _e337 = phi_6534_;
+                                                                    let _e352 = surface_group_thresholds.values[0u].normal_cos;
+                                                                    phi_6549_ = ((((_e287.x * _e337.x) + (_e287.y * _e337.y)) + (_e287.z * _e337.z)) >= _e352);
+                                                                }
+                                                                let _e355 = phi_6549_;
+                                                                phi_6550_ = _e355;
+                                                            } else {
+                                                                phi_6550_ = false;
+                                                            }
+                                                            let _e357 = phi_6550_;
+                                                            phi_6551_ = _e357;
+                                                        }
+                                                        let _e359 = phi_6551_;
+                                                        phi_6552_ = _e359;
+                                                    }
+                                                    let _e361 = phi_6552_;
+                                                    phi_6553_ = _e361;
+                                                }
+                                                let _e506 = phi_6553_;
+                                                if _e506 {
+                                                    if _e192 {
+                                                        phi_6570_ = type_12((_e172 | (1u << bitcast<u32>((_e187.member_1 & 31u)))), _e170);
+                                                    } else {
+                                                        phi_6570_ = type_12(_e172, (_e170 | (1u << bitcast<u32>(((_e187.member_1 - 32u) & 31u)))));
+                                                    }
+                                                    let _e519 = phi_6570_;
+                                                    if _e192 {
+                                                        phi_6586_ = type_12((_e168 | (1u << bitcast<u32>((_e187.member_1 & 31u)))), _e166);
+                                                    } else {
+                                                        phi_6586_ = type_12(_e168, (_e166 | (1u << bitcast<u32>(((_e187.member_1 - 32u) & 31u)))));
+                                                    }
+                                                    let _e534 = phi_6586_;
+                                                    phi_6590_ = _e534.member_1;
+                                                    phi_6591_ = _e534.member;
+                                                    phi_6592_ = _e519.member_1;
+                                                    phi_6593_ = _e519.member;
+                                                    phi_6594_ = (_e174 + 1u);
+                                                } else {
+                                                    phi_6590_ = _e166;
+                                                    phi_6591_ = _e168;
+                                                    phi_6592_ = _e170;
+                                                    phi_6593_ = _e172;
+                                                    phi_6594_ = _e174;
+                                                }
+                                                let _e539 = phi_6590_;
+                                                let _e541 = phi_6591_;
+                                                let _e543 = phi_6592_;
+                                                let _e545 = phi_6593_;
+                                                let _e547 = phi_6594_;
+                                                phi_6595_ = _e539;
+                                                phi_6596_ = _e541;
+                                                phi_6597_ = _e543;
+                                                phi_6598_ = _e545;
+                                                phi_6599_ = _e547;
+                                            }
+                                            let _e549 = phi_6595_;
+                                            let _e551 = phi_6596_;
+                                            let _e553 = phi_6597_;
+                                            let _e555 = phi_6598_;
+                                            let _e557 = phi_6599_;
+                                            phi_6105_ = _e549;
+                                            phi_6107_ = _e551;
+                                            phi_6109_ = _e553;
+                                            phi_6111_ = _e555;
+                                            phi_6113_ = _e557;
+                                        } else {
+                                            phi_6105_ = u32();
+                                            phi_6107_ = u32();
+                                            phi_6109_ = u32();
+                                            phi_6111_ = u32();
+                                            phi_6113_ = u32();
+                                        }
+                                        let _e559 = phi_6105_;
+                                        let _e561 = phi_6107_;
+                                        let _e563 = phi_6109_;
+                                        let _e565 = phi_6111_;
+                                        let _e567 = phi_6113_;
+                                        continue;
+                                        continuing {
+                                            phi_6101_ = _e185;
+                                            phi_6104_ = _e559;
+                                            phi_6106_ = _e561;
+                                            phi_6108_ = _e563;
+                                            phi_6110_ = _e565;
+                                            phi_6112_ = _e567;
+                                            phi_103145_ = _e89;
+                                            let _e729 = break_condition_26;
+                                            break if !(_e729);
+                                        }
+                                    }
+                                    let _e570 = phi_103145_;
+                                    phi_103197_ = _e570;
+                                    if _e570 {
+                                        break;
+                                    }
+                                    phi_103199_ = _e570;
+                                    let _e698 = local_49;
+                                    phi_6600_ = _e698;
+                                    let _e701 = local_50;
+                                    phi_6601_ = _e701;
+                                    let _e704 = local_51;
+                                    phi_6602_ = _e704;
+                                    let _e707 = local_52;
+                                    phi_6603_ = _e707;
+                                    let _e710 = local_53;
+                                    phi_6604_ = _e710;
+                                } else {
+                                    phi_103199_ = _e89;
+                                    phi_6600_ = u32();
+                                    phi_6601_ = u32();
+                                    phi_6602_ = u32();
+                                    phi_6603_ = u32();
+                                    phi_6604_ = u32();
+                                }
+                                let _e572 = phi_103199_;
+                                let _e574 = phi_6600_;
+                                let _e576 = phi_6601_;
+                                let _e578 = phi_6602_;
+                                let _e580 = phi_6603_;
+                                let _e582 = phi_6604_;
+                                phi_103198_ = _e572;
+                                phi_6012_ = _e574;
+                                phi_6015_ = _e576;
+                                phi_6017_ = _e578;
+                                phi_6019_ = _e580;
+                                phi_6021_ = _e582;
+                                phi_6605_ = _e102;
+                            }
+                            let _e584 = phi_103198_;
+                            let _e586 = phi_6012_;
+                            let _e588 = phi_6015_;
+                            let _e590 = phi_6017_;
+                            let _e592 = phi_6019_;
+                            let _e594 = phi_6021_;
+                            let _e596 = phi_6605_;
+                            break_condition_27 = _e596;
+                            continue;
+                            continuing {
+                                phi_103153_ = _e584;
+                                phi_6011_ = _e586;
+                                phi_6014_ = _e588;
+                                phi_6016_ = _e590;
+                                phi_6018_ = _e592;
+                                phi_6020_ = _e594;
+                                phi_103197_ = _e584;
+                                let _e732 = break_condition_27;
+                                break if !(_e732);
+                            }
+                        }
+                        let _e599 = phi_103197_;
+                        if _e599 {
+                            break;
+                        }
+                        phi_6610_ = 0u;
+                        loop {
+                            let _e601 = phi_6610_;
+                            local_48 = _e601;
+                            if (_e601 < 32u) {
+                                let _e615 = local_47;
+                                phi_6628_ = ((_e615 & (1u << bitcast<u32>((_e601 & 31u)))) != 0u);
+                            } else {
+                                let _e608 = local_46;
+                                phi_6628_ = ((_e608 & (1u << bitcast<u32>(((_e601 - 32u) & 31u)))) != 0u);
+                            }
+                            let _e619 = phi_6628_;
+                            if _e619 {
+                                phi_6611_ = u32();
+                            } else {
+                                phi_6611_ = (_e601 + 1u);
+                            }
+                            let _e622 = phi_6611_;
+                            let _e623 = select(true, false, _e619);
+                            break_condition_28 = _e623;
+                            continue;
+                            continuing {
+                                phi_6610_ = _e622;
+                                let _e735 = break_condition_28;
+                                break if !(_e735);
+                            }
+                        }
+                        if (_e34 < arrayLength((&surface_group_groups.values))) {
+                        } else {
+                            break;
+                        }
+                        let _e629 = local_48;
+                        surface_group_groups.values[_e34] = _e629;
+                    }
+                }
+            }
+            break;
+        }
+    }
+    return;
+}
+
+fn function_9() {
     var phi_6744_: i32;
     var phi_6765_: i32;
     var phi_6800_: bool;
@@ -2809,9 +3447,9 @@ fn function_8() {
     var phi_7055_: u32;
     var phi_7056_: u32;
     var phi_103200_: bool;
-    var local_40: u32;
+    var local_54: u32;
     var phi_7095_: u32;
-    var break_condition_25: bool;
+    var break_condition_29: bool;
 
     switch bitcast<i32>(0u) {
         default: {
@@ -2821,11 +3459,11 @@ fn function_8() {
             let _e53 = arrayLength((&sort_features_seeds_in_or_retarget_features_seeds_in_or_recycle_seeds_in.values));
             let _e55 = arrayLength((&sort_features_seeds_out_or_retarget_features_seeds_out_or_recycle_seeds_out.values));
             let _e59 = ((_e43.y * 4194240u) + _e43.x);
-            let _e62 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
-            let _e65 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            let _e62 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e65 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
             if (_e59 < (_e62 * _e65)) {
-                let _e70 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.frame;
-                let _e73 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.tile_log2_;
+                let _e70 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.frame;
+                let _e73 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.tile_log2_;
                 let _e77 = (((32u - _e73) & 31u) & 31u);
                 if (0u < arrayLength((&retarget_features_thresholds.values))) {
                 } else {
@@ -2893,16 +3531,16 @@ fn function_8() {
                     break;
                 }
                 let _e139 = (_e137 / _e62);
-                let _e142 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.width;
+                let _e142 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.width;
                 if (_e85 < _e142) {
-                    let _e146 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.height;
+                    let _e146 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
                     phi_6800_ = (_e86 < _e146);
                 } else {
                     phi_6800_ = false;
                 }
                 let _e149 = phi_6800_;
                 if (_e138 < _e142) {
-                    let _e153 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.height;
+                    let _e153 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
                     phi_6810_ = (_e139 < _e153);
                 } else {
                     phi_6810_ = false;
@@ -3021,9 +3659,9 @@ fn function_8() {
                     phi_7055_ = _e345;
                     loop {
                         let _e347 = phi_7055_;
-                        local_40 = _e347;
+                        local_54 = _e347;
                         let _e349 = ((_e347 & 2147483648u) == 0u);
-                        break_condition_25 = _e349;
+                        break_condition_29 = _e349;
                         if _e349 {
                             if (_e347 < _e47) {
                             } else {
@@ -3040,7 +3678,7 @@ fn function_8() {
                         continuing {
                             phi_7055_ = _e355;
                             phi_103200_ = false;
-                            let _e409 = break_condition_25;
+                            let _e409 = break_condition_29;
                             break if !(_e409);
                         }
                     }
@@ -3048,7 +3686,7 @@ fn function_8() {
                     if _e358 {
                         break;
                     }
-                    let _e360 = local_40;
+                    let _e360 = local_54;
                     let _e361 = (_e360 & 2147483647u);
                     if (_e59 < _e53) {
                     } else {
@@ -3087,13 +3725,586 @@ fn function_8() {
     return;
 }
 
-fn function_9() {
-    var local_41: array<u32, 64>;
-    var local_42: array<u32, 64>;
-    var local_43: array<u32, 64>;
-    var local_44: array<u32, 64>;
-    var local_45: array<u32, 64>;
-    var local_46: array<u32, 64>;
+fn function_10() {
+    var phi_7230_: u32;
+    var phi_103232_: bool;
+    var phi_7244_: type_12;
+    var phi_7247_: u32;
+    var phi_7245_: type_12;
+    var phi_7270_: type_12;
+    var phi_7290_: type_12;
+    var phi_7293_: u32;
+    var phi_7291_: type_12;
+    var phi_7316_: type_12;
+    var phi_7340_: u32;
+    var phi_7395_: bool;
+    var phi_7384_: bool;
+    var phi_7385_: bool;
+    var phi_7397_: bool;
+    var phi_7398_: bool;
+    var phi_7364_: bool;
+    var phi_7365_: bool;
+    var phi_7400_: bool;
+    var phi_7401_: bool;
+    var phi_7411_: u32;
+    var phi_7294_: u32;
+    var phi_103227_: bool;
+    var phi_103249_: bool;
+    var phi_7248_: u32;
+    var phi_103248_: bool;
+    var local_55: u32;
+    var local_56: u32;
+    var phi_7446_: bool;
+    var local_57: u32;
+    var break_condition_30: bool;
+    var break_condition_31: bool;
+
+    switch bitcast<i32>(0u) {
+        default: {
+            let _e16 = global;
+            let _e18 = arrayLength((&sort_rank_intensity_or_sort_features_intensity_or_sort_rank_features_intensity_or_sort_intensity.values));
+            let _e20 = arrayLength((&sort_rank_features_groups_or_sort_gather_features_groups.values));
+            let _e22 = arrayLength((&sort_rank_features_seeds_in_or_sort_seeds_in_or_take_seed_seeds_in_or_take_seeds_in.values));
+            let _e24 = arrayLength((&sort_rank_features_ranked.values));
+            let _e28 = ((_e16.y * 4194240u) + _e16.x);
+            let _e31 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e34 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            if (_e28 < (_e31 * _e34)) {
+                let _e37 = (_e31 == 0u);
+                if _e37 {
+                    break;
+                }
+                let _e38 = (_e28 % _e31);
+                if _e37 {
+                    break;
+                }
+                let _e39 = (_e28 / _e31);
+                let _e42 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.width;
+                if (_e38 >= _e42) {
+                    phi_7446_ = true;
+                } else {
+                    let _e46 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
+                    let _e47 = (_e39 >= _e46);
+                    if _e47 {
+                    } else {
+                        let _e50 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.block;
+                        let _e51 = (_e50 == 0u);
+                        if _e51 {
+                            break;
+                        }
+                        let _e53 = (_e38 - (_e38 % _e50));
+                        if _e51 {
+                            break;
+                        }
+                        let _e55 = (_e39 - (_e39 % _e50));
+                        let _e56 = (_e42 - _e53);
+                        let _e58 = select(_e50, _e56, (_e56 < _e50));
+                        let _e59 = (_e46 - _e55);
+                        let _e63 = ((_e39 * _e42) + _e38);
+                        if (_e63 < _e18) {
+                        } else {
+                            break;
+                        }
+                        let _e67 = sort_rank_intensity_or_sort_features_intensity_or_sort_rank_features_intensity_or_sort_intensity.values[_e63];
+                        let _e68 = bitcast<u32>(_e67);
+                        if ((_e68 & 2147483648u) == 0u) {
+                            phi_7230_ = (_e68 | 2147483648u);
+                        } else {
+                            phi_7230_ = ~(_e68);
+                        }
+                        let _e74 = phi_7230_;
+                        if (_e28 < _e20) {
+                        } else {
+                            break;
+                        }
+                        let _e78 = sort_rank_features_groups_or_sort_gather_features_groups.values[_e28];
+                        phi_103232_ = false;
+                        phi_7244_ = type_12(0u, select(_e50, _e59, (_e59 < _e50)));
+                        phi_7247_ = 0u;
+                        loop {
+                            let _e85 = phi_103232_;
+                            let _e87 = phi_7244_;
+                            let _e89 = phi_7247_;
+                            local_55 = _e89;
+                            local_56 = _e89;
+                            if (_e87.member < _e87.member_1) {
+                                phi_7245_ = type_12((_e87.member + 1u), _e87.member_1);
+                                phi_7270_ = type_12(1u, _e87.member);
+                            } else {
+                                phi_7245_ = _e87;
+                                phi_7270_ = type_12(0u, type_12().member_1);
+                            }
+                            let _e100 = phi_7245_;
+                            let _e102 = phi_7270_;
+                            let _e106 = (bitcast<i32>(_e102.member) != 0i);
+                            break_condition_31 = _e106;
+                            if _e106 {
+                                let _e107 = (_e55 + _e102.member_1);
+                                phi_7290_ = type_12(0u, _e58);
+                                phi_7293_ = _e89;
+                                loop {
+                                    let _e114 = phi_7290_;
+                                    let _e116 = phi_7293_;
+                                    local_57 = _e116;
+                                    if (_e114.member < _e114.member_1) {
+                                        phi_7291_ = type_12((_e114.member + 1u), _e114.member_1);
+                                        phi_7316_ = type_12(1u, _e114.member);
+                                    } else {
+                                        phi_7291_ = _e114;
+                                        phi_7316_ = type_12(0u, type_12().member_1);
+                                    }
+                                    let _e127 = phi_7291_;
+                                    let _e129 = phi_7316_;
+                                    let _e133 = (bitcast<i32>(_e129.member) != 0i);
+                                    break_condition_30 = _e133;
+                                    if _e133 {
+                                        let _e134 = (((_e107 * _e42) + _e53) + _e129.member_1);
+                                        if (_e134 < _e18) {
+                                        } else {
+                                            phi_103227_ = true;
+                                            break;
+                                        }
+                                        let _e138 = sort_rank_intensity_or_sort_features_intensity_or_sort_rank_features_intensity_or_sort_intensity.values[_e134];
+                                        let _e139 = bitcast<u32>(_e138);
+                                        if ((_e139 & 2147483648u) == 0u) {
+                                            phi_7340_ = (_e139 | 2147483648u);
+                                        } else {
+                                            phi_7340_ = ~(_e139);
+                                        }
+                                        let _e145 = phi_7340_;
+                                        let _e146 = (((_e107 * _e31) + _e53) + _e129.member_1);
+                                        if (_e146 < _e20) {
+                                        } else {
+                                            phi_103227_ = true;
+                                            break;
+                                        }
+                                        let _e150 = sort_rank_features_groups_or_sort_gather_features_groups.values[_e146];
+                                        let _e154 = (_e150 < _e78);
+                                        if (_e145 < _e74) {
+                                            if _e154 {
+                                                phi_7364_ = false;
+                                                phi_7365_ = false;
+                                            } else {
+                                                let _e172 = (_e150 == _e78);
+                                                phi_7364_ = _e172;
+                                                phi_7365_ = select(true, false, _e172);
+                                            }
+                                            let _e175 = phi_7364_;
+                                            let _e177 = phi_7365_;
+                                            phi_7400_ = _e175;
+                                            phi_7401_ = _e177;
+                                        } else {
+                                            if (_e145 == _e74) {
+                                                if _e154 {
+                                                    phi_7384_ = false;
+                                                    phi_7385_ = false;
+                                                } else {
+                                                    let _e161 = (_e150 == _e78);
+                                                    phi_7384_ = select(false, (((_e102.member_1 * _e58) + _e129.member_1) < (((_e39 - _e55) * _e58) + (_e38 - _e53))), _e161);
+                                                    phi_7385_ = select(true, false, _e161);
+                                                }
+                                                let _e165 = phi_7384_;
+                                                let _e167 = phi_7385_;
+                                                phi_7397_ = _e165;
+                                                phi_7398_ = _e167;
+                                            } else {
+                                                if _e154 {
+                                                    phi_7395_ = false;
+                                                } else {
+                                                    phi_7395_ = select(true, false, (_e150 == _e78));
+                                                }
+                                                let _e159 = phi_7395_;
+                                                phi_7397_ = false;
+                                                phi_7398_ = _e159;
+                                            }
+                                            let _e169 = phi_7397_;
+                                            let _e171 = phi_7398_;
+                                            phi_7400_ = _e169;
+                                            phi_7401_ = _e171;
+                                        }
+                                        let _e179 = phi_7400_;
+                                        let _e181 = phi_7401_;
+                                        let _e182 = select(_e179, true, _e154);
+                                        if _e182 {
+                                            phi_7411_ = (_e116 + 1u);
+                                        } else {
+                                            phi_7411_ = _e116;
+                                        }
+                                        let _e186 = phi_7411_;
+                                        phi_7294_ = select(_e186, _e116, select(select(_e181, false, _e154), false, _e182));
+                                    } else {
+                                        phi_7294_ = u32();
+                                    }
+                                    let _e190 = phi_7294_;
+                                    continue;
+                                    continuing {
+                                        phi_7290_ = _e127;
+                                        phi_7293_ = _e190;
+                                        phi_103227_ = _e85;
+                                        let _e260 = break_condition_30;
+                                        break if !(_e260);
+                                    }
+                                }
+                                let _e193 = phi_103227_;
+                                phi_103248_ = _e193;
+                                if _e193 {
+                                    break;
+                                }
+                                phi_103249_ = _e193;
+                                let _e254 = local_57;
+                                phi_7248_ = _e254;
+                            } else {
+                                phi_103249_ = _e85;
+                                phi_7248_ = u32();
+                            }
+                            let _e195 = phi_103249_;
+                            let _e197 = phi_7248_;
+                            continue;
+                            continuing {
+                                phi_103232_ = _e195;
+                                phi_7244_ = _e100;
+                                phi_7247_ = _e197;
+                                phi_103248_ = _e195;
+                                let _e263 = break_condition_31;
+                                break if !(_e263);
+                            }
+                        }
+                        let _e200 = phi_103248_;
+                        if _e200 {
+                            break;
+                        }
+                        if (_e28 < _e22) {
+                        } else {
+                            break;
+                        }
+                        let _e204 = sort_rank_features_seeds_in_or_sort_seeds_in_or_take_seed_seeds_in_or_take_seeds_in.values[_e28];
+                        let _e205 = (_e58 == 0u);
+                        if _e205 {
+                            break;
+                        }
+                        let _e207 = local_55;
+                        if _e205 {
+                            break;
+                        }
+                        let _e213 = local_56;
+                        let _e215 = ((((_e55 + (_e207 / _e58)) * _e31) + _e53) + (_e213 % _e58));
+                        if (_e215 < _e24) {
+                        } else {
+                            break;
+                        }
+                        sort_rank_features_ranked.values[_e215] = _e204;
+                    }
+                    phi_7446_ = _e47;
+                }
+                let _e220 = phi_7446_;
+                if _e220 {
+                    if (_e28 < _e22) {
+                    } else {
+                        break;
+                    }
+                    let _e224 = sort_rank_features_seeds_in_or_sort_seeds_in_or_take_seed_seeds_in_or_take_seeds_in.values[_e28];
+                    if (_e28 < _e24) {
+                    } else {
+                        break;
+                    }
+                    sort_rank_features_ranked.values[_e28] = _e224;
+                }
+            }
+            break;
+        }
+    }
+    return;
+}
+
+fn function_11() {
+    var phi_103255_: bool;
+    var phi_7603_: type_12;
+    var phi_7606_: u32;
+    var phi_7604_: type_12;
+    var phi_7629_: type_12;
+    var phi_7644_: type_12;
+    var phi_7647_: u32;
+    var phi_7645_: type_12;
+    var phi_7670_: type_12;
+    var phi_7753_: bool;
+    var phi_7742_: bool;
+    var phi_7743_: bool;
+    var phi_7755_: bool;
+    var phi_7756_: bool;
+    var phi_7722_: bool;
+    var phi_7723_: bool;
+    var phi_7758_: bool;
+    var phi_7759_: bool;
+    var phi_7769_: u32;
+    var phi_7648_: u32;
+    var phi_103250_: bool;
+    var phi_103270_: bool;
+    var phi_7607_: u32;
+    var phi_103269_: bool;
+    var local_58: u32;
+    var local_59: u32;
+    var phi_7804_: bool;
+    var local_60: u32;
+    var break_condition_32: bool;
+    var break_condition_33: bool;
+
+    switch bitcast<i32>(0u) {
+        default: {
+            let _e19 = global;
+            let _e21 = arrayLength((&sort_gather_tile_or_sort_gather_features_tile_or_spatiotemporal_tile.values));
+            let _e23 = arrayLength((&sort_rank_features_groups_or_sort_gather_features_groups.values));
+            let _e25 = arrayLength((&sort_gather_features_ranked.values));
+            let _e27 = arrayLength((&sort_gather_features_seeds_out_or_sort_seeds_out_or_take_seed_seeds_out_or_take_seeds_out.values));
+            let _e31 = ((_e19.y * 4194240u) + _e19.x);
+            let _e34 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e37 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            if (_e31 < (_e34 * _e37)) {
+                let _e42 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.frame;
+                let _e45 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.tile_log2_;
+                let _e49 = (((32u - _e45) & 31u) & 31u);
+                let _e51 = ((_e42 * 3242174889u) >> bitcast<u32>(_e49));
+                let _e54 = ((_e42 * 2447445414u) >> bitcast<u32>(_e49));
+                let _e55 = (_e34 == 0u);
+                if _e55 {
+                    break;
+                }
+                let _e56 = (_e31 % _e34);
+                if _e55 {
+                    break;
+                }
+                let _e57 = (_e31 / _e34);
+                let _e60 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.width;
+                if (_e56 >= _e60) {
+                    phi_7804_ = true;
+                } else {
+                    let _e64 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
+                    let _e65 = (_e57 >= _e64);
+                    if _e65 {
+                    } else {
+                        let _e68 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.block;
+                        let _e69 = (_e68 == 0u);
+                        if _e69 {
+                            break;
+                        }
+                        let _e71 = (_e56 - (_e56 % _e68));
+                        if _e69 {
+                            break;
+                        }
+                        let _e73 = (_e57 - (_e57 % _e68));
+                        let _e74 = (_e60 - _e71);
+                        let _e76 = select(_e68, _e74, (_e74 < _e68));
+                        let _e77 = (_e64 - _e73);
+                        let _e80 = (_e45 & 31u);
+                        let _e83 = ((1u << bitcast<u32>(_e80)) - 1u);
+                        let _e90 = ((((_e57 + _e54) & _e83) << bitcast<u32>(_e80)) | ((_e56 + _e51) & _e83));
+                        if (_e90 < _e21) {
+                        } else {
+                            break;
+                        }
+                        let _e94 = sort_gather_tile_or_sort_gather_features_tile_or_spatiotemporal_tile.values[_e90];
+                        if (_e31 < _e23) {
+                        } else {
+                            break;
+                        }
+                        let _e98 = sort_rank_features_groups_or_sort_gather_features_groups.values[_e31];
+                        phi_103255_ = false;
+                        phi_7603_ = type_12(0u, select(_e68, _e77, (_e77 < _e68)));
+                        phi_7606_ = 0u;
+                        loop {
+                            let _e105 = phi_103255_;
+                            let _e107 = phi_7603_;
+                            let _e109 = phi_7606_;
+                            local_58 = _e109;
+                            local_59 = _e109;
+                            if (_e107.member < _e107.member_1) {
+                                phi_7604_ = type_12((_e107.member + 1u), _e107.member_1);
+                                phi_7629_ = type_12(1u, _e107.member);
+                            } else {
+                                phi_7604_ = _e107;
+                                phi_7629_ = type_12(0u, type_12().member_1);
+                            }
+                            let _e120 = phi_7604_;
+                            let _e122 = phi_7629_;
+                            let _e126 = (bitcast<i32>(_e122.member) != 0i);
+                            break_condition_33 = _e126;
+                            if _e126 {
+                                let _e127 = (_e73 + _e122.member_1);
+                                phi_7644_ = type_12(0u, _e76);
+                                phi_7647_ = _e109;
+                                loop {
+                                    let _e132 = phi_7644_;
+                                    let _e134 = phi_7647_;
+                                    local_60 = _e134;
+                                    if (_e132.member < _e132.member_1) {
+                                        phi_7645_ = type_12((_e132.member + 1u), _e132.member_1);
+                                        phi_7670_ = type_12(1u, _e132.member);
+                                    } else {
+                                        phi_7645_ = _e132;
+                                        phi_7670_ = type_12(0u, type_12().member_1);
+                                    }
+                                    let _e145 = phi_7645_;
+                                    let _e147 = phi_7670_;
+                                    let _e151 = (bitcast<i32>(_e147.member) != 0i);
+                                    break_condition_32 = _e151;
+                                    if _e151 {
+                                        let _e159 = ((((_e127 + _e54) & _e83) << bitcast<u32>(_e80)) | (((_e71 + _e147.member_1) + _e51) & _e83));
+                                        if (_e159 < _e21) {
+                                        } else {
+                                            phi_103250_ = true;
+                                            break;
+                                        }
+                                        let _e163 = sort_gather_tile_or_sort_gather_features_tile_or_spatiotemporal_tile.values[_e159];
+                                        let _e164 = (((_e127 * _e34) + _e71) + _e147.member_1);
+                                        if (_e164 < _e23) {
+                                        } else {
+                                            phi_103250_ = true;
+                                            break;
+                                        }
+                                        let _e168 = sort_rank_features_groups_or_sort_gather_features_groups.values[_e164];
+                                        let _e172 = (_e168 < _e98);
+                                        if (_e163 < _e94) {
+                                            if _e172 {
+                                                phi_7722_ = false;
+                                                phi_7723_ = false;
+                                            } else {
+                                                let _e190 = (_e168 == _e98);
+                                                phi_7722_ = _e190;
+                                                phi_7723_ = select(true, false, _e190);
+                                            }
+                                            let _e193 = phi_7722_;
+                                            let _e195 = phi_7723_;
+                                            phi_7758_ = _e193;
+                                            phi_7759_ = _e195;
+                                        } else {
+                                            if (_e163 == _e94) {
+                                                if _e172 {
+                                                    phi_7742_ = false;
+                                                    phi_7743_ = false;
+                                                } else {
+                                                    let _e179 = (_e168 == _e98);
+                                                    phi_7742_ = select(false, (((_e122.member_1 * _e76) + _e147.member_1) < (((_e57 - _e73) * _e76) + (_e56 - _e71))), _e179);
+                                                    phi_7743_ = select(true, false, _e179);
+                                                }
+                                                let _e183 = phi_7742_;
+                                                let _e185 = phi_7743_;
+                                                phi_7755_ = _e183;
+                                                phi_7756_ = _e185;
+                                            } else {
+                                                if _e172 {
+                                                    phi_7753_ = false;
+                                                } else {
+                                                    phi_7753_ = select(true, false, (_e168 == _e98));
+                                                }
+                                                let _e177 = phi_7753_;
+                                                phi_7755_ = false;
+                                                phi_7756_ = _e177;
+                                            }
+                                            let _e187 = phi_7755_;
+                                            let _e189 = phi_7756_;
+                                            phi_7758_ = _e187;
+                                            phi_7759_ = _e189;
+                                        }
+                                        let _e197 = phi_7758_;
+                                        let _e199 = phi_7759_;
+                                        let _e200 = select(_e197, true, _e172);
+                                        if _e200 {
+                                            phi_7769_ = (_e134 + 1u);
+                                        } else {
+                                            phi_7769_ = _e134;
+                                        }
+                                        let _e204 = phi_7769_;
+                                        phi_7648_ = select(_e204, _e134, select(select(_e199, false, _e172), false, _e200));
+                                    } else {
+                                        phi_7648_ = u32();
+                                    }
+                                    let _e208 = phi_7648_;
+                                    continue;
+                                    continuing {
+                                        phi_7644_ = _e145;
+                                        phi_7647_ = _e208;
+                                        phi_103250_ = _e105;
+                                        let _e276 = break_condition_32;
+                                        break if !(_e276);
+                                    }
+                                }
+                                let _e211 = phi_103250_;
+                                phi_103269_ = _e211;
+                                if _e211 {
+                                    break;
+                                }
+                                phi_103270_ = _e211;
+                                let _e270 = local_60;
+                                phi_7607_ = _e270;
+                            } else {
+                                phi_103270_ = _e105;
+                                phi_7607_ = u32();
+                            }
+                            let _e213 = phi_103270_;
+                            let _e215 = phi_7607_;
+                            continue;
+                            continuing {
+                                phi_103255_ = _e213;
+                                phi_7603_ = _e120;
+                                phi_7606_ = _e215;
+                                phi_103269_ = _e213;
+                                let _e279 = break_condition_33;
+                                break if !(_e279);
+                            }
+                        }
+                        let _e218 = phi_103269_;
+                        if _e218 {
+                            break;
+                        }
+                        let _e219 = (_e76 == 0u);
+                        if _e219 {
+                            break;
+                        }
+                        let _e221 = local_58;
+                        if _e219 {
+                            break;
+                        }
+                        let _e227 = local_59;
+                        let _e229 = ((((_e73 + (_e221 / _e76)) * _e34) + _e71) + (_e227 % _e76));
+                        if (_e229 < _e25) {
+                        } else {
+                            break;
+                        }
+                        let _e233 = sort_gather_features_ranked.values[_e229];
+                        if (_e31 < _e27) {
+                        } else {
+                            break;
+                        }
+                        sort_gather_features_seeds_out_or_sort_seeds_out_or_take_seed_seeds_out_or_take_seeds_out.values[_e31] = _e233;
+                    }
+                    phi_7804_ = _e65;
+                }
+                let _e238 = phi_7804_;
+                if _e238 {
+                    if (_e31 < _e25) {
+                    } else {
+                        break;
+                    }
+                    let _e242 = sort_gather_features_ranked.values[_e31];
+                    if (_e31 < _e27) {
+                    } else {
+                        break;
+                    }
+                    sort_gather_features_seeds_out_or_sort_seeds_out_or_take_seed_seeds_out_or_take_seeds_out.values[_e31] = _e242;
+                }
+            }
+            break;
+        }
+    }
+    return;
+}
+
+fn function_12() {
+    var local_61: array<u32, 64>;
+    var local_62: array<u32, 64>;
+    var local_63: array<u32, 64>;
+    var local_64: array<u32, 64>;
+    var local_65: array<u32, 64>;
+    var local_66: array<u32, 64>;
     var phi_7857_: u32;
     var phi_7881_: u32;
     var phi_103276_: bool;
@@ -3116,8 +4327,8 @@ fn function_9() {
     var phi_103286_: bool;
     var phi_7923_: u32;
     var phi_103285_: bool;
-    var local_47: u32;
-    var local_48: u32;
+    var local_67: u32;
+    var local_68: u32;
     var phi_103292_: bool;
     var phi_8122_: type_12;
     var phi_8123_: type_12;
@@ -3131,8 +4342,8 @@ fn function_9() {
     var phi_8222_: u32;
     var phi_8167_: u32;
     var phi_103287_: bool;
-    var local_49: u32;
-    var local_50: u32;
+    var local_69: u32;
+    var local_70: u32;
     var phi_103298_: bool;
     var phi_103297_: bool;
     var phi_103304_: bool;
@@ -3148,31 +4359,31 @@ fn function_9() {
     var phi_8331_: u32;
     var phi_8276_: u32;
     var phi_103299_: bool;
-    var local_51: u32;
-    var local_52: u32;
+    var local_71: u32;
+    var local_72: u32;
     var phi_103309_: bool;
     var phi_103308_: bool;
-    var local_53: u32;
+    var local_73: u32;
     var phi_8354_: type_12;
     var phi_8355_: type_12;
     var phi_8378_: type_12;
     var phi_103310_: bool;
-    var local_54: u32;
-    var break_condition_26: bool;
-    var break_condition_27: bool;
-    var break_condition_28: bool;
-    var break_condition_29: bool;
-    var break_condition_30: bool;
-    var break_condition_31: bool;
-    var break_condition_32: bool;
+    var local_74: u32;
+    var break_condition_34: bool;
+    var break_condition_35: bool;
+    var break_condition_36: bool;
+    var break_condition_37: bool;
+    var break_condition_38: bool;
+    var break_condition_39: bool;
+    var break_condition_40: bool;
 
     switch bitcast<i32>(0u) {
         default: {
             let _e28 = global;
-            let _e34 = arrayLength((&sort_seeds_in_or_take_seeds_in.values));
-            let _e36 = arrayLength((&sort_seeds_out_or_take_seeds_out.values));
-            let _e39 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
-            let _e42 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.block;
+            let _e34 = arrayLength((&sort_rank_features_seeds_in_or_sort_seeds_in_or_take_seed_seeds_in_or_take_seeds_in.values));
+            let _e36 = arrayLength((&sort_gather_features_seeds_out_or_sort_seeds_out_or_take_seed_seeds_out_or_take_seeds_out.values));
+            let _e39 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e42 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.block;
             let _e43 = (_e42 == 0u);
             if _e43 {
                 break;
@@ -3188,7 +4399,7 @@ fn function_9() {
             }
             let _e49 = phi_7857_;
             let _e53 = ((_e28.y * 4194240u) + _e28.x);
-            let _e56 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            let _e56 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
             if _e43 {
                 break;
             }
@@ -3210,13 +4421,13 @@ fn function_9() {
                 if _e65 {
                     break;
                 }
-                let _e70 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.frame;
-                let _e73 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.tile_log2_;
+                let _e70 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.frame;
+                let _e73 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.tile_log2_;
                 let _e77 = (((32u - _e73) & 31u) & 31u);
-                local_42 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-                local_43 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-                local_44 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-                local_45 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                local_62 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                local_63 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                local_64 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                local_65 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
                 let _e85 = type_12(0u, _e42);
                 phi_103276_ = false;
                 phi_7919_ = _e85;
@@ -3225,9 +4436,9 @@ fn function_9() {
                     let _e87 = phi_103276_;
                     let _e89 = phi_7919_;
                     let _e91 = phi_7922_;
-                    local_47 = _e91;
-                    local_48 = _e91;
-                    local_53 = _e91;
+                    local_67 = _e91;
+                    local_68 = _e91;
+                    local_73 = _e91;
                     if (_e89.member < _e89.member_1) {
                         phi_7920_ = type_12((_e89.member + 1u), _e89.member_1);
                         phi_7945_ = type_12(1u, _e89.member);
@@ -3238,14 +4449,14 @@ fn function_9() {
                     let _e102 = phi_7920_;
                     let _e104 = phi_7945_;
                     let _e108 = (bitcast<i32>(_e104.member) != 0i);
-                    break_condition_27 = _e108;
+                    break_condition_35 = _e108;
                     if _e108 {
                         phi_7957_ = _e85;
                         phi_7960_ = _e91;
                         loop {
                             let _e110 = phi_7957_;
                             let _e112 = phi_7960_;
-                            local_54 = _e112;
+                            local_74 = _e112;
                             if (_e110.member < _e110.member_1) {
                                 phi_7958_ = type_12((_e110.member + 1u), _e110.member_1);
                                 phi_7983_ = type_12(1u, _e110.member);
@@ -3256,25 +4467,25 @@ fn function_9() {
                             let _e123 = phi_7958_;
                             let _e125 = phi_7983_;
                             let _e129 = (bitcast<i32>(_e125.member) != 0i);
-                            break_condition_26 = _e129;
+                            break_condition_34 = _e129;
                             if _e129 {
                                 let _e130 = (((_e53 % _e49) * _e42) + _e125.member_1);
                                 let _e131 = (((_e53 / _e49) * _e42) + _e104.member_1);
                                 if (_e130 < _e39) {
                                     if (_e131 < _e56) {
                                         let _e135 = ((_e131 * _e39) + _e130);
-                                        let _e138 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.width;
+                                        let _e138 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.width;
                                         if (_e130 < _e138) {
-                                            let _e142 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.height;
+                                            let _e142 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
                                             let _e143 = (_e131 < _e142);
                                             if _e143 {
                                                 let _e145 = ((_e131 * _e138) + _e130);
-                                                if (_e145 < arrayLength((&sort_rank_intensity_or_sort_features_intensity_or_sort_intensity.values))) {
+                                                if (_e145 < arrayLength((&sort_rank_intensity_or_sort_features_intensity_or_sort_rank_features_intensity_or_sort_intensity.values))) {
                                                 } else {
                                                     phi_103271_ = true;
                                                     break;
                                                 }
-                                                let _e149 = sort_rank_intensity_or_sort_features_intensity_or_sort_intensity.values[_e145];
+                                                let _e149 = sort_rank_intensity_or_sort_features_intensity_or_sort_rank_features_intensity_or_sort_intensity.values[_e145];
                                                 let _e150 = bitcast<u32>(_e149);
                                                 if ((_e150 & 2147483648u) == 0u) {
                                                     phi_8040_ = (_e150 | 2147483648u);
@@ -3288,7 +4499,7 @@ fn function_9() {
                                                     phi_103271_ = true;
                                                     break;
                                                 }
-                                                local_42[_e112] = _e156;
+                                                local_62[_e112] = _e156;
                                                 let _e159 = (_e73 & 31u);
                                                 let _e162 = ((1u << bitcast<u32>(_e159)) - 1u);
                                                 let _e169 = ((((_e131 + ((_e70 * 2447445414u) >> bitcast<u32>(_e77))) & _e162) << bitcast<u32>(_e159)) | ((_e130 + ((_e70 * 3242174889u) >> bitcast<u32>(_e77))) & _e162));
@@ -3303,25 +4514,25 @@ fn function_9() {
                                                     phi_103271_ = true;
                                                     break;
                                                 }
-                                                local_43[_e112] = _e173;
+                                                local_63[_e112] = _e173;
                                                 if (_e135 < _e34) {
                                                 } else {
                                                     phi_103271_ = true;
                                                     break;
                                                 }
-                                                let _e178 = sort_seeds_in_or_take_seeds_in.values[_e135];
+                                                let _e178 = sort_rank_features_seeds_in_or_sort_seeds_in_or_take_seed_seeds_in_or_take_seeds_in.values[_e135];
                                                 if _e157 {
                                                 } else {
                                                     phi_103271_ = true;
                                                     break;
                                                 }
-                                                local_44[_e112] = _e178;
+                                                local_64[_e112] = _e178;
                                                 if _e157 {
                                                 } else {
                                                     phi_103271_ = true;
                                                     break;
                                                 }
-                                                local_45[_e112] = _e135;
+                                                local_65[_e112] = _e135;
                                                 phi_8092_ = (_e112 + 1u);
                                             } else {
                                                 phi_8092_ = u32();
@@ -3341,13 +4552,13 @@ fn function_9() {
                                                 phi_103271_ = true;
                                                 break;
                                             }
-                                            let _e192 = sort_seeds_in_or_take_seeds_in.values[_e135];
+                                            let _e192 = sort_rank_features_seeds_in_or_sort_seeds_in_or_take_seed_seeds_in_or_take_seeds_in.values[_e135];
                                             if (_e135 < _e36) {
                                             } else {
                                                 phi_103271_ = true;
                                                 break;
                                             }
-                                            sort_seeds_out_or_take_seeds_out.values[_e135] = _e192;
+                                            sort_gather_features_seeds_out_or_sort_seeds_out_or_take_seed_seeds_out_or_take_seeds_out.values[_e135] = _e192;
                                         }
                                         phi_8113_ = select(_e186, _e112, _e188);
                                     } else {
@@ -3369,7 +4580,7 @@ fn function_9() {
                                 phi_7957_ = _e123;
                                 phi_7960_ = _e202;
                                 phi_103271_ = _e87;
-                                let _e472 = break_condition_26;
+                                let _e472 = break_condition_34;
                                 break if !(_e472);
                             }
                         }
@@ -3379,7 +4590,7 @@ fn function_9() {
                             break;
                         }
                         phi_103286_ = _e205;
-                        let _e428 = local_54;
+                        let _e428 = local_74;
                         phi_7923_ = _e428;
                     } else {
                         phi_103286_ = _e87;
@@ -3393,7 +4604,7 @@ fn function_9() {
                         phi_7919_ = _e102;
                         phi_7922_ = _e209;
                         phi_103285_ = _e207;
-                        let _e475 = break_condition_27;
+                        let _e475 = break_condition_35;
                         break if !(_e475);
                     }
                 }
@@ -3401,10 +4612,10 @@ fn function_9() {
                 if _e212 {
                     break;
                 }
-                local_46 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-                let _e214 = local_47;
-                let _e217 = local_48;
-                local_41 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                local_66 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                let _e214 = local_67;
+                let _e217 = local_68;
+                local_61 = array<u32, 64>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
                 let _e219 = type_12(0u, select(_e217, 64u, (_e214 > 64u)));
                 phi_103292_ = _e212;
                 phi_8122_ = _e219;
@@ -3421,21 +4632,21 @@ fn function_9() {
                     let _e234 = phi_8123_;
                     let _e236 = phi_8146_;
                     let _e240 = (bitcast<i32>(_e236.member) != 0i);
-                    break_condition_29 = _e240;
+                    break_condition_37 = _e240;
                     if _e240 {
                         if (_e236.member_1 < 64u) {
                         } else {
                             phi_103297_ = true;
                             break;
                         }
-                        let _e243 = local_43[_e236.member_1];
+                        let _e243 = local_63[_e236.member_1];
                         phi_8163_ = _e219;
                         phi_8166_ = 0u;
                         loop {
                             let _e245 = phi_8163_;
                             let _e247 = phi_8166_;
-                            local_49 = _e247;
-                            local_50 = _e247;
+                            local_69 = _e247;
+                            local_70 = _e247;
                             if (_e245.member < _e245.member_1) {
                                 phi_8164_ = type_12((_e245.member + 1u), _e245.member_1);
                                 phi_8189_ = type_12(1u, _e245.member);
@@ -3446,14 +4657,14 @@ fn function_9() {
                             let _e258 = phi_8164_;
                             let _e260 = phi_8189_;
                             let _e264 = (bitcast<i32>(_e260.member) != 0i);
-                            break_condition_28 = _e264;
+                            break_condition_36 = _e264;
                             if _e264 {
                                 if (_e260.member_1 < 64u) {
                                 } else {
                                     phi_103287_ = true;
                                     break;
                                 }
-                                let _e267 = local_43[_e260.member_1];
+                                let _e267 = local_63[_e260.member_1];
                                 if (_e267 < _e243) {
                                     phi_8217_ = true;
                                 } else {
@@ -3482,7 +4693,7 @@ fn function_9() {
                                 phi_8163_ = _e258;
                                 phi_8166_ = _e279;
                                 phi_103287_ = _e221;
-                                let _e478 = break_condition_28;
+                                let _e478 = break_condition_36;
                                 break if !(_e478);
                             }
                         }
@@ -3491,14 +4702,14 @@ fn function_9() {
                         if _e282 {
                             break;
                         }
-                        let _e284 = local_49;
+                        let _e284 = local_69;
                         if (_e284 < 64u) {
                         } else {
                             phi_103297_ = true;
                             break;
                         }
-                        let _e287 = local_50;
-                        local_41[_e287] = _e236.member_1;
+                        let _e287 = local_70;
+                        local_61[_e287] = _e236.member_1;
                         phi_103298_ = _e282;
                     } else {
                         phi_103298_ = _e221;
@@ -3509,7 +4720,7 @@ fn function_9() {
                         phi_103292_ = _e290;
                         phi_8122_ = _e234;
                         phi_103297_ = _e290;
-                        let _e481 = break_condition_29;
+                        let _e481 = break_condition_37;
                         break if !(_e481);
                     }
                 }
@@ -3532,7 +4743,7 @@ fn function_9() {
                     let _e308 = phi_8232_;
                     let _e310 = phi_8255_;
                     let _e314 = (bitcast<i32>(_e310.member) != 0i);
-                    break_condition_31 = _e314;
+                    break_condition_39 = _e314;
                     if _e314 {
                         let _e315 = (_e310.member_1 < 64u);
                         if _e315 {
@@ -3540,14 +4751,14 @@ fn function_9() {
                             phi_103308_ = true;
                             break;
                         }
-                        let _e317 = local_42[_e310.member_1];
+                        let _e317 = local_62[_e310.member_1];
                         phi_8272_ = _e219;
                         phi_8275_ = 0u;
                         loop {
                             let _e319 = phi_8272_;
                             let _e321 = phi_8275_;
-                            local_51 = _e321;
-                            local_52 = _e321;
+                            local_71 = _e321;
+                            local_72 = _e321;
                             if (_e319.member < _e319.member_1) {
                                 phi_8273_ = type_12((_e319.member + 1u), _e319.member_1);
                                 phi_8298_ = type_12(1u, _e319.member);
@@ -3558,14 +4769,14 @@ fn function_9() {
                             let _e332 = phi_8273_;
                             let _e334 = phi_8298_;
                             let _e338 = (bitcast<i32>(_e334.member) != 0i);
-                            break_condition_30 = _e338;
+                            break_condition_38 = _e338;
                             if _e338 {
                                 if (_e334.member_1 < 64u) {
                                 } else {
                                     phi_103299_ = true;
                                     break;
                                 }
-                                let _e341 = local_42[_e334.member_1];
+                                let _e341 = local_62[_e334.member_1];
                                 if (_e341 < _e317) {
                                     phi_8326_ = true;
                                 } else {
@@ -3594,7 +4805,7 @@ fn function_9() {
                                 phi_8272_ = _e332;
                                 phi_8275_ = _e353;
                                 phi_103299_ = _e295;
-                                let _e484 = break_condition_30;
+                                let _e484 = break_condition_38;
                                 break if !(_e484);
                             }
                         }
@@ -3608,21 +4819,21 @@ fn function_9() {
                             phi_103308_ = true;
                             break;
                         }
-                        let _e358 = local_44[_e310.member_1];
-                        let _e360 = local_51;
+                        let _e358 = local_64[_e310.member_1];
+                        let _e360 = local_71;
                         if (_e360 < 64u) {
                         } else {
                             phi_103308_ = true;
                             break;
                         }
-                        let _e363 = local_52;
-                        let _e365 = local_41[_e363];
+                        let _e363 = local_72;
+                        let _e365 = local_61[_e363];
                         if (_e365 < 64u) {
                         } else {
                             phi_103308_ = true;
                             break;
                         }
-                        local_46[_e365] = _e358;
+                        local_66[_e365] = _e358;
                         phi_103309_ = _e356;
                     } else {
                         phi_103309_ = _e295;
@@ -3633,7 +4844,7 @@ fn function_9() {
                         phi_103304_ = _e369;
                         phi_8231_ = _e308;
                         phi_103308_ = _e369;
-                        let _e487 = break_condition_31;
+                        let _e487 = break_condition_39;
                         break if !(_e487);
                     }
                 }
@@ -3641,7 +4852,7 @@ fn function_9() {
                 if _e372 {
                     break;
                 }
-                let _e374 = local_53;
+                let _e374 = local_73;
                 phi_8354_ = type_12(0u, _e374);
                 loop {
                     let _e377 = phi_8354_;
@@ -3655,7 +4866,7 @@ fn function_9() {
                     let _e388 = phi_8355_;
                     let _e390 = phi_8378_;
                     let _e394 = (bitcast<i32>(_e390.member) != 0i);
-                    break_condition_32 = _e394;
+                    break_condition_40 = _e394;
                     if _e394 {
                         let _e395 = (_e390.member_1 < 64u);
                         if _e395 {
@@ -3663,25 +4874,25 @@ fn function_9() {
                             phi_103310_ = true;
                             break;
                         }
-                        let _e397 = local_46[_e390.member_1];
+                        let _e397 = local_66[_e390.member_1];
                         if _e395 {
                         } else {
                             phi_103310_ = true;
                             break;
                         }
-                        let _e399 = local_45[_e390.member_1];
+                        let _e399 = local_65[_e390.member_1];
                         if (_e399 < _e36) {
                         } else {
                             phi_103310_ = true;
                             break;
                         }
-                        sort_seeds_out_or_take_seeds_out.values[_e399] = _e397;
+                        sort_gather_features_seeds_out_or_sort_seeds_out_or_take_seed_seeds_out_or_take_seeds_out.values[_e399] = _e397;
                     }
                     continue;
                     continuing {
                         phi_8354_ = _e388;
                         phi_103310_ = _e372;
-                        let _e490 = break_condition_32;
+                        let _e490 = break_condition_40;
                         break if !(_e490);
                     }
                 }
@@ -3696,11 +4907,11 @@ fn function_9() {
     return;
 }
 
-fn function_10() {
+fn function_13() {
     var phi_8480_: u32;
     var phi_8481_: u32;
     var phi_8498_: bool;
-    var local_55: u32;
+    var local_75: u32;
     var phi_8533_: u32;
     var phi_8559_: u32;
     var phi_8620_: u32;
@@ -3710,9 +4921,9 @@ fn function_10() {
     var phi_8621_: u32;
     var phi_8624_: u32;
     var phi_8626_: u32;
-    var local_56: u32;
-    var break_condition_33: bool;
-    var break_condition_34: bool;
+    var local_76: u32;
+    var break_condition_41: bool;
+    var break_condition_42: bool;
 
     switch bitcast<i32>(0u) {
         default: {
@@ -3740,7 +4951,7 @@ fn function_10() {
                 phi_8480_ = 0u;
                 loop {
                     let _e93 = phi_8480_;
-                    local_55 = _e93;
+                    local_75 = _e93;
                     let _e94 = (_e93 + 1u);
                     if (_e94 < select(1u, _e69, (1u < _e69))) {
                         let _e99 = ((1u << bitcast<u32>((_e93 & 31u))) < select(1u, _e56, (1u < _e56)));
@@ -3752,11 +4963,11 @@ fn function_10() {
                     }
                     let _e102 = phi_8481_;
                     let _e104 = phi_8498_;
-                    break_condition_33 = _e104;
+                    break_condition_41 = _e104;
                     continue;
                     continuing {
                         phi_8480_ = _e102;
-                        let _e402 = break_condition_33;
+                        let _e402 = break_condition_41;
                         break if !(_e402);
                     }
                 }
@@ -3765,7 +4976,7 @@ fn function_10() {
                 }
                 let _e108 = (_e61 & 31u);
                 let _e111 = ((1u << bitcast<u32>(_e108)) - 1u);
-                let _e118 = local_55;
+                let _e118 = local_75;
                 let _e125 = ((((_e118 * _e66) + (_e80 % _e66)) << bitcast<u32>(((2u * _e61) & 31u))) | (((((_e42 / _e45) + ((_e74 * 2447445414u) >> bitcast<u32>(_e84))) & _e111) << bitcast<u32>(_e108)) | (((_e42 % _e45) + ((_e74 * 3242174889u) >> bitcast<u32>(_e84))) & _e111)));
                 let _e126 = (_e125 < arrayLength((&screen_sobol_keys.values)));
                 if _e126 {
@@ -3811,7 +5022,7 @@ fn function_10() {
                     let _e235 = phi_8620_;
                     let _e237 = phi_8623_;
                     let _e239 = phi_8625_;
-                    local_56 = _e239;
+                    local_76 = _e239;
                     let _e240 = (_e235 == 0u);
                     if _e240 {
                         phi_8621_ = u32();
@@ -3832,13 +5043,13 @@ fn function_10() {
                     let _e254 = phi_8624_;
                     let _e256 = phi_8626_;
                     let _e257 = select(true, false, _e240);
-                    break_condition_34 = _e257;
+                    break_condition_42 = _e257;
                     continue;
                     continuing {
                         phi_8620_ = _e252;
                         phi_8623_ = _e254;
                         phi_8625_ = _e256;
-                        let _e405 = break_condition_34;
+                        let _e405 = break_condition_42;
                         break if !(_e405);
                     }
                 }
@@ -3856,7 +5067,7 @@ fn function_10() {
                 let _e311 = (_e309 ^ (_e309 * 1013904242u));
                 let _e317 = (((_e161 ^ 390601562u) * 747796405u) + 2891336453u);
                 let _e325 = (((_e317 >> bitcast<u32>((((_e317 >> bitcast<u32>(28i)) + 4u) & 31u))) ^ _e317) * 277803737u);
-                let _e330 = local_56;
+                let _e330 = local_76;
                 let _e333 = ((((_e325 >> bitcast<u32>(22i)) ^ _e325) * 747796405u) + 2891336453u);
                 let _e341 = (((_e333 >> bitcast<u32>((((_e333 >> bitcast<u32>(28i)) + 4u) & 31u))) ^ _e333) * 277803737u);
                 let _e344 = ((_e341 >> bitcast<u32>(22i)) ^ _e341);
@@ -3880,8 +5091,8 @@ fn function_10() {
     return;
 }
 
-fn function_11() {
-    var local_57: array<u32, 2>;
+fn function_14() {
+    var local_77: array<u32, 2>;
     var phi_8832_: u32;
     var phi_8871_: u32;
     var phi_8833_: u32;
@@ -3893,9 +5104,9 @@ fn function_11() {
     var phi_8976_: u32;
     var phi_8979_: u32;
     var phi_8981_: u32;
-    var local_58: u32;
-    var break_condition_35: bool;
-    var break_condition_36: bool;
+    var local_78: u32;
+    var break_condition_43: bool;
+    var break_condition_44: bool;
 
     switch bitcast<i32>(0u) {
         default: {
@@ -3919,25 +5130,25 @@ fn function_11() {
                 let _e73 = (_e58 & 31u);
                 let _e76 = ((1u << bitcast<u32>(_e73)) - 1u);
                 let _e77 = (2u * _e58);
-                local_57 = array<u32, 2>(0u, 0u);
+                local_77 = array<u32, 2>(0u, 0u);
                 phi_8832_ = 0u;
                 loop {
                     let _e79 = phi_8832_;
                     let _e80 = (_e79 < 2u);
-                    break_condition_35 = _e80;
+                    break_condition_43 = _e80;
                     if _e80 {
                         let _e82 = (_e79 + 1u);
                         let _e83 = ((_e72 * 2u) + _e82);
                         let _e87 = (((32u - _e58) & 31u) & 31u);
                         let _e99 = (((((_e44 / _e47) + ((_e83 * 2447445414u) >> bitcast<u32>(_e87))) & _e76) << bitcast<u32>(_e73)) | (((_e44 % _e47) + ((_e83 * 3242174889u) >> bitcast<u32>(_e87))) & _e76));
-                        let _e100 = (_e99 < arrayLength((&sort_gather_tile_or_spatiotemporal_tile.values)));
+                        let _e100 = (_e99 < arrayLength((&sort_gather_tile_or_sort_gather_features_tile_or_spatiotemporal_tile.values)));
                         if _e100 {
                             if _e100 {
                             } else {
                                 phi_103314_ = true;
                                 break;
                             }
-                            let _e103 = sort_gather_tile_or_spatiotemporal_tile.values[_e99];
+                            let _e103 = sort_gather_tile_or_sort_gather_features_tile_or_spatiotemporal_tile.values[_e99];
                             phi_8871_ = _e103;
                         } else {
                             phi_8871_ = 0u;
@@ -3948,7 +5159,7 @@ fn function_11() {
                             phi_103314_ = true;
                             break;
                         }
-                        local_57[_e79] = ((_e105 << bitcast<u32>(((32u - _e77) & 31u))) | (1u << bitcast<u32>(((31u - _e77) & 31u))));
+                        local_77[_e79] = ((_e105 << bitcast<u32>(((32u - _e77) & 31u))) | (1u << bitcast<u32>(((31u - _e77) & 31u))));
                         phi_8833_ = _e82;
                     } else {
                         phi_8833_ = u32();
@@ -3958,7 +5169,7 @@ fn function_11() {
                     continuing {
                         phi_8832_ = _e117;
                         phi_103314_ = false;
-                        let _e363 = break_condition_35;
+                        let _e363 = break_condition_43;
                         break if !(_e363);
                     }
                 }
@@ -3966,7 +5177,7 @@ fn function_11() {
                 if _e120 {
                     break;
                 }
-                let _e121 = local_57;
+                let _e121 = local_77;
                 let _e128 = (((_e72 ^ 625341585u) * 747796405u) + 2891336453u);
                 let _e136 = (((_e128 >> bitcast<u32>((((_e128 >> bitcast<u32>(28i)) + 4u) & 31u))) ^ _e128) * 277803737u);
                 let _e142 = (((1937011554u ^ ((_e136 >> bitcast<u32>(22i)) ^ _e136)) * 747796405u) + 2891336453u);
@@ -3990,7 +5201,7 @@ fn function_11() {
                     let _e196 = phi_8975_;
                     let _e198 = phi_8978_;
                     let _e200 = phi_8980_;
-                    local_58 = _e200;
+                    local_78 = _e200;
                     let _e201 = (_e196 == 0u);
                     if _e201 {
                         phi_8976_ = u32();
@@ -4011,13 +5222,13 @@ fn function_11() {
                     let _e215 = phi_8979_;
                     let _e217 = phi_8981_;
                     let _e218 = select(true, false, _e201);
-                    break_condition_36 = _e218;
+                    break_condition_44 = _e218;
                     continue;
                     continuing {
                         phi_8975_ = _e213;
                         phi_8978_ = _e215;
                         phi_8980_ = _e217;
-                        let _e366 = break_condition_36;
+                        let _e366 = break_condition_44;
                         break if !(_e366);
                     }
                 }
@@ -4035,7 +5246,7 @@ fn function_11() {
                 let _e272 = (_e270 ^ (_e270 * 1013904242u));
                 let _e278 = (((_e153 ^ 390601562u) * 747796405u) + 2891336453u);
                 let _e286 = (((_e278 >> bitcast<u32>((((_e278 >> bitcast<u32>(28i)) + 4u) & 31u))) ^ _e278) * 277803737u);
-                let _e291 = local_58;
+                let _e291 = local_78;
                 let _e294 = ((((_e286 >> bitcast<u32>(22i)) ^ _e286) * 747796405u) + 2891336453u);
                 let _e302 = (((_e294 >> bitcast<u32>((((_e294 >> bitcast<u32>(28i)) + 4u) & 31u))) ^ _e294) * 277803737u);
                 let _e305 = ((_e302 >> bitcast<u32>(22i)) ^ _e302);
@@ -4059,15 +5270,15 @@ fn function_11() {
     return;
 }
 
-fn function_12() {
-    var local_59: array<u32, 4>;
-    var local_60: array<u32, 4>;
+fn function_15() {
+    var local_79: array<u32, 4>;
+    var local_80: array<u32, 4>;
     var phi_9186_: u32;
     var phi_9202_: u32;
     var phi_9187_: u32;
     var phi_9203_: bool;
-    var local_61: u32;
-    var local_62: u32;
+    var local_81: u32;
+    var local_82: u32;
     var phi_9251_: u32;
     var phi_9259_: u32;
     var phi_9291_: u32;
@@ -4091,7 +5302,7 @@ fn function_12() {
     var phi_9363_: u32;
     var phi_9419_: bool;
     var phi_103333_: bool;
-    var local_63: u32;
+    var local_83: u32;
     var phi_103337_: bool;
     var phi_9294_: u32;
     var phi_9297_: u32;
@@ -4101,9 +5312,9 @@ fn function_12() {
     var phi_9435_: u32;
     var phi_9438_: u32;
     var phi_103338_: bool;
-    var local_64: u32;
-    var local_65: u32;
-    var local_66: u32;
+    var local_84: u32;
+    var local_85: u32;
+    var local_86: u32;
     var phi_9485_: u32;
     var phi_9517_: u32;
     var phi_9541_: u32;
@@ -4113,7 +5324,7 @@ fn function_12() {
     var phi_9542_: u32;
     var phi_9545_: u32;
     var phi_9547_: u32;
-    var local_67: u32;
+    var local_87: u32;
     var phi_9738_: u32;
     var phi_9741_: u32;
     var phi_9743_: u32;
@@ -4121,15 +5332,15 @@ fn function_12() {
     var phi_9739_: u32;
     var phi_9742_: u32;
     var phi_9744_: u32;
-    var local_68: u32;
-    var local_69: u32;
-    var break_condition_37: bool;
-    var break_condition_38: bool;
-    var break_condition_39: bool;
-    var break_condition_40: bool;
-    var break_condition_41: bool;
-    var break_condition_42: bool;
-    var break_condition_43: bool;
+    var local_88: u32;
+    var local_89: u32;
+    var break_condition_45: bool;
+    var break_condition_46: bool;
+    var break_condition_47: bool;
+    var break_condition_48: bool;
+    var break_condition_49: bool;
+    var break_condition_50: bool;
+    var break_condition_51: bool;
 
     switch bitcast<i32>(0u) {
         default: {
@@ -4152,8 +5363,8 @@ fn function_12() {
                 phi_9186_ = 0u;
                 loop {
                     let _e85 = phi_9186_;
-                    local_61 = _e85;
-                    local_62 = _e85;
+                    local_81 = _e85;
+                    local_82 = _e85;
                     if (_e85 < 8u) {
                         let _e90 = ((1u << bitcast<u32>((_e85 & 31u))) < select(1u, _e72, (1u < _e72)));
                         if _e90 {
@@ -4170,16 +5381,16 @@ fn function_12() {
                     }
                     let _e95 = phi_9187_;
                     let _e97 = phi_9203_;
-                    break_condition_37 = _e97;
+                    break_condition_45 = _e97;
                     continue;
                     continuing {
                         phi_9186_ = _e95;
-                        let _e878 = break_condition_37;
+                        let _e878 = break_condition_45;
                         break if !(_e878);
                     }
                 }
-                let _e100 = local_61;
-                let _e103 = local_62;
+                let _e100 = local_81;
+                let _e103 = local_82;
                 let _e104 = select(_e103, 8u, (_e100 > 8u));
                 let _e107 = (((_e58 % _e61) & 4095u) & 65535u);
                 let _e111 = ((_e107 | (_e107 << bitcast<u32>(8i))) & 16711935u);
@@ -4223,11 +5434,11 @@ fn function_12() {
                     let _e194 = phi_103324_;
                     let _e196 = phi_9293_;
                     let _e198 = phi_9296_;
-                    local_64 = _e198;
-                    local_66 = _e198;
-                    local_69 = _e198;
+                    local_84 = _e198;
+                    local_86 = _e198;
+                    local_89 = _e198;
                     let _e199 = (_e196 < _e192);
-                    break_condition_40 = _e199;
+                    break_condition_48 = _e199;
                     if _e199 {
                         let _e200 = (_e196 + 1u);
                         let _e202 = (_e158 - (2u * _e200));
@@ -4244,14 +5455,14 @@ fn function_12() {
                         let _e230 = (((_e213 ^ ((_e224 >> bitcast<u32>(22i)) ^ _e224)) * 747796405u) + 2891336453u);
                         let _e238 = (((_e230 >> bitcast<u32>((((_e230 >> bitcast<u32>(28i)) + 4u) & 31u))) ^ _e230) * 277803737u);
                         let _e246 = (((((_e238 >> bitcast<u32>(22i)) ^ _e238) >> bitcast<u32>(16i)) * 24u) >> bitcast<u32>(16i));
-                        local_59[0u] = (_e246 / 6u);
-                        local_59[1u] = ((_e246 % 6u) / 2u);
-                        local_59[2u] = (_e246 % 2u);
-                        local_59[3u] = 0u;
-                        local_60[0u] = 0u;
-                        local_60[1u] = 1u;
-                        local_60[2u] = 2u;
-                        local_60[3u] = 3u;
+                        local_79[0u] = (_e246 / 6u);
+                        local_79[1u] = ((_e246 % 6u) / 2u);
+                        local_79[2u] = (_e246 % 2u);
+                        local_79[3u] = 0u;
+                        local_80[0u] = 0u;
+                        local_80[1u] = 1u;
+                        local_80[2u] = 2u;
+                        local_80[3u] = 3u;
                         phi_103322_ = _e194;
                         phi_9357_ = 0u;
                         phi_9360_ = 4u;
@@ -4261,7 +5472,7 @@ fn function_12() {
                             let _e262 = phi_9357_;
                             let _e264 = phi_9360_;
                             let _e266 = phi_9362_;
-                            local_63 = _e266;
+                            local_83 = _e266;
                             if (_e262 <= ((_e157 >> bitcast<u32>(_e203)) & 3u)) {
                                 let _e268 = (_e262 < 4u);
                                 if _e268 {
@@ -4270,38 +5481,38 @@ fn function_12() {
                                         phi_103333_ = true;
                                         break;
                                     }
-                                    let _e270 = local_59[_e262];
+                                    let _e270 = local_79[_e262];
                                     if (_e270 < 4u) {
                                     } else {
                                         phi_103333_ = true;
                                         break;
                                     }
-                                    let _e273 = local_60[_e270];
+                                    let _e273 = local_80[_e270];
                                     phi_9389_ = _e270;
                                     loop {
                                         let _e275 = phi_9389_;
                                         let _e276 = (_e275 + 1u);
                                         let _e277 = (_e276 < _e264);
-                                        break_condition_38 = _e277;
+                                        break_condition_46 = _e277;
                                         if _e277 {
                                             if (_e276 < 4u) {
                                             } else {
                                                 phi_103319_ = true;
                                                 break;
                                             }
-                                            let _e280 = local_60[_e276];
+                                            let _e280 = local_80[_e276];
                                             if (_e275 < 4u) {
                                             } else {
                                                 phi_103319_ = true;
                                                 break;
                                             }
-                                            local_60[_e275] = _e280;
+                                            local_80[_e275] = _e280;
                                         }
                                         continue;
                                         continuing {
                                             phi_9389_ = select(u32(), _e276, _e277);
                                             phi_103319_ = _e260;
-                                            let _e881 = break_condition_38;
+                                            let _e881 = break_condition_46;
                                             break if !(_e881);
                                         }
                                     }
@@ -4341,7 +5552,7 @@ fn function_12() {
                             let _e302 = phi_9361_;
                             let _e304 = phi_9363_;
                             let _e306 = phi_9419_;
-                            break_condition_39 = _e306;
+                            break_condition_47 = _e306;
                             continue;
                             continuing {
                                 phi_103322_ = _e298;
@@ -4349,7 +5560,7 @@ fn function_12() {
                                 phi_9360_ = _e302;
                                 phi_9362_ = _e304;
                                 phi_103333_ = _e298;
-                                let _e884 = break_condition_39;
+                                let _e884 = break_condition_47;
                                 break if !(_e884);
                             }
                         }
@@ -4358,7 +5569,7 @@ fn function_12() {
                         if _e309 {
                             break;
                         }
-                        let _e311 = local_63;
+                        let _e311 = local_83;
                         phi_103337_ = _e309;
                         phi_9294_ = _e200;
                         phi_9297_ = (_e198 | (_e311 << bitcast<u32>(_e203)));
@@ -4376,7 +5587,7 @@ fn function_12() {
                         phi_9293_ = _e318;
                         phi_9296_ = _e320;
                         phi_103336_ = _e316;
-                        let _e887 = break_condition_40;
+                        let _e887 = break_condition_48;
                         break if !(_e887);
                     }
                 }
@@ -4390,9 +5601,9 @@ fn function_12() {
                     loop {
                         let _e326 = phi_9434_;
                         let _e328 = phi_9437_;
-                        local_65 = _e328;
+                        local_85 = _e328;
                         let _e329 = (_e326 < 12u);
-                        break_condition_41 = _e329;
+                        break_condition_49 = _e329;
                         if _e329 {
                             if _e329 {
                             } else {
@@ -4413,7 +5624,7 @@ fn function_12() {
                             phi_9434_ = _e341;
                             phi_9437_ = _e343;
                             phi_103338_ = _e323;
-                            let _e890 = break_condition_41;
+                            let _e890 = break_condition_49;
                             break if !(_e890);
                         }
                     }
@@ -4421,16 +5632,16 @@ fn function_12() {
                     if _e346 {
                         break;
                     }
-                    let _e348 = local_64;
+                    let _e348 = local_84;
                     let _e353 = (((_e187 ^ 1592598101u) * 747796405u) + 2891336453u);
                     let _e361 = (((_e353 >> bitcast<u32>((((_e353 >> bitcast<u32>(28i)) + 4u) & 31u))) ^ _e353) * 277803737u);
                     let _e367 = ((((_e348 >> bitcast<u32>(12u)) ^ ((_e361 >> bitcast<u32>(22i)) ^ _e361)) * 747796405u) + 2891336453u);
                     let _e375 = (((_e367 >> bitcast<u32>((((_e367 >> bitcast<u32>(28i)) + 4u) & 31u))) ^ _e367) * 277803737u);
-                    let _e381 = local_65;
-                    let _e384 = local_66;
+                    let _e381 = local_85;
+                    let _e384 = local_86;
                     phi_9485_ = (_e384 | (_e381 ^ (((_e375 >> bitcast<u32>(22i)) ^ _e375) & 4095u)));
                 } else {
-                    let _e859 = local_69;
+                    let _e859 = local_89;
                     phi_9485_ = _e859;
                 }
                 let _e387 = phi_9485_;
@@ -4456,7 +5667,7 @@ fn function_12() {
                     let _e454 = phi_9541_;
                     let _e456 = phi_9544_;
                     let _e458 = phi_9546_;
-                    local_67 = _e458;
+                    local_87 = _e458;
                     let _e459 = (_e454 == 0u);
                     if _e459 {
                         phi_9542_ = u32();
@@ -4477,13 +5688,13 @@ fn function_12() {
                     let _e473 = phi_9545_;
                     let _e475 = phi_9547_;
                     let _e476 = select(true, false, _e459);
-                    break_condition_42 = _e476;
+                    break_condition_50 = _e476;
                     continue;
                     continuing {
                         phi_9541_ = _e471;
                         phi_9544_ = _e473;
                         phi_9546_ = _e475;
-                        let _e893 = break_condition_42;
+                        let _e893 = break_condition_50;
                         break if !(_e893);
                     }
                 }
@@ -4501,7 +5712,7 @@ fn function_12() {
                 let _e530 = (_e528 ^ (_e528 * 1013904242u));
                 let _e536 = (((_e452 ^ 390601562u) * 747796405u) + 2891336453u);
                 let _e544 = (((_e536 >> bitcast<u32>((((_e536 >> bitcast<u32>(28i)) + 4u) & 31u))) ^ _e536) * 277803737u);
-                let _e549 = local_67;
+                let _e549 = local_87;
                 let _e552 = ((((_e544 >> bitcast<u32>(22i)) ^ _e544) * 747796405u) + 2891336453u);
                 let _e560 = (((_e552 >> bitcast<u32>((((_e552 >> bitcast<u32>(28i)) + 4u) & 31u))) ^ _e552) * 277803737u);
                 let _e563 = ((_e560 >> bitcast<u32>(22i)) ^ _e560);
@@ -4535,7 +5746,7 @@ fn function_12() {
                     let _e661 = phi_9738_;
                     let _e663 = phi_9741_;
                     let _e665 = phi_9743_;
-                    local_68 = _e665;
+                    local_88 = _e665;
                     let _e666 = (_e661 == 0u);
                     if _e666 {
                         phi_9739_ = u32();
@@ -4556,13 +5767,13 @@ fn function_12() {
                     let _e680 = phi_9742_;
                     let _e682 = phi_9744_;
                     let _e683 = select(true, false, _e666);
-                    break_condition_43 = _e683;
+                    break_condition_51 = _e683;
                     continue;
                     continuing {
                         phi_9738_ = _e678;
                         phi_9741_ = _e680;
                         phi_9743_ = _e682;
-                        let _e896 = break_condition_43;
+                        let _e896 = break_condition_51;
                         break if !(_e896);
                     }
                 }
@@ -4580,7 +5791,7 @@ fn function_12() {
                 let _e737 = (_e735 ^ (_e735 * 1013904242u));
                 let _e743 = (((_e618 ^ 390601562u) * 747796405u) + 2891336453u);
                 let _e751 = (((_e743 >> bitcast<u32>((((_e743 >> bitcast<u32>(28i)) + 4u) & 31u))) ^ _e743) * 277803737u);
-                let _e756 = local_68;
+                let _e756 = local_88;
                 let _e759 = ((((_e751 >> bitcast<u32>(22i)) ^ _e751) * 747796405u) + 2891336453u);
                 let _e767 = (((_e759 >> bitcast<u32>((((_e759 >> bitcast<u32>(28i)) + 4u) & 31u))) ^ _e759) * 277803737u);
                 let _e770 = ((_e767 >> bitcast<u32>(22i)) ^ _e767);
@@ -4604,7 +5815,7 @@ fn function_12() {
     return;
 }
 
-fn function_13() {
+fn function_16() {
     var phi_9934_: u32;
     var phi_9976_: u32;
     var phi_9979_: u32;
@@ -4634,14 +5845,14 @@ fn function_13() {
     var phi_9977_: u32;
     var phi_9980_: u32;
     var phi_103341_: bool;
-    var break_condition_44: bool;
+    var break_condition_52: bool;
 
     switch bitcast<i32>(0u) {
         default: {
             let _e27 = global;
             let _e43 = ((_e27.y * 4194240u) + _e27.x);
-            let _e46 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
-            let _e49 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            let _e46 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e49 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
             let _e50 = (_e46 * _e49);
             let _e51 = (_e50 / 256u);
             if ((_e50 % 256u) > 0u) {
@@ -4667,7 +5878,7 @@ fn function_13() {
                     let _e77 = phi_9976_;
                     let _e79 = phi_9979_;
                     let _e80 = (_e79 < select(_e68, _e50, (_e50 < _e68)));
-                    break_condition_44 = _e80;
+                    break_condition_52 = _e80;
                     if _e80 {
                         let _e81 = (_e46 == 0u);
                         if _e81 {
@@ -4675,13 +5886,13 @@ fn function_13() {
                             break;
                         }
                         let _e82 = (_e79 % _e46);
-                        let _e85 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.width;
+                        let _e85 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.width;
                         if (_e82 < _e85) {
                             if _e81 {
                                 phi_103341_ = true;
                                 break;
                             }
-                            let _e90 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.height;
+                            let _e90 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
                             phi_10010_ = ((_e79 / _e46) < _e90);
                         } else {
                             phi_10010_ = false;
@@ -4698,13 +5909,13 @@ fn function_13() {
                             }
                             let _e94 = (_e79 / _e46);
                             let _e96 = ((_e94 * _e85) + _e82);
-                            if (_e96 < arrayLength((&recycle_motion_or_take_motion_or_claim_motion.values))) {
+                            if (_e96 < arrayLength((&recycle_motion_or_take_seed_motion_or_take_motion_or_claim_motion.values))) {
                             } else {
                                 phi_103341_ = true;
                                 break;
                             }
-                            let _e101 = recycle_motion_or_take_motion_or_claim_motion.values[_e96][0u];
-                            let _e105 = recycle_motion_or_take_motion_or_claim_motion.values[_e96][1u];
+                            let _e101 = recycle_motion_or_take_seed_motion_or_take_motion_or_claim_motion.values[_e96][0u];
+                            let _e105 = recycle_motion_or_take_seed_motion_or_take_motion_or_claim_motion.values[_e96][1u];
                             let _e107 = ((_e94 * _e46) + _e82);
                             if (_e82 >= _e85) {
                                 phi_10175_ = type_12();
@@ -4712,7 +5923,7 @@ fn function_13() {
                                 phi_10177_ = true;
                                 phi_10178_ = false;
                             } else {
-                                let _e111 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.height;
+                                let _e111 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
                                 let _e112 = (_e94 >= _e111);
                                 if _e112 {
                                     phi_10172_ = type_12();
@@ -4811,12 +6022,12 @@ fn function_13() {
                             if (_e213.member == 4294967295u) {
                                 phi_10206_ = true;
                             } else {
-                                if (_e213.member < arrayLength((&recycle_claims_or_take_claims.values))) {
+                                if (_e213.member < arrayLength((&recycle_claims_or_take_seed_claims_or_take_claims.values))) {
                                 } else {
                                     phi_103341_ = true;
                                     break;
                                 }
-                                let _e220 = recycle_claims_or_take_claims.values[_e213.member];
+                                let _e220 = recycle_claims_or_take_seed_claims_or_take_claims.values[_e213.member];
                                 phi_10206_ = (_e220 != _e213.member_1);
                             }
                             let _e223 = phi_10206_;
@@ -4862,7 +6073,7 @@ fn function_13() {
                         phi_9976_ = _e242;
                         phi_9979_ = _e244;
                         phi_103341_ = false;
-                        let _e278 = break_condition_44;
+                        let _e278 = break_condition_52;
                         break if !(_e278);
                     }
                 }
@@ -4877,7 +6088,7 @@ fn function_13() {
     return;
 }
 
-fn function_14() {
+fn function_17() {
     var phi_10267_: u32;
     var phi_10294_: u32;
     var phi_10297_: u32;
@@ -4887,14 +6098,14 @@ fn function_14() {
     var phi_10295_: u32;
     var phi_10298_: u32;
     var phi_103364_: bool;
-    var break_condition_45: bool;
+    var break_condition_53: bool;
 
     switch bitcast<i32>(0u) {
         default: {
             let _e15 = global;
             let _e25 = ((_e15.y * 4194240u) + _e15.x);
-            let _e28 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
-            let _e31 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            let _e28 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e31 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
             let _e32 = (_e28 * _e31);
             let _e33 = (_e32 / 256u);
             if ((_e32 % 256u) > 0u) {
@@ -4907,31 +6118,31 @@ fn function_14() {
                 let _e40 = (_e25 * 256u);
                 let _e41 = (_e40 + 256u);
                 let _e45 = ((_e25 * 2u) + 1u);
-                if (_e45 < arrayLength((&list_free_counts.values))) {
+                if (_e45 < arrayLength((&list_free_counts_or_recycle_seed_counts_or_list_free_seed_counts.values))) {
                 } else {
                     break;
                 }
-                let _e49 = list_free_counts.values[_e45];
+                let _e49 = list_free_counts_or_recycle_seed_counts_or_list_free_seed_counts.values[_e45];
                 phi_10294_ = _e49;
                 phi_10297_ = _e40;
                 loop {
                     let _e51 = phi_10294_;
                     let _e53 = phi_10297_;
                     let _e54 = (_e53 < select(_e41, _e32, (_e32 < _e41)));
-                    break_condition_45 = _e54;
+                    break_condition_53 = _e54;
                     if _e54 {
                         let _e55 = (_e28 == 0u);
                         if _e55 {
                             phi_103364_ = true;
                             break;
                         }
-                        let _e59 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.width;
+                        let _e59 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.width;
                         if ((_e53 % _e28) < _e59) {
                             if _e55 {
                                 phi_103364_ = true;
                                 break;
                             }
-                            let _e64 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.height;
+                            let _e64 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
                             phi_10328_ = ((_e53 / _e28) < _e64);
                         } else {
                             phi_10328_ = false;
@@ -4945,12 +6156,12 @@ fn function_14() {
                             }
                             let _e71 = list_free_claims.values[_e53];
                             if (_e71 == 4294967295u) {
-                                if (_e51 < arrayLength((&list_free_free.values))) {
+                                if (_e51 < arrayLength((&list_free_free_or_list_free_seed_free.values))) {
                                 } else {
                                     phi_103364_ = true;
                                     break;
                                 }
-                                list_free_free.values[_e51] = _e53;
+                                list_free_free_or_list_free_seed_free.values[_e51] = _e53;
                                 phi_10350_ = (_e51 + 1u);
                             } else {
                                 phi_10350_ = _e51;
@@ -4974,7 +6185,7 @@ fn function_14() {
                         phi_10294_ = _e83;
                         phi_10297_ = _e85;
                         phi_103364_ = false;
-                        let _e99 = break_condition_45;
+                        let _e99 = break_condition_53;
                         break if !(_e99);
                     }
                 }
@@ -4989,13 +6200,338 @@ fn function_14() {
     return;
 }
 
-fn function_15() {
+fn function_18() {
+    var phi_10545_: type_12;
+    var phi_10547_: type_12;
+    var phi_10549_: bool;
+    var phi_10550_: type_12;
+    var phi_10551_: bool;
+    var phi_10552_: bool;
+    var phi_10553_: type_12;
+    var phi_10554_: bool;
+    var phi_10555_: bool;
+    var phi_10564_: type_12;
+    var phi_10565_: type_12;
+    var phi_10566_: type_12;
+    var phi_10567_: bool;
+    var phi_10568_: type_12;
+    var phi_10569_: type_12;
+    var phi_10571_: bool;
+    var phi_10576_: type_12;
+    var phi_10581_: type_12;
+    var phi_10613_: bool;
+    var phi_10631_: u32;
+    var phi_10638_: bool;
+
+    switch bitcast<i32>(0u) {
+        default: {
+            let _e24 = global;
+            let _e28 = arrayLength((&recycle_claims_or_take_seed_claims_or_take_claims.values));
+            let _e30 = arrayLength((&sort_rank_features_seeds_in_or_sort_seeds_in_or_take_seed_seeds_in_or_take_seeds_in.values));
+            let _e32 = arrayLength((&sort_gather_features_seeds_out_or_sort_seeds_out_or_take_seed_seeds_out_or_take_seeds_out.values));
+            let _e34 = arrayLength((&take_seed_flags.values));
+            let _e38 = ((_e24.y * 4194240u) + _e24.x);
+            let _e41 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e44 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            let _e45 = (_e41 * _e44);
+            if (_e38 < _e45) {
+                let _e47 = (_e41 == 0u);
+                if _e47 {
+                    break;
+                }
+                let _e48 = (_e38 % _e41);
+                if _e47 {
+                    break;
+                }
+                let _e49 = (_e38 / _e41);
+                let _e52 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.width;
+                let _e53 = (_e48 >= _e52);
+                if _e53 {
+                    phi_10638_ = true;
+                } else {
+                    let _e56 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
+                    let _e57 = (_e49 >= _e56);
+                    if _e57 {
+                    } else {
+                        let _e59 = ((_e49 * _e52) + _e48);
+                        if (_e59 < arrayLength((&recycle_motion_or_take_seed_motion_or_take_motion_or_claim_motion.values))) {
+                        } else {
+                            break;
+                        }
+                        let _e64 = recycle_motion_or_take_seed_motion_or_take_motion_or_claim_motion.values[_e59][0u];
+                        let _e68 = recycle_motion_or_take_seed_motion_or_take_motion_or_claim_motion.values[_e59][1u];
+                        let _e71 = (select(_e45, 2u, (_e45 < 2u)) - 1u);
+                        let _e76 = select((bitcast<u32>(31i) - firstLeadingBit(_e71)), 32u, (_e71 == 0u));
+                        let _e79 = ((_e49 * _e41) + _e48);
+                        if _e53 {
+                            phi_10568_ = type_12();
+                            phi_10569_ = type_12();
+                            phi_10571_ = false;
+                        } else {
+                            if _e57 {
+                                phi_10565_ = type_12();
+                                phi_10566_ = type_12();
+                                phi_10567_ = false;
+                            } else {
+                                let _e82 = ((f32(_e48) + 0.5f) + _e64);
+                                let _e85 = ((f32(_e49) + 0.5f) + _e68);
+                                if (_e82 >= 0f) {
+                                    if (_e85 >= 0f) {
+                                        let _e89 = (_e82 < f32(_e52));
+                                        if _e89 {
+                                            let _e91 = (_e85 < f32(_e56));
+                                            if _e91 {
+                                                let _e96 = select(select(u32(_e82), 0u, (_e82 < 0f)), 4294967295u, (_e82 > 4294967000f));
+                                                let _e97 = (_e52 - 1u);
+                                                let _e99 = select(_e96, _e97, (_e97 < _e96));
+                                                let _e104 = select(select(u32(_e85), 0u, (_e85 < 0f)), 4294967295u, (_e85 > 4294967000f));
+                                                let _e105 = (_e56 - 1u);
+                                                let _e107 = select(_e104, _e105, (_e105 < _e104));
+                                                let _e110 = (_e82 - (f32(_e99) + 0.5f));
+                                                let _e113 = (_e85 - (f32(_e107) + 0.5f));
+                                                let _e117 = ((1u << bitcast<u32>((_e76 & 31u))) - 2u);
+                                                let _e123 = ((((_e110 * _e110) + (_e113 * _e113)) * 2f) * f32(_e117));
+                                                let _e128 = select(select(u32(_e123), 0u, (_e123 < 0f)), 4294967295u, (_e123 > 4294967000f));
+                                                phi_10545_ = type_12(((_e107 * _e41) + _e99), ((select(_e128, _e117, (_e117 < _e128)) << bitcast<u32>(((32u - _e76) & 31u))) | _e79));
+                                            } else {
+                                                phi_10545_ = type_12();
+                                            }
+                                            let _e139 = phi_10545_;
+                                            phi_10547_ = _e139;
+                                            phi_10549_ = select(true, false, _e91);
+                                        } else {
+                                            phi_10547_ = type_12();
+                                            phi_10549_ = false;
+                                        }
+                                        let _e142 = phi_10547_;
+                                        let _e144 = phi_10549_;
+                                        phi_10550_ = _e142;
+                                        phi_10551_ = select(true, false, _e89);
+                                        phi_10552_ = _e144;
+                                    } else {
+                                        phi_10550_ = type_12();
+                                        phi_10551_ = true;
+                                        phi_10552_ = false;
+                                    }
+                                    let _e147 = phi_10550_;
+                                    let _e149 = phi_10551_;
+                                    let _e151 = phi_10552_;
+                                    phi_10553_ = _e147;
+                                    phi_10554_ = _e149;
+                                    phi_10555_ = _e151;
+                                } else {
+                                    phi_10553_ = type_12();
+                                    phi_10554_ = true;
+                                    phi_10555_ = false;
+                                }
+                                let _e153 = phi_10553_;
+                                let _e155 = phi_10554_;
+                                let _e157 = phi_10555_;
+                                let _e158 = select(_e157, true, _e155);
+                                if _e158 {
+                                    phi_10564_ = type_12(4294967295u, 4294967295u);
+                                } else {
+                                    phi_10564_ = type_12();
+                                }
+                                let _e160 = phi_10564_;
+                                phi_10565_ = _e160;
+                                phi_10566_ = _e153;
+                                phi_10567_ = _e158;
+                            }
+                            let _e162 = phi_10565_;
+                            let _e164 = phi_10566_;
+                            let _e166 = phi_10567_;
+                            phi_10568_ = _e162;
+                            phi_10569_ = _e164;
+                            phi_10571_ = _e166;
+                        }
+                        let _e168 = phi_10568_;
+                        let _e170 = phi_10569_;
+                        let _e172 = phi_10571_;
+                        let _e173 = select(_e57, true, _e53);
+                        if _e173 {
+                            phi_10576_ = type_12(_e79, _e79);
+                        } else {
+                            phi_10576_ = _e168;
+                        }
+                        let _e176 = phi_10576_;
+                        if select(_e172, true, _e173) {
+                            phi_10581_ = _e176;
+                        } else {
+                            phi_10581_ = _e170;
+                        }
+                        let _e179 = phi_10581_;
+                        if (_e179.member != 4294967295u) {
+                            if (_e179.member < _e28) {
+                            } else {
+                                break;
+                            }
+                            let _e186 = recycle_claims_or_take_seed_claims_or_take_claims.values[_e179.member];
+                            let _e187 = (_e186 == _e179.member_1);
+                            if _e187 {
+                                if (_e179.member < _e30) {
+                                } else {
+                                    break;
+                                }
+                                let _e191 = sort_rank_features_seeds_in_or_sort_seeds_in_or_take_seed_seeds_in_or_take_seeds_in.values[_e179.member];
+                                if (_e38 < _e32) {
+                                } else {
+                                    break;
+                                }
+                                sort_gather_features_seeds_out_or_sort_seeds_out_or_take_seed_seeds_out_or_take_seeds_out.values[_e38] = _e191;
+                            }
+                            phi_10613_ = select(true, false, _e187);
+                        } else {
+                            phi_10613_ = true;
+                        }
+                        let _e197 = phi_10613_;
+                        let _e198 = select(0u, 1u, _e197);
+                        if (_e38 < _e28) {
+                        } else {
+                            break;
+                        }
+                        let _e202 = recycle_claims_or_take_seed_claims_or_take_claims.values[_e38];
+                        if (_e202 == 4294967295u) {
+                            phi_10631_ = (_e198 | 2u);
+                        } else {
+                            phi_10631_ = _e198;
+                        }
+                        let _e206 = phi_10631_;
+                        if (_e38 < _e34) {
+                        } else {
+                            break;
+                        }
+                        take_seed_flags.values[_e38] = _e206;
+                    }
+                    phi_10638_ = _e57;
+                }
+                let _e211 = phi_10638_;
+                if _e211 {
+                    if (_e38 < _e30) {
+                    } else {
+                        break;
+                    }
+                    let _e215 = sort_rank_features_seeds_in_or_sort_seeds_in_or_take_seed_seeds_in_or_take_seeds_in.values[_e38];
+                    if (_e38 < _e32) {
+                    } else {
+                        break;
+                    }
+                    sort_gather_features_seeds_out_or_sort_seeds_out_or_take_seed_seeds_out_or_take_seeds_out.values[_e38] = _e215;
+                    if (_e38 < _e34) {
+                    } else {
+                        break;
+                    }
+                    take_seed_flags.values[_e38] = 0u;
+                }
+            }
+            break;
+        }
+    }
+    return;
+}
+
+fn function_19() {
+    var phi_10692_: u32;
+    var phi_10710_: u32;
+    var phi_10713_: u32;
+    var phi_10715_: u32;
+    var phi_10711_: u32;
+    var phi_10714_: u32;
+    var phi_10716_: u32;
+    var phi_103372_: bool;
+    var local_90: u32;
+    var local_91: u32;
+    var break_condition_54: bool;
+
+    switch bitcast<i32>(0u) {
+        default: {
+            let _e14 = global;
+            let _e18 = arrayLength((&count_flags_counts.values));
+            let _e22 = ((_e14.y * 4194240u) + _e14.x);
+            let _e25 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e28 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            let _e29 = (_e25 * _e28);
+            let _e30 = (_e29 / 256u);
+            if ((_e29 % 256u) > 0u) {
+                phi_10692_ = (_e30 + 1u);
+            } else {
+                phi_10692_ = _e30;
+            }
+            let _e35 = phi_10692_;
+            if (_e22 < _e35) {
+                let _e37 = (_e22 * 256u);
+                let _e38 = (_e37 + 256u);
+                phi_10710_ = 0u;
+                phi_10713_ = 0u;
+                phi_10715_ = _e37;
+                loop {
+                    let _e42 = phi_10710_;
+                    let _e44 = phi_10713_;
+                    let _e46 = phi_10715_;
+                    local_90 = _e44;
+                    local_91 = _e42;
+                    let _e47 = (_e46 < select(_e38, _e29, (_e29 < _e38)));
+                    break_condition_54 = _e47;
+                    if _e47 {
+                        if (_e46 < arrayLength((&count_flags_flags_or_recycle_seed_flags_or_list_free_seed_flags.values))) {
+                        } else {
+                            phi_103372_ = true;
+                            break;
+                        }
+                        let _e51 = count_flags_flags_or_recycle_seed_flags_or_list_free_seed_flags.values[_e46];
+                        phi_10711_ = (_e42 + ((_e51 & 2u) >> bitcast<u32>(1i)));
+                        phi_10714_ = (_e44 + (_e51 & 1u));
+                        phi_10716_ = (_e46 + 1u);
+                    } else {
+                        phi_10711_ = u32();
+                        phi_10714_ = u32();
+                        phi_10716_ = u32();
+                    }
+                    let _e60 = phi_10711_;
+                    let _e62 = phi_10714_;
+                    let _e64 = phi_10716_;
+                    continue;
+                    continuing {
+                        phi_10710_ = _e60;
+                        phi_10713_ = _e62;
+                        phi_10715_ = _e64;
+                        phi_103372_ = false;
+                        let _e91 = break_condition_54;
+                        break if !(_e91);
+                    }
+                }
+                let _e67 = phi_103372_;
+                if _e67 {
+                    break;
+                }
+                let _e68 = (_e22 * 2u);
+                if (_e68 < _e18) {
+                } else {
+                    break;
+                }
+                let _e73 = local_90;
+                count_flags_counts.values[_e68] = _e73;
+                let _e74 = (_e68 + 1u);
+                if (_e74 < _e18) {
+                } else {
+                    break;
+                }
+                let _e79 = local_91;
+                count_flags_counts.values[_e74] = _e79;
+            }
+            break;
+        }
+    }
+    return;
+}
+
+fn function_20() {
     switch bitcast<i32>(0u) {
         default: {
             let _e7 = global;
             let _e13 = ((_e7.y * 4194240u) + _e7.x);
-            let _e16 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
-            let _e19 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            let _e16 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e19 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
             if (_e13 < (_e16 * _e19)) {
                 if (_e13 < arrayLength((&clear_claims_claims.values))) {
                 } else {
@@ -5009,7 +6545,195 @@ fn function_15() {
     return;
 }
 
-fn function_16() {
+fn function_21() {
+    var phi_10824_: u32;
+    var phi_10827_: u32;
+    var phi_10848_: u32;
+    var phi_10825_: u32;
+    var phi_10828_: u32;
+    var phi_103377_: bool;
+    var local_92: u32;
+    var break_condition_55: bool;
+
+    switch bitcast<i32>(0u) {
+        default: {
+            let _e16 = global;
+            let _e18 = arrayLength((&count_flags_flags_or_recycle_seed_flags_or_list_free_seed_flags.values));
+            let _e30 = ((_e16.y * 4194240u) + _e16.x);
+            let _e33 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e36 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            if (_e30 < (_e33 * _e36)) {
+                if (_e30 < _e18) {
+                } else {
+                    break;
+                }
+                let _e42 = count_flags_flags_or_recycle_seed_flags_or_list_free_seed_flags.values[_e30];
+                if ((_e42 & 1u) == 0u) {
+                } else {
+                    let _e45 = (_e30 / 256u);
+                    let _e47 = (_e45 * 2u);
+                    if (_e47 < arrayLength((&list_free_counts_or_recycle_seed_counts_or_list_free_seed_counts.values))) {
+                    } else {
+                        break;
+                    }
+                    let _e51 = list_free_counts_or_recycle_seed_counts_or_list_free_seed_counts.values[_e47];
+                    phi_10824_ = 0u;
+                    phi_10827_ = (_e45 * 256u);
+                    loop {
+                        let _e53 = phi_10824_;
+                        let _e55 = phi_10827_;
+                        local_92 = _e53;
+                        let _e56 = (_e55 < _e30);
+                        break_condition_55 = _e56;
+                        if _e56 {
+                            if (_e55 < _e18) {
+                            } else {
+                                phi_103377_ = true;
+                                break;
+                            }
+                            let _e60 = count_flags_flags_or_recycle_seed_flags_or_list_free_seed_flags.values[_e55];
+                            if ((_e60 & 1u) == 0u) {
+                                phi_10848_ = _e53;
+                            } else {
+                                phi_10848_ = (_e53 + 1u);
+                            }
+                            let _e65 = phi_10848_;
+                            phi_10825_ = _e65;
+                            phi_10828_ = (_e55 + 1u);
+                        } else {
+                            phi_10825_ = u32();
+                            phi_10828_ = u32();
+                        }
+                        let _e68 = phi_10825_;
+                        let _e70 = phi_10828_;
+                        continue;
+                        continuing {
+                            phi_10824_ = _e68;
+                            phi_10827_ = _e70;
+                            phi_103377_ = false;
+                            let _e96 = break_condition_55;
+                            break if !(_e96);
+                        }
+                    }
+                    let _e73 = phi_103377_;
+                    if _e73 {
+                        break;
+                    }
+                    let _e75 = local_92;
+                    let _e76 = (_e51 + _e75);
+                    if (_e76 < arrayLength((&recycle_seed_free.values))) {
+                    } else {
+                        break;
+                    }
+                    let _e80 = recycle_seed_free.values[_e76];
+                    if (_e80 < arrayLength((&recycle_seed_seeds_in.values))) {
+                    } else {
+                        break;
+                    }
+                    let _e84 = recycle_seed_seeds_in.values[_e80];
+                    if (_e30 < arrayLength((&recycle_seed_seeds_out.values))) {
+                    } else {
+                        break;
+                    }
+                    recycle_seed_seeds_out.values[_e30] = _e84;
+                }
+            }
+            break;
+        }
+    }
+    return;
+}
+
+fn function_22() {
+    var phi_10917_: u32;
+    var phi_10920_: u32;
+    var phi_10941_: u32;
+    var phi_10918_: u32;
+    var phi_10921_: u32;
+    var phi_103381_: bool;
+    var local_93: u32;
+    var break_condition_56: bool;
+
+    switch bitcast<i32>(0u) {
+        default: {
+            let _e14 = global;
+            let _e16 = arrayLength((&count_flags_flags_or_recycle_seed_flags_or_list_free_seed_flags.values));
+            let _e24 = ((_e14.y * 4194240u) + _e14.x);
+            let _e27 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e30 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            if (_e24 < (_e27 * _e30)) {
+                if (_e24 < _e16) {
+                } else {
+                    break;
+                }
+                let _e36 = count_flags_flags_or_recycle_seed_flags_or_list_free_seed_flags.values[_e24];
+                if ((_e36 & 2u) == 0u) {
+                } else {
+                    let _e39 = (_e24 / 256u);
+                    let _e42 = ((_e39 * 2u) + 1u);
+                    if (_e42 < arrayLength((&list_free_counts_or_recycle_seed_counts_or_list_free_seed_counts.values))) {
+                    } else {
+                        break;
+                    }
+                    let _e46 = list_free_counts_or_recycle_seed_counts_or_list_free_seed_counts.values[_e42];
+                    phi_10917_ = 0u;
+                    phi_10920_ = (_e39 * 256u);
+                    loop {
+                        let _e48 = phi_10917_;
+                        let _e50 = phi_10920_;
+                        local_93 = _e48;
+                        let _e51 = (_e50 < _e24);
+                        break_condition_56 = _e51;
+                        if _e51 {
+                            if (_e50 < _e16) {
+                            } else {
+                                phi_103381_ = true;
+                                break;
+                            }
+                            let _e55 = count_flags_flags_or_recycle_seed_flags_or_list_free_seed_flags.values[_e50];
+                            if ((_e55 & 2u) == 0u) {
+                                phi_10941_ = _e48;
+                            } else {
+                                phi_10941_ = (_e48 + 1u);
+                            }
+                            let _e60 = phi_10941_;
+                            phi_10918_ = _e60;
+                            phi_10921_ = (_e50 + 1u);
+                        } else {
+                            phi_10918_ = u32();
+                            phi_10921_ = u32();
+                        }
+                        let _e63 = phi_10918_;
+                        let _e65 = phi_10921_;
+                        continue;
+                        continuing {
+                            phi_10917_ = _e63;
+                            phi_10920_ = _e65;
+                            phi_103381_ = false;
+                            let _e83 = break_condition_56;
+                            break if !(_e83);
+                        }
+                    }
+                    let _e68 = phi_103381_;
+                    if _e68 {
+                        break;
+                    }
+                    let _e70 = local_93;
+                    let _e71 = (_e46 + _e70);
+                    if (_e71 < arrayLength((&list_free_free_or_list_free_seed_free.values))) {
+                    } else {
+                        break;
+                    }
+                    list_free_free_or_list_free_seed_free.values[_e71] = _e24;
+                }
+            }
+            break;
+        }
+    }
+    return;
+}
+
+fn function_23() {
     var phi_10984_: u32;
     var phi_11000_: u32;
     var phi_11014_: u32;
@@ -5019,8 +6743,8 @@ fn function_16() {
     var phi_11018_: u32;
     var phi_11020_: u32;
     var phi_103385_: bool;
-    var local_70: u32;
-    var local_71: u32;
+    var local_94: u32;
+    var local_95: u32;
     var phi_11064_: u32;
     var phi_11067_: u32;
     var phi_11069_: u32;
@@ -5036,9 +6760,9 @@ fn function_16() {
     var phi_11125_: u32;
     var phi_11127_: u32;
     var phi_103395_: bool;
-    var break_condition_46: bool;
-    var break_condition_47: bool;
-    var break_condition_48: bool;
+    var break_condition_57: bool;
+    var break_condition_58: bool;
+    var break_condition_59: bool;
 
     switch bitcast<i32>(0u) {
         default: {
@@ -5047,8 +6771,8 @@ fn function_16() {
             let _e19 = arrayLength((&scan_counts.values));
             if (((_e16.y * 4194240u) + _e16.x) >= 64u) {
             } else {
-                let _e27 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
-                let _e30 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+                let _e27 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+                let _e30 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
                 let _e31 = (_e27 * _e30);
                 let _e32 = (_e31 / 256u);
                 if ((_e31 % 256u) > 0u) {
@@ -5075,10 +6799,10 @@ fn function_16() {
                     let _e51 = phi_11014_;
                     let _e53 = phi_11017_;
                     let _e55 = phi_11019_;
-                    local_70 = _e53;
-                    local_71 = _e51;
+                    local_94 = _e53;
+                    local_95 = _e51;
                     let _e56 = (_e55 < _e49);
-                    break_condition_46 = _e56;
+                    break_condition_57 = _e56;
                     if _e56 {
                         let _e57 = (_e55 * 2u);
                         if (_e57 < _e19) {
@@ -5111,7 +6835,7 @@ fn function_16() {
                         phi_11017_ = _e73;
                         phi_11019_ = _e75;
                         phi_103385_ = false;
-                        let _e170 = break_condition_46;
+                        let _e170 = break_condition_57;
                         break if !(_e170);
                     }
                 }
@@ -5124,13 +6848,13 @@ fn function_16() {
                 } else {
                     break;
                 }
-                let _e82 = local_70;
+                let _e82 = local_94;
                 global_3[_e17] = _e82;
                 if _e79 {
                 } else {
                     break;
                 }
-                let _e85 = local_71;
+                let _e85 = local_95;
                 global_4[_e17] = _e85;
                 workgroupBarrier();
                 if (_e17 == 0u) {
@@ -5142,7 +6866,7 @@ fn function_16() {
                         let _e90 = phi_11067_;
                         let _e92 = phi_11069_;
                         let _e93 = (_e88 < 64u);
-                        break_condition_47 = _e93;
+                        break_condition_58 = _e93;
                         if _e93 {
                             if _e93 {
                             } else {
@@ -5185,7 +6909,7 @@ fn function_16() {
                             phi_11067_ = _e104;
                             phi_11069_ = _e106;
                             phi_103392_ = _e78;
-                            let _e173 = break_condition_47;
+                            let _e173 = break_condition_58;
                             break if !(_e173);
                         }
                     }
@@ -5217,7 +6941,7 @@ fn function_16() {
                     let _e117 = phi_11124_;
                     let _e119 = phi_11126_;
                     let _e120 = (_e119 < _e49);
-                    break_condition_48 = _e120;
+                    break_condition_59 = _e120;
                     if _e120 {
                         let _e121 = (_e119 * 2u);
                         let _e122 = (_e121 < _e19);
@@ -5264,7 +6988,7 @@ fn function_16() {
                         phi_11124_ = _e137;
                         phi_11126_ = _e139;
                         phi_103395_ = _e111;
-                        let _e176 = break_condition_48;
+                        let _e176 = break_condition_59;
                         break if !(_e176);
                     }
                 }
@@ -5279,7 +7003,7 @@ fn function_16() {
     return;
 }
 
-fn function_17() {
+fn function_24() {
     var phi_11206_: u32;
     var phi_11240_: u32;
     var phi_11243_: u32;
@@ -5313,20 +7037,20 @@ fn function_17() {
     var phi_11244_: u32;
     var phi_11246_: u32;
     var phi_103399_: bool;
-    var local_72: u32;
-    var local_73: u32;
-    var break_condition_49: bool;
+    var local_96: u32;
+    var local_97: u32;
+    var break_condition_60: bool;
 
     switch bitcast<i32>(0u) {
         default: {
             let _e26 = global;
-            let _e30 = arrayLength((&recycle_claims_or_take_claims.values));
-            let _e32 = arrayLength((&sort_seeds_in_or_take_seeds_in.values));
-            let _e34 = arrayLength((&sort_seeds_out_or_take_seeds_out.values));
+            let _e30 = arrayLength((&recycle_claims_or_take_seed_claims_or_take_claims.values));
+            let _e32 = arrayLength((&sort_rank_features_seeds_in_or_sort_seeds_in_or_take_seed_seeds_in_or_take_seeds_in.values));
+            let _e34 = arrayLength((&sort_gather_features_seeds_out_or_sort_seeds_out_or_take_seed_seeds_out_or_take_seeds_out.values));
             let _e36 = arrayLength((&take_counts.values));
             let _e40 = ((_e26.y * 4194240u) + _e26.x);
-            let _e43 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
-            let _e46 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+            let _e43 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+            let _e46 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
             let _e47 = (_e43 * _e46);
             let _e48 = (_e47 / 256u);
             if ((_e47 % 256u) > 0u) {
@@ -5347,10 +7071,10 @@ fn function_17() {
                     let _e69 = phi_11240_;
                     let _e71 = phi_11243_;
                     let _e73 = phi_11245_;
-                    local_72 = _e71;
-                    local_73 = _e69;
+                    local_96 = _e71;
+                    local_97 = _e69;
                     let _e74 = (_e73 < select(_e65, _e47, (_e47 < _e65)));
-                    break_condition_49 = _e74;
+                    break_condition_60 = _e74;
                     if _e74 {
                         let _e75 = (_e43 == 0u);
                         if _e75 {
@@ -5358,13 +7082,13 @@ fn function_17() {
                             break;
                         }
                         let _e76 = (_e73 % _e43);
-                        let _e79 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.width;
+                        let _e79 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.width;
                         if (_e76 < _e79) {
                             if _e75 {
                                 phi_103399_ = true;
                                 break;
                             }
-                            let _e84 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.height;
+                            let _e84 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
                             phi_11276_ = ((_e73 / _e43) < _e84);
                         } else {
                             phi_11276_ = false;
@@ -5381,13 +7105,13 @@ fn function_17() {
                             }
                             let _e95 = (_e73 / _e43);
                             let _e97 = ((_e95 * _e79) + _e76);
-                            if (_e97 < arrayLength((&recycle_motion_or_take_motion_or_claim_motion.values))) {
+                            if (_e97 < arrayLength((&recycle_motion_or_take_seed_motion_or_take_motion_or_claim_motion.values))) {
                             } else {
                                 phi_103399_ = true;
                                 break;
                             }
-                            let _e102 = recycle_motion_or_take_motion_or_claim_motion.values[_e97][0u];
-                            let _e106 = recycle_motion_or_take_motion_or_claim_motion.values[_e97][1u];
+                            let _e102 = recycle_motion_or_take_seed_motion_or_take_motion_or_claim_motion.values[_e97][0u];
+                            let _e106 = recycle_motion_or_take_seed_motion_or_take_motion_or_claim_motion.values[_e97][1u];
                             let _e108 = ((_e95 * _e43) + _e76);
                             if (_e76 >= _e79) {
                                 phi_11441_ = type_12();
@@ -5395,7 +7119,7 @@ fn function_17() {
                                 phi_11443_ = true;
                                 phi_11444_ = false;
                             } else {
-                                let _e112 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.height;
+                                let _e112 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
                                 let _e113 = (_e95 >= _e112);
                                 if _e113 {
                                     phi_11438_ = type_12();
@@ -5497,7 +7221,7 @@ fn function_17() {
                                     phi_103399_ = true;
                                     break;
                                 }
-                                let _e221 = recycle_claims_or_take_claims.values[_e214.member];
+                                let _e221 = recycle_claims_or_take_seed_claims_or_take_claims.values[_e214.member];
                                 let _e222 = (_e221 == _e214.member_1);
                                 if _e222 {
                                     if (_e214.member < _e32) {
@@ -5505,13 +7229,13 @@ fn function_17() {
                                         phi_103399_ = true;
                                         break;
                                     }
-                                    let _e226 = sort_seeds_in_or_take_seeds_in.values[_e214.member];
+                                    let _e226 = sort_rank_features_seeds_in_or_sort_seeds_in_or_take_seed_seeds_in_or_take_seeds_in.values[_e214.member];
                                     if (_e73 < _e34) {
                                     } else {
                                         phi_103399_ = true;
                                         break;
                                     }
-                                    sort_seeds_out_or_take_seeds_out.values[_e73] = _e226;
+                                    sort_gather_features_seeds_out_or_sort_seeds_out_or_take_seed_seeds_out_or_take_seeds_out.values[_e73] = _e226;
                                 }
                                 phi_11486_ = select(true, false, _e222);
                             } else {
@@ -5529,7 +7253,7 @@ fn function_17() {
                                 phi_103399_ = true;
                                 break;
                             }
-                            let _e239 = recycle_claims_or_take_claims.values[_e73];
+                            let _e239 = recycle_claims_or_take_seed_claims_or_take_claims.values[_e73];
                             if (_e239 == 4294967295u) {
                                 phi_11504_ = (_e69 + 1u);
                             } else {
@@ -5544,13 +7268,13 @@ fn function_17() {
                                 phi_103399_ = true;
                                 break;
                             }
-                            let _e91 = sort_seeds_in_or_take_seeds_in.values[_e73];
+                            let _e91 = sort_rank_features_seeds_in_or_sort_seeds_in_or_take_seed_seeds_in_or_take_seeds_in.values[_e73];
                             if (_e73 < _e34) {
                             } else {
                                 phi_103399_ = true;
                                 break;
                             }
-                            sort_seeds_out_or_take_seeds_out.values[_e73] = _e91;
+                            sort_gather_features_seeds_out_or_sort_seeds_out_or_take_seed_seeds_out_or_take_seeds_out.values[_e73] = _e91;
                             phi_11518_ = _e69;
                             phi_11519_ = _e71;
                         }
@@ -5573,7 +7297,7 @@ fn function_17() {
                         phi_11243_ = _e252;
                         phi_11245_ = _e254;
                         phi_103399_ = false;
-                        let _e306 = break_condition_49;
+                        let _e306 = break_condition_60;
                         break if !(_e306);
                     }
                 }
@@ -5586,14 +7310,14 @@ fn function_17() {
                 } else {
                     break;
                 }
-                let _e263 = local_72;
+                let _e263 = local_96;
                 take_counts.values[_e258] = _e263;
                 let _e264 = (_e258 + 1u);
                 if (_e264 < _e36) {
                 } else {
                     break;
                 }
-                let _e269 = local_73;
+                let _e269 = local_97;
                 take_counts.values[_e264] = _e269;
             }
             break;
@@ -5602,7 +7326,7 @@ fn function_17() {
     return;
 }
 
-fn function_18() {
+fn function_25() {
     var phi_11710_: type_12;
     var phi_11712_: type_12;
     var phi_11714_: bool;
@@ -5627,8 +7351,8 @@ fn function_18() {
         default: {
             let _e21 = global;
             let _e29 = ((_e21.y * 4194240u) + _e21.x);
-            let _e32 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.width;
-            let _e35 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.height;
+            let _e32 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.width;
+            let _e35 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.height;
             if (_e29 < (_e32 * _e35)) {
                 let _e38 = (_e32 == 0u);
                 if _e38 {
@@ -5639,18 +7363,18 @@ fn function_18() {
                     break;
                 }
                 let _e40 = (_e29 / _e32);
-                let _e43 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
-                let _e46 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_retarget_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_clear_claims_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
+                let _e43 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_width;
+                let _e46 = retarget_params_or_intensity_params_or_jump_link_params_or_seed_init_params_or_sort_rank_params_or_record_link_params_or_sort_gather_params_or_sort_features_params_or_surface_group_params_or_retarget_features_params_or_sort_rank_features_params_or_sort_gather_features_params_or_sort_params_or_recycle_params_or_list_free_params_or_take_seed_params_or_count_flags_params_or_clear_claims_params_or_recycle_seed_params_or_list_free_seed_params_or_scan_params_or_take_params_or_claim_params.value.padded_height;
                 let _e47 = (_e43 * _e46);
                 let _e50 = (select(_e47, 2u, (_e47 < 2u)) - 1u);
                 let _e55 = select((bitcast<u32>(31i) - firstLeadingBit(_e50)), 32u, (_e50 == 0u));
                 let _e58 = ((_e40 * _e32) + _e39);
-                if (_e58 < arrayLength((&recycle_motion_or_take_motion_or_claim_motion.values))) {
+                if (_e58 < arrayLength((&recycle_motion_or_take_seed_motion_or_take_motion_or_claim_motion.values))) {
                 } else {
                     break;
                 }
-                let _e63 = recycle_motion_or_take_motion_or_claim_motion.values[_e58][0u];
-                let _e67 = recycle_motion_or_take_motion_or_claim_motion.values[_e58][1u];
+                let _e63 = recycle_motion_or_take_seed_motion_or_take_motion_or_claim_motion.values[_e58][0u];
+                let _e67 = recycle_motion_or_take_seed_motion_or_take_motion_or_claim_motion.values[_e58][1u];
                 let _e69 = ((_e40 * _e43) + _e39);
                 if (_e39 >= _e32) {
                     phi_11733_ = type_12();
@@ -5816,68 +7540,110 @@ fn permute_entry_sort_features_cs(@builtin(global_invocation_id) param_7: vec3<u
 }
 
 @compute @workgroup_size(64, 1, 1) 
-fn permute_entry_retarget_features_cs(@builtin(global_invocation_id) param_8: vec3<u32>) {
+fn permute_entry_surface_group_cs(@builtin(global_invocation_id) param_8: vec3<u32>) {
     global = param_8;
     function_8();
 }
 
 @compute @workgroup_size(64, 1, 1) 
-fn permute_entry_sort_cs(@builtin(global_invocation_id) param_9: vec3<u32>) {
+fn permute_entry_retarget_features_cs(@builtin(global_invocation_id) param_9: vec3<u32>) {
     global = param_9;
     function_9();
 }
 
 @compute @workgroup_size(64, 1, 1) 
-fn sampler_entry_screen_sobol_cs(@builtin(global_invocation_id) param_10: vec3<u32>) {
+fn permute_entry_sort_rank_features_cs(@builtin(global_invocation_id) param_10: vec3<u32>) {
     global = param_10;
     function_10();
 }
 
 @compute @workgroup_size(64, 1, 1) 
-fn sampler_entry_spatiotemporal_cs(@builtin(global_invocation_id) param_11: vec3<u32>) {
+fn permute_entry_sort_gather_features_cs(@builtin(global_invocation_id) param_11: vec3<u32>) {
     global = param_11;
     function_11();
 }
 
 @compute @workgroup_size(64, 1, 1) 
-fn sampler_entry_zsobol_cs(@builtin(global_invocation_id) param_12: vec3<u32>) {
+fn permute_entry_sort_cs(@builtin(global_invocation_id) param_12: vec3<u32>) {
     global = param_12;
     function_12();
 }
 
 @compute @workgroup_size(64, 1, 1) 
-fn reproject_entry_recycle_cs(@builtin(global_invocation_id) param_13: vec3<u32>) {
+fn sampler_entry_screen_sobol_cs(@builtin(global_invocation_id) param_13: vec3<u32>) {
     global = param_13;
     function_13();
 }
 
 @compute @workgroup_size(64, 1, 1) 
-fn reproject_entry_list_free_cs(@builtin(global_invocation_id) param_14: vec3<u32>) {
+fn sampler_entry_spatiotemporal_cs(@builtin(global_invocation_id) param_14: vec3<u32>) {
     global = param_14;
     function_14();
 }
 
 @compute @workgroup_size(64, 1, 1) 
-fn reproject_entry_clear_claims_cs(@builtin(global_invocation_id) param_15: vec3<u32>) {
+fn sampler_entry_zsobol_cs(@builtin(global_invocation_id) param_15: vec3<u32>) {
     global = param_15;
     function_15();
 }
 
 @compute @workgroup_size(64, 1, 1) 
-fn reproject_entry_scan_cs(@builtin(global_invocation_id) param_16: vec3<u32>, @builtin(local_invocation_index) param_17: u32) {
+fn reproject_entry_recycle_cs(@builtin(global_invocation_id) param_16: vec3<u32>) {
     global = param_16;
-    global_2 = param_17;
     function_16();
 }
 
 @compute @workgroup_size(64, 1, 1) 
-fn reproject_entry_take_cs(@builtin(global_invocation_id) param_18: vec3<u32>) {
-    global = param_18;
+fn reproject_entry_list_free_cs(@builtin(global_invocation_id) param_17: vec3<u32>) {
+    global = param_17;
     function_17();
 }
 
 @compute @workgroup_size(64, 1, 1) 
-fn reproject_entry_claim_cs(@builtin(global_invocation_id) param_19: vec3<u32>) {
-    global = param_19;
+fn reproject_entry_take_seed_cs(@builtin(global_invocation_id) param_18: vec3<u32>) {
+    global = param_18;
     function_18();
+}
+
+@compute @workgroup_size(64, 1, 1) 
+fn reproject_entry_count_flags_cs(@builtin(global_invocation_id) param_19: vec3<u32>) {
+    global = param_19;
+    function_19();
+}
+
+@compute @workgroup_size(64, 1, 1) 
+fn reproject_entry_clear_claims_cs(@builtin(global_invocation_id) param_20: vec3<u32>) {
+    global = param_20;
+    function_20();
+}
+
+@compute @workgroup_size(64, 1, 1) 
+fn reproject_entry_recycle_seed_cs(@builtin(global_invocation_id) param_21: vec3<u32>) {
+    global = param_21;
+    function_21();
+}
+
+@compute @workgroup_size(64, 1, 1) 
+fn reproject_entry_list_free_seed_cs(@builtin(global_invocation_id) param_22: vec3<u32>) {
+    global = param_22;
+    function_22();
+}
+
+@compute @workgroup_size(64, 1, 1) 
+fn reproject_entry_scan_cs(@builtin(global_invocation_id) param_23: vec3<u32>, @builtin(local_invocation_index) param_24: u32) {
+    global = param_23;
+    global_2 = param_24;
+    function_23();
+}
+
+@compute @workgroup_size(64, 1, 1) 
+fn reproject_entry_take_cs(@builtin(global_invocation_id) param_25: vec3<u32>) {
+    global = param_25;
+    function_24();
+}
+
+@compute @workgroup_size(64, 1, 1) 
+fn reproject_entry_claim_cs(@builtin(global_invocation_id) param_26: vec3<u32>) {
+    global = param_26;
+    function_25();
 }
