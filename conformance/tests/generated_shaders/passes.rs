@@ -8,6 +8,7 @@ use glam::Vec4;
 use gpu_tracer::gpu::Gpu;
 use kernels::permute_entry::linear_dispatch;
 use sampler_core::reprojection::passes::chunk_count;
+use sampler_core::reprojection::seed_passes::COUNT_LANES;
 use sampler_core::sequences::seed::hash_u32;
 use sampler_core::*;
 use shader_sources::{glsl_file, ENTRIES, WGSL_FILE};
@@ -276,7 +277,7 @@ fn check_frame_loop(gpu: &Gpu, passes: &Passes, language: &str) {
                         &[&params, &motion_buf, &claims, &seeds, &reprojected, &flags],
                         n_seeds as u32,
                     ),
-                    ("count_flags", &[&params, &flags, &counts], chunks),
+                    ("count_flags", &[&params, &flags, &counts], chunks * COUNT_LANES),
                     ("scan", &[&params, &counts], 1),
                     (
                         "list_free_seed",

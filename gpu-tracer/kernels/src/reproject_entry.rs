@@ -27,7 +27,7 @@
 //! | entry | 0 | 1 | 2 | 3 | 4 | 5 | 6 |
 //! |---|---|---|---|---|---|---|---|
 //! | [`TAKE_SEED_ENTRY`] (`n = seed_count`) | params | motion | claims | seeds in | seeds out | flags (out) | |
-//! | [`COUNT_FLAGS_ENTRY`] (`n = chunks`) | params | flags | counts (out) | | | | |
+//! | [`COUNT_FLAGS_ENTRY`] (`n = 64 * chunks`: a workgroup per chunk) | params | flags | counts (out) | | | | |
 //! | [`LIST_FREE_SEED_ENTRY`] (`n = seed_count`, after scan) | params | flags | counts | free (out) | | | |
 //! | [`RECYCLE_SEED_ENTRY`] (`n = seed_count`) | params | flags | counts | free | seeds in | seeds out | |
 
@@ -37,7 +37,9 @@ use sampler_core::reprojection::passes::{
     chunk_count, claim_pixel, clear_claim, list_free_chunk, offset_chunk_counts, recycle_chunk, scan_segment,
     sum_chunk_counts, take_chunk, SCAN_LANES,
 };
-use sampler_core::reprojection::seed_passes::{count_chunk_flags, list_free_seed, recycle_seed, take_seed};
+use sampler_core::reprojection::seed_passes::{
+    count_lane_flags, list_free_seed, recycle_seed, take_seed, COUNT_LANES,
+};
 use sampler_core::{FrameParams, CLAIM_NONE};
 use spirv_std::arch::{atomic_u_min, workgroup_memory_barrier_with_group_sync};
 use spirv_std::memory::{Scope, Semantics};
@@ -222,17 +224,45 @@ pub fn take_seed_cs(
     }
 }
 
-/// Pass 3b of the per-seed form, one invocation per chunk: `count_chunk_flags`.
+const _: () = assert!(
+    COUNT_LANES == crate::permute_entry::PERMUTE_WORKGROUP,
+    "count_flags_cs is one 64-wide workgroup per chunk"
+);
+
+/// Pass 3b of the per-seed form, one 64-wide workgroup per chunk (`n = 64 *
+/// chunks`): each lane sums its segment of the chunk's flags
+/// (`count_lane_flags`), lane 0 adds the 64 sums and writes the chunk's
+/// counts: what `count_chunk_flags` writes, in 4 + 64 steps instead of 256.
 #[spirv(compute(threads(64)))]
 pub fn count_flags_cs(
     #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(local_invocation_index)] lane: u32,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &FrameParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] flags: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] counts: &mut [u32],
+    #[spirv(workgroup)] need: &mut [u32; COUNT_LANES as usize],
+    #[spirv(workgroup)] free: &mut [u32; COUNT_LANES as usize],
 ) {
-    let c = linear_id(id);
-    if c < chunk_count(params) {
-        count_chunk_flags(params, c, flags, counts);
+    // The chunk is the workgroup's (uniform within it, so every invocation
+    // of a workgroup reaches the barrier or none does).
+    let chunk = linear_id(id) / COUNT_LANES;
+    if chunk >= chunk_count(params) {
+        return;
+    }
+    let (n, f) = count_lane_flags(params, chunk, lane, flags);
+    need[lane as usize] = n;
+    free[lane as usize] = f;
+    workgroup_memory_barrier_with_group_sync();
+    if lane == 0 {
+        let (mut n_sum, mut f_sum) = (0u32, 0u32);
+        let mut l = 0usize;
+        while l < COUNT_LANES as usize {
+            n_sum = n_sum.wrapping_add(need[l]);
+            f_sum = f_sum.wrapping_add(free[l]);
+            l += 1;
+        }
+        counts[(chunk * 2) as usize] = n_sum;
+        counts[(chunk * 2 + 1) as usize] = f_sum;
     }
 }
 

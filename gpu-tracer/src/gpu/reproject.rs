@@ -14,6 +14,7 @@ use kernels::reproject_entry::{
     RECYCLE_SEED_ENTRY, SCAN_ENTRY, TAKE_ENTRY, TAKE_SEED_ENTRY,
 };
 use sampler_core::reprojection::passes::chunk_count;
+use sampler_core::reprojection::seed_passes::COUNT_LANES;
 use sampler_core::reprojection::MAX_REPROJECT_SEEDS;
 use sampler_core::{Buffer, FrameLayout};
 
@@ -187,7 +188,7 @@ impl SeedReprojector {
                 (&pipelines.clear, &self.clear_bg, n),
                 (&pipelines.claim, &self.claim_bg, p.pixel_count()),
                 (&pipelines.take_seed, &self.take_seed_bg, n),
-                (&pipelines.count_flags, &self.count_flags_bg, chunks),
+                (&pipelines.count_flags, &self.count_flags_bg, chunks * COUNT_LANES),
                 (&pipelines.scan, &self.scan_bg, 1),
                 (&pipelines.list_free_seed, &self.list_free_seed_bg, n),
                 (&pipelines.recycle_seed, &self.recycle_seed_bg, n),

@@ -12,7 +12,7 @@
 //! | pass | invocations | reads | writes |
 //! |---|---|---|---|
 //! | 3a. take | one per seed | motion, claims, seeds in | winners' and padding seeds out; `flags[i]` ([`take_seed`]) |
-//! | 3b. count | one per chunk | flags | the chunk's two counts ([`count_chunk_flags`]) |
+//! | 3b. count | one workgroup of [`COUNT_LANES`] per chunk | flags | the chunk's two counts ([`count_chunk_flags`], in lane segments: [`count_lane_flags`]) |
 //! | 4. scan | as in [`passes`](super::passes) | | |
 //! | 5. list | one per seed | flags, offsets | `free[k]` for an unclaimed source ([`list_free_seed`]) |
 //! | 6. recycle | one per seed | flags, offsets, free list, seeds in | the seed of a pixel without one ([`recycle_seed`]) |
@@ -90,13 +90,18 @@ fn count_flag(flags: &[u32], start: u32, end: u32, flag: u32) -> u32 {
     n
 }
 
-/// Pass 3b for chunk `chunk`: `counts[2 * chunk]` = its pixels without a
-/// seed, `counts[2 * chunk + 1]` = its unclaimed sources (what the chunk
-/// form's take pass writes), from the flags of pass 3a.
+/// Invocations that count one chunk's flags on the GPU (one workgroup,
+/// `kernels::reproject_entry::count_flags_cs`): each sums
+/// `REPROJECT_CHUNK / COUNT_LANES` consecutive flags ([`count_lane_flags`]),
+/// then one lane adds the lanes' sums.
+pub const COUNT_LANES: u32 = 64;
+
+const _: () = assert!(REPROJECT_CHUNK.is_multiple_of(COUNT_LANES));
+
+/// The sums `(pixels without a seed, unclaimed sources)` of the flags at
+/// indices `[start, end)`.
 #[inline]
-pub fn count_chunk_flags(params: &FrameParams, chunk: u32, flags: &[u32], counts: &mut [u32]) {
-    let start = chunk.wrapping_mul(REPROJECT_CHUNK);
-    let end = start.wrapping_add(REPROJECT_CHUNK).min(params.seed_count());
+fn sum_flags(flags: &[u32], start: u32, end: u32) -> (u32, u32) {
     let mut need = 0u32;
     let mut free = 0u32;
     let mut j = start;
@@ -106,8 +111,43 @@ pub fn count_chunk_flags(params: &FrameParams, chunk: u32, flags: &[u32], counts
         free = free.wrapping_add((f & FLAG_FREE_SOURCE) >> 1);
         j = j.wrapping_add(1);
     }
+    (need, free)
+}
+
+/// The end of chunk `chunk`'s indices (the last chunk may be short).
+#[inline]
+fn chunk_end(params: &FrameParams, chunk: u32) -> u32 {
+    chunk
+        .wrapping_mul(REPROJECT_CHUNK)
+        .wrapping_add(REPROJECT_CHUNK)
+        .min(params.seed_count())
+}
+
+/// Pass 3b for chunk `chunk`: `counts[2 * chunk]` = its pixels without a
+/// seed, `counts[2 * chunk + 1]` = its unclaimed sources (what the chunk
+/// form's take pass writes), from the flags of pass 3a.
+#[inline]
+pub fn count_chunk_flags(params: &FrameParams, chunk: u32, flags: &[u32], counts: &mut [u32]) {
+    let (need, free) = sum_flags(
+        flags,
+        chunk.wrapping_mul(REPROJECT_CHUNK),
+        chunk_end(params, chunk),
+    );
     counts[(chunk * 2) as usize] = need;
     counts[(chunk * 2 + 1) as usize] = free;
+}
+
+/// Lane `lane` (`< COUNT_LANES`) of pass 3b on the GPU: the sums of its
+/// segment of chunk `chunk`'s flags. The lanes' sums add up to what
+/// [`count_chunk_flags`] writes.
+#[inline]
+pub fn count_lane_flags(params: &FrameParams, chunk: u32, lane: u32, flags: &[u32]) -> (u32, u32) {
+    let per = REPROJECT_CHUNK / COUNT_LANES;
+    let start = chunk
+        .wrapping_mul(REPROJECT_CHUNK)
+        .wrapping_add(lane.wrapping_mul(per));
+    let end = start.wrapping_add(per).min(chunk_end(params, chunk));
+    sum_flags(flags, start, end)
 }
 
 /// Pass 5 for index `i`: an unclaimed source writes itself to `free[k]`,
@@ -138,5 +178,40 @@ pub fn recycle_seed(
         let (start, chunk) = chunk_of(i);
         let k = counts[(chunk * 2) as usize].wrapping_add(count_flag(flags, start, i, FLAG_NEEDS_SEED));
         seeds_out[i as usize] = seeds_in[free[k as usize] as usize];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::permutation::layout::FrameLayout;
+
+    /// The lanes' sums add up to the chunk's counts, short last chunk included.
+    #[test]
+    fn lane_sums_add_up_to_the_chunk_counts() {
+        let layout = FrameLayout::new(70, 5, 4, 64).unwrap();
+        let params = layout.params(0);
+        let n = layout.seed_count();
+        let mut flags = [0u32; 128 * 64];
+        for (i, f) in flags[..n].iter_mut().enumerate() {
+            *f = (i as u32).wrapping_mul(0x9e37_79b9) >> 30;
+        }
+        let chunks = super::super::passes::chunk_count(&params);
+        let mut counts = [0u32; 2 * 32];
+        for c in 0..chunks {
+            count_chunk_flags(&params, c, &flags[..n], &mut counts);
+            let (mut need, mut free) = (0, 0);
+            for lane in 0..COUNT_LANES {
+                let (a, b) = count_lane_flags(&params, c, lane, &flags[..n]);
+                need += a;
+                free += b;
+            }
+            assert_eq!(
+                (need, free),
+                (counts[2 * c as usize], counts[2 * c as usize + 1]),
+                "chunk {c}"
+            );
+            assert!(need > 0 && free > 0, "chunk {c} must count something");
+        }
     }
 }
