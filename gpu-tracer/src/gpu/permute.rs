@@ -146,7 +146,11 @@ struct FeaturePasses {
 
 impl SeedPermuter {
     /// Uploads the tile and tables and wires the passes to `color` (the
-    /// tracer's `width * height` `Vec4` frame colour buffer).
+    /// tracer's `width * height` `Vec4` frame colour buffer). Device memory:
+    /// three `u32` per padded seed (seeds, sorted, ranked), one `f32` per
+    /// pixel (intensity), the tile and its four tables (`5 * 4 W^2` bytes);
+    /// [`enable_features`](Self::enable_features) adds three `u32` per seed
+    /// (links twice, groups) and 16 bytes per pixel (features).
     ///
     /// # Errors
     /// [`GpuError::Input`] if the tile or tables do not match the layout.
