@@ -1,6 +1,7 @@
 //! What each sampler's numbers cost on the GPU: the 1-spp path-traced frame
 //! (Cornell box, 1280x720, max depth 8) drawn from the seed stream, from
-//! screen-space Sobol, from ZSobol and from the spatiotemporal sampler
+//! screen-space Sobol, from ZSobol (every number, or the pixel jitter only,
+//! as `--mode temporal --sampler zsobol-jitter` uses it) and from the spatiotemporal sampler
 //! (the basic trace kernel, which the Cornell box fits), and the seed
 //! stream's frame from the full trace kernel (`kernels::trace_variant`),
 //! measured on one device in one run, the samplers alternated round by
@@ -21,7 +22,8 @@ use gpu_tracer::cornell::cornell_box;
 use gpu_tracer::gpu::{Gpu, PassTimer, PermutePipelines, SeedPermuter, TracePipelines, Tracer};
 use gpu_tracer::{SceneGpu, TraceSettings, TraceVariant};
 use kernels::abi::{
-    SAMPLER_KRONECKER, SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS, SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL,
+    SAMPLER_JITTER_ONLY, SAMPLER_KRONECKER, SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS, SAMPLER_SPATIOTEMPORAL,
+    SAMPLER_ZSOBOL,
 };
 use sampler_core::FrameLayout;
 
@@ -31,10 +33,15 @@ const HEIGHT: u32 = 720;
 /// The rows: name, `TraceParams::sampler` and the trace kernel variant
 /// (the Cornell box fits the basic one, `kernels::trace_variant`; the last
 /// row runs the full kernel on the same frame, for its cost).
-const SAMPLERS: [(&str, u32, TraceVariant); 6] = [
+const SAMPLERS: [(&str, u32, TraceVariant); 7] = [
     ("seed stream", SAMPLER_SEEDS, TraceVariant::Basic),
     ("screen-sobol", SAMPLER_SCREEN_SOBOL, TraceVariant::Basic),
     ("zsobol", SAMPLER_ZSOBOL, TraceVariant::Basic),
+    (
+        "zsobol-jitter",
+        SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY,
+        TraceVariant::Basic,
+    ),
     ("spatiotemporal", SAMPLER_SPATIOTEMPORAL, TraceVariant::Basic),
     (
         "spatiotemporal-kronecker",
