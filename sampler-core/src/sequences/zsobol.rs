@@ -88,25 +88,28 @@ fn spread_bits(v: u32) -> u32 {
 
 /// Applies permutation number `p` (`0..24`, Lehmer code) of `{0, 1, 2, 3}`
 /// to `digit` (`0..4`).
+///
+/// The remaining items live packed in one `u32`, two bits each, not in an
+/// array: GPUs keep small arrays indexed at run time in scratch memory, and
+/// this runs once per index digit of every ZSobol pair.
 #[inline]
 pub fn permute_digit(digit: u32, p: u32) -> u32 {
     // Lehmer code: position 0 takes the (p / 6)-th remaining item, position 1
     // the ((p % 6) / 2)-th, position 2 the (p % 2)-th, position 3 the last.
-    let codes = [p / 6, (p % 6) / 2, p % 2, 0];
-    let mut items = [0u32, 1, 2, 3];
-    let mut left = 4u32;
+    let mut items = 0b11_10_01_00u32; // item k at bits 2k..2k+2
     let mut out = 0u32;
     let mut j = 0u32;
     while j <= digit && j < 4 {
-        let c = codes[j as usize];
-        out = items[c as usize];
-        // Remove item c (shift the tail down).
-        let mut k = c;
-        while k + 1 < left {
-            items[k as usize] = items[k as usize + 1];
-            k += 1;
-        }
-        left -= 1;
+        let c = match j {
+            0 => p / 6,
+            1 => (p % 6) / 2,
+            2 => p % 2,
+            _ => 0,
+        };
+        out = (items >> (2 * c)) & 3;
+        // Remove item c: keep the items below it, shift those above it down.
+        let below = items & ((1u32 << (2 * c)) - 1);
+        items = below | ((items >> (2 * c + 2)) << (2 * c));
         j += 1;
     }
     out
@@ -161,15 +164,24 @@ fn placed_digits(index: u32, high: u32, salt: u32) -> u32 {
 /// A placement map applied to the Morton code `v` of a pixel inside its
 /// aligned 64x64 square: bit `k` of the result is the parity of
 /// `map[k] & v` (see [`ZSOBOL_PLACEMENT`]).
+///
+/// Written out bit by bit (no loop over the map): with constant indices the
+/// map's rows fold into the shader's code instead of an array read at run time.
 #[inline]
 pub fn apply_placement(map: &[u32; 12], v: u32) -> u32 {
-    let mut out = 0u32;
-    let mut k = 0u32;
-    while k < 12 {
-        out |= ((map[k as usize] & v).count_ones() & 1) << k;
-        k += 1;
-    }
-    out
+    let bit = |k: usize| ((map[k] & v).count_ones() & 1) << k;
+    bit(0)
+        | bit(1)
+        | bit(2)
+        | bit(3)
+        | bit(4)
+        | bit(5)
+        | bit(6)
+        | bit(7)
+        | bit(8)
+        | bit(9)
+        | bit(10)
+        | bit(11)
 }
 
 /// The permuted global Sobol index of sample `sample_index` of `pixel` for
@@ -331,6 +343,29 @@ mod tests {
     use super::*;
     use crate::sequences::sobol::tests::is_02_net;
     use glam::UVec2;
+
+    #[test]
+    fn packed_digit_permutation_equals_the_array_form() {
+        // The first form, with the items in an array (Lehmer code).
+        fn array_form(digit: u32, p: u32) -> u32 {
+            let codes = [p / 6, (p % 6) / 2, p % 2, 0];
+            let mut items = std::vec![0u32, 1, 2, 3];
+            let mut out = 0;
+            for &c in codes.iter().take(digit as usize + 1) {
+                out = items.remove(c as usize);
+            }
+            out
+        }
+        for p in 0..24 {
+            for digit in 0..4 {
+                assert_eq!(
+                    permute_digit(digit, p),
+                    array_form(digit, p),
+                    "digit {digit}, permutation {p}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn digit_permutations_are_the_24_permutations() {
