@@ -14,11 +14,11 @@
 //! | [`SEED_INIT_ENTRY`] | `FrameParams` (uniform; `frame` = salt) | seeds out `[u32]` | | | |
 //!
 //! The sorting pass comes in two forms that write the same seeds: [`SORT_ENTRY`]
-//! (one invocation per block: the simplest to integrate) and
-//! [`SORT_RANK_ENTRY`] then [`SORT_GATHER_ENTRY`] (one invocation per seed
-//! each, `sampler_core::sort_pixel`'s two passes: what the tracer runs, several
-//! times faster on hardware GPUs, whose per-invocation arrays live in scratch
-//! memory).
+//! (one invocation per block: the simplest to integrate, and the faster on a
+//! CPU rasteriser) and [`SORT_RANK_ENTRY`] then [`SORT_GATHER_ENTRY`] (one
+//! invocation per seed each, `sampler_core::sort_pixel`'s two passes: 2.4x
+//! faster on an NVIDIA H100, where per-invocation arrays live in scratch
+//! memory). The tracer picks by adapter (`gpu_tracer::gpu::PassForm`).
 //!
 //! The feature-aware permutation (`sampler_core::features::permute`) replaces
 //! the sort and retarget passes with these (storage buffers after the
