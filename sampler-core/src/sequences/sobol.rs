@@ -119,22 +119,26 @@ pub fn sobol_u32(index: u32, dimension: u32) -> u32 {
 
 /// Point `index` of Sobol dimensions 0 and 1 together, in 0.32 fixed point;
 /// identical to `[sobol_u32(index, 0), sobol_u32(index, 1)]`, without the
-/// table: dimension 0 is the bit reversal of `index` (van der Corput), and
-/// dimension 1's columns follow `v_(k+1) = v_k ^ (v_k >> 1)` (its primitive
-/// polynomial is `x + 1`, so its generator matrix is Pascal's triangle mod 2).
+/// table or a loop over the index's bits. Dimension 0 is the bit reversal
+/// `r` of `index` (van der Corput). Dimension 1's columns follow `v_(k+1) =
+/// v_k ^ (v_k >> 1)` (its primitive polynomial is `x + 1`), so its generator
+/// matrix is Pascal's triangle mod 2: by Lucas's theorem, output bit `31 - m`
+/// is the XOR of the index bits `k` whose binary digits include `m`'s. In
+/// terms of `r` (index bit `k` sits at position `31 - k`), position `q` of
+/// the output is the XOR of `r`'s bits at the positions `p` whose binary
+/// digits are a subset of `q`'s: a subset-sum transform over the five bits
+/// of a position, five shift-and-mask steps.
 #[inline]
 pub fn sobol_pair_u32(index: u32) -> [u32; 2] {
-    let mut y = 0u32;
-    let mut v = 1u32 << 31;
-    let mut i = index;
-    while i != 0 {
-        if i & 1 != 0 {
-            y ^= v;
-        }
-        i >>= 1;
-        v ^= v >> 1;
-    }
-    [index.reverse_bits(), y]
+    let r = index.reverse_bits();
+    let mut y = r;
+    // Step b adds position q - 2^b into every position q that has bit b.
+    y ^= (y << 1) & 0xAAAA_AAAA;
+    y ^= (y << 2) & 0xCCCC_CCCC;
+    y ^= (y << 4) & 0xF0F0_F0F0;
+    y ^= (y << 8) & 0xFF00_FF00;
+    y ^= (y << 16) & 0xFFFF_0000;
+    [r, y]
 }
 
 /// Point `index` of Sobol dimension `dimension`, in `[0, 1)` (24 bits).
