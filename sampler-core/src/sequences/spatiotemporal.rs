@@ -107,20 +107,26 @@ pub fn spatiotemporal_shift_at(
     pixel: UVec2,
     pair: u32,
 ) -> [u32; 2] {
+    // Two calls, not a loop filling an array: shaders keep arrays indexed at
+    // run time in scratch memory.
+    [
+        shift_coordinate(buffer, start, side_log2, pixel, pair, 0),
+        shift_coordinate(buffer, start, side_log2, pixel, pair, 1),
+    ]
+}
+
+/// Coordinate `c` (0 or 1) of [`spatiotemporal_shift_at`]: the tile read at
+/// the walk's offset `2 pair + c + 1`, as a 0.32 fixed-point shift.
+#[inline]
+fn shift_coordinate(buffer: &[u32], start: usize, side_log2: u32, pixel: UVec2, pair: u32, c: u32) -> u32 {
     let mask = (1u32 << side_log2).wrapping_sub(1);
     let bits = 2 * side_log2;
-    let mut out = [0u32; 2];
-    let mut c = 0;
-    while c < 2 {
-        let o = walk_offset(pair.wrapping_mul(2).wrapping_add(c as u32 + 1), side_log2);
-        let x = pixel.x.wrapping_add(o.x) & mask;
-        let y = pixel.y.wrapping_add(o.y) & mask;
-        let i = start.wrapping_add(((y << side_log2) | x) as usize);
-        let rank = if i < buffer.len() { buffer[i] } else { 0 };
-        out[c] = (rank << (32 - bits)) | (1u32 << (31 - bits));
-        c += 1;
-    }
-    out
+    let o = walk_offset(pair.wrapping_mul(2).wrapping_add(c + 1), side_log2);
+    let x = pixel.x.wrapping_add(o.x) & mask;
+    let y = pixel.y.wrapping_add(o.y) & mask;
+    let i = start.wrapping_add(((y << side_log2) | x) as usize);
+    let rank = if i < buffer.len() { buffer[i] } else { 0 };
+    (rank << (32 - bits)) | (1u32 << (31 - bits))
 }
 
 /// Pair `pair` of sequence index `index` before the per-pixel shift: the 2D
