@@ -12,7 +12,10 @@
 //! walk's sort + retarget on a second permuter of the same 64x64 tile, the
 //! two in alternating order, all in each frame's submission. The sort runs
 //! in the form the tracer picks for the device (`PassForm::for_device`); both
-//! forms (per block, per seed: the same seeds) are timed beside it. `GPU_PASSES_ROUNDS=N` measures `N` frames instead of 15.
+//! forms (per block, per seed: the same seeds) are timed beside it, as are
+//! the reprojection's and the feature-aware step's, and (with timestamp
+//! queries) the reprojection's passes one by one. `GPU_PASSES_ROUNDS=N`
+//! measures `N` frames instead of 15.
 //!
 //! ```text
 //! cargo bench -p gpu-tracer --bench gpu_passes
@@ -220,6 +223,41 @@ fn main() {
             reproject_seed_ms.push(times[15]);
         }
     }
+    // The reprojection's passes one by one, both forms (each in its own timed
+    // pass, after the frames above; the camera keeps panning).
+    let mut split_rows: Vec<(String, Vec<f64>)> = Vec::new();
+    if let Some(split_timer) = PassTimer::new(&gpu, 8) {
+        for form in [PassForm::PerGroup, PassForm::PerSeed] {
+            reprojector.set_form(form);
+            let mut per_pass: Vec<Vec<f64>> = Vec::new();
+            let mut names = Vec::new();
+            for t in 0..rounds {
+                let t = rounds + 1 + t;
+                scene
+                    .set_cameras(&camera(t), &camera(t.saturating_sub(1)))
+                    .expect("camera");
+                tracer.set_params(&gpu, &scene.trace_params(&settings, t).expect("params"));
+                let mut e = gpu.device.create_command_encoder(&Default::default());
+                tracer.encode_motion(&mut e, &tp, None);
+                names = reprojector.encode_each_timed(&mut e, &rp, &split_timer, 0);
+                split_timer.resolve(&mut e);
+                gpu.queue.submit([e.finish()]);
+                let ms = split_timer.read_ms(&gpu).expect("timestamps");
+                per_pass.resize(names.len(), Vec::new());
+                for (k, v) in per_pass.iter_mut().enumerate() {
+                    v.push(ms[k]);
+                }
+            }
+            for (name, v) in names.iter().zip(per_pass) {
+                let form = if form == PassForm::PerSeed {
+                    "seed"
+                } else {
+                    "chunk"
+                };
+                split_rows.push((format!("  per {form}: {name}"), v));
+            }
+        }
+    }
     // The filters, each chain on the traced frame and G-buffer (copied into
     // its inputs, untimed), timed per chain.
     let chains = [
@@ -315,6 +353,13 @@ fn main() {
     for (c, ms) in chains.iter().zip(&mut filter_ms) {
         let ms = median(ms);
         let name = format!("filter {c}");
+        println!("{name:<28} {ms:>10.3} {:>13.2}%", 100.0 * ms / tr);
+    }
+    if !split_rows.is_empty() {
+        println!("reprojection pass by pass (each in its own timed pass):");
+    }
+    for (name, mut ms) in split_rows {
+        let ms = median(&mut ms);
         println!("{name:<28} {ms:>10.3} {:>13.2}%", 100.0 * ms / tr);
     }
 }

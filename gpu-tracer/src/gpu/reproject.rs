@@ -172,31 +172,65 @@ impl SeedReprojector {
         pipelines: &ReprojectPipelines,
         timer: Option<(&PassTimer, u32)>,
     ) {
+        let steps: Vec<Dispatch<'_>> = self.passes(pipelines).into_iter().map(|(_, d)| d).collect();
+        encode_pass(encoder, "seed reprojection", &steps, timer);
+        self.encode_copy_back(encoder);
+    }
+
+    /// Encodes what [`encode`](Self::encode) encodes, each pass in its own
+    /// compute pass timed as span `first + k` of `timer` (`k` in pass order),
+    /// and returns the passes' names in that order: which pass costs what.
+    pub fn encode_each_timed(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipelines: &ReprojectPipelines,
+        timer: &PassTimer,
+        first: u32,
+    ) -> Vec<&'static str> {
+        let passes = self.passes(pipelines);
+        for (k, (name, dispatch)) in passes.iter().enumerate() {
+            encode_pass(encoder, name, &[*dispatch], Some((timer, first + k as u32)));
+        }
+        self.encode_copy_back(encoder);
+        passes.into_iter().map(|(name, _)| name).collect()
+    }
+
+    /// The output back into the seed buffer.
+    fn encode_copy_back(&self, encoder: &mut wgpu::CommandEncoder) {
+        let bytes = self.layout.seed_count() as u64 * 4;
+        encoder.copy_buffer_to_buffer(&self.out, 0, &self.seeds, 0, bytes);
+    }
+
+    /// The passes of the current form, named, in dispatch order.
+    fn passes<'a>(&'a self, pipelines: &'a ReprojectPipelines) -> Vec<(&'static str, Dispatch<'a>)> {
         let p = self.layout.params(0);
         let chunks = chunk_count(&p);
         let n = p.seed_count();
-        let steps: Vec<Dispatch<'_>> = match self.form {
+        match self.form {
             PassForm::PerGroup => vec![
-                (&pipelines.clear, &self.clear_bg, n),
-                (&pipelines.claim, &self.claim_bg, p.pixel_count()),
-                (&pipelines.take, &self.take_bg, chunks),
-                (&pipelines.scan, &self.scan_bg, 1),
-                (&pipelines.list_free, &self.list_free_bg, chunks),
-                (&pipelines.recycle, &self.recycle_bg, chunks),
+                ("clear", (&pipelines.clear, &self.clear_bg, n)),
+                ("claim", (&pipelines.claim, &self.claim_bg, p.pixel_count())),
+                ("take", (&pipelines.take, &self.take_bg, chunks)),
+                ("scan", (&pipelines.scan, &self.scan_bg, 1)),
+                ("list free", (&pipelines.list_free, &self.list_free_bg, chunks)),
+                ("recycle", (&pipelines.recycle, &self.recycle_bg, chunks)),
             ],
             PassForm::PerSeed => vec![
-                (&pipelines.clear, &self.clear_bg, n),
-                (&pipelines.claim, &self.claim_bg, p.pixel_count()),
-                (&pipelines.take_seed, &self.take_seed_bg, n),
-                (&pipelines.count_flags, &self.count_flags_bg, chunks * COUNT_LANES),
-                (&pipelines.scan, &self.scan_bg, 1),
-                (&pipelines.list_free_seed, &self.list_free_seed_bg, n),
-                (&pipelines.recycle_seed, &self.recycle_seed_bg, n),
+                ("clear", (&pipelines.clear, &self.clear_bg, n)),
+                ("claim", (&pipelines.claim, &self.claim_bg, p.pixel_count())),
+                ("take", (&pipelines.take_seed, &self.take_seed_bg, n)),
+                (
+                    "count",
+                    (&pipelines.count_flags, &self.count_flags_bg, chunks * COUNT_LANES),
+                ),
+                ("scan", (&pipelines.scan, &self.scan_bg, 1)),
+                (
+                    "list free",
+                    (&pipelines.list_free_seed, &self.list_free_seed_bg, n),
+                ),
+                ("recycle", (&pipelines.recycle_seed, &self.recycle_seed_bg, n)),
             ],
-        };
-        encode_pass(encoder, "seed reprojection", &steps, timer);
-        let bytes = p.seed_count() as u64 * 4;
-        encoder.copy_buffer_to_buffer(&self.out, 0, &self.seeds, 0, bytes);
+        }
     }
 
     /// Replaces the motion buffer with `motion` (`width * height`, pixels,
