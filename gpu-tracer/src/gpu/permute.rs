@@ -461,31 +461,39 @@ impl SeedPermuter {
                 let z = (frame % passes.depth) as usize;
                 let groups = [&passes.sort_bg[z], &passes.gather_bg[z]];
                 self.encode_plain_sort(encoder, pipelines, self.sort_form, groups, timer);
-                let retarget = [(&pipelines.retarget, &passes.retarget_bg[z], params.seed_count())];
-                encode_pass(
-                    encoder,
-                    "retarget",
-                    &retarget,
-                    timer.map(|(t, span)| (t, span + 1)),
-                );
+                self.encode_retarget(encoder, pipelines, &passes.retarget_bg[z], timer);
             }
             PermuteMode::Sort | PermuteMode::Permute => {
                 self.encode_walk_sort(encoder, pipelines, self.sort_form, timer);
                 if mode == PermuteMode::Permute {
                     let step = step_index(frame, params.tile_log2) as usize;
-                    let retarget = [(&pipelines.retarget, &self.retarget_bg[step], params.seed_count())];
-                    encode_pass(
-                        encoder,
-                        "retarget",
-                        &retarget,
-                        timer.map(|(t, span)| (t, span + 1)),
-                    );
+                    self.encode_retarget(encoder, pipelines, &self.retarget_bg[step], timer);
                 } else {
                     let bytes = (params.seed_count() as u64) * 4;
                     encoder.copy_buffer_to_buffer(&self.scratch, 0, &self.seeds, 0, bytes);
                 }
             }
         }
+    }
+
+    /// Encodes the plain retarget with `table_group` (the walk's table of the
+    /// step or a temporal table), from the sorted buffer into
+    /// [`seeds`](Self::seeds), timed as span `span + 1` of `timer` (the sort
+    /// before it is span `span`).
+    fn encode_retarget(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipelines: &PermutePipelines,
+        table_group: &wgpu::BindGroup,
+        timer: Option<(&PassTimer, u32)>,
+    ) {
+        let retarget = [(&pipelines.retarget, table_group, self.layout.seed_count() as u32)];
+        encode_pass(
+            encoder,
+            "retarget",
+            &retarget,
+            timer.map(|(t, span)| (t, span + 1)),
+        );
     }
 
     /// The form the sorting pass runs in (at creation,

@@ -56,7 +56,7 @@ pub fn clear_claim() -> u32 {
 
 /// The padded-buffer index range `[start, end)` of chunk `chunk`.
 #[inline]
-fn chunk_range(params: &FrameParams, chunk: u32) -> (u32, u32) {
+pub(super) fn chunk_range(params: &FrameParams, chunk: u32) -> (u32, u32) {
     let start = chunk.wrapping_mul(REPROJECT_CHUNK);
     let end = start.wrapping_add(REPROJECT_CHUNK).min(params.seed_count());
     (start, end)
@@ -64,14 +64,14 @@ fn chunk_range(params: &FrameParams, chunk: u32) -> (u32, u32) {
 
 /// Whether seed-buffer index `i` is a visible pixel (not padding).
 #[inline]
-fn is_visible(params: &FrameParams, i: u32) -> bool {
+pub(super) fn is_visible(params: &FrameParams, i: u32) -> bool {
     i % params.padded_width < params.width && i / params.padded_width < params.height
 }
 
 /// Pass 2's claim `(source, key)` of the visible pixel at seed-buffer index
 /// `i`; `source == CLAIM_NONE` when it has none.
 #[inline]
-fn claim_of(params: &FrameParams, bits: u32, i: u32, motion: &[Vec2]) -> (u32, u32) {
+pub(super) fn claim_of(params: &FrameParams, bits: u32, i: u32, motion: &[Vec2]) -> (u32, u32) {
     let x = i % params.padded_width;
     let y = i / params.padded_width;
     let m = motion[y.wrapping_mul(params.width).wrapping_add(x) as usize];
@@ -241,15 +241,11 @@ mod tests {
 
     const CAP: usize = 64 * 128;
 
-    /// The six passes in order on one thread (pass 2's atomic minimum as a
-    /// plain minimum), as a GPU runs them.
-    fn passes(l: &FrameLayout, motion: &[Vec2], seeds_in: &[u32], out: &mut [u32]) {
+    /// Passes 1 and 2 on one thread (the atomic minimum as a plain minimum):
+    /// the claims both forms start from.
+    fn claims(l: &FrameLayout, motion: &[Vec2]) -> [u32; CAP] {
         let p = l.params(0);
-        let n = l.seed_count();
-        let mut claims = [0u32; CAP];
-        let mut free = [0u32; CAP];
-        let mut counts = [0u32; 2 * CAP / REPROJECT_CHUNK as usize + 2];
-        claims[..n].iter_mut().for_each(|c| *c = clear_claim());
+        let mut claims = [clear_claim(); CAP];
         for y in 0..p.height {
             for x in 0..p.width {
                 let (s, k) = claim_pixel(&p, x, y, motion);
@@ -258,6 +254,16 @@ mod tests {
                 }
             }
         }
+        claims
+    }
+
+    /// The six passes in order on one thread, as a GPU runs them.
+    fn passes(l: &FrameLayout, motion: &[Vec2], seeds_in: &[u32], out: &mut [u32]) {
+        let p = l.params(0);
+        let n = l.seed_count();
+        let claims = claims(l, motion);
+        let mut free = [0u32; CAP];
+        let mut counts = [0u32; 2 * CAP / REPROJECT_CHUNK as usize + 2];
         let chunks = chunk_count(&p);
         for c in 0..chunks {
             take_chunk(&p, c, motion, &claims[..n], seeds_in, out, &mut counts);
@@ -277,18 +283,10 @@ mod tests {
         use crate::reprojection::seed_passes::{count_chunk_flags, list_free_seed, recycle_seed, take_seed};
         let p = l.params(0);
         let n = l.seed_count();
-        let mut claims = [CLAIM_NONE; CAP];
+        let claims = claims(l, motion);
         let mut flags = [u32::MAX; CAP];
         let mut free = [0u32; CAP];
         let mut counts = [0u32; 2 * CAP / REPROJECT_CHUNK as usize + 2];
-        for y in 0..p.height {
-            for x in 0..p.width {
-                let (s, k) = claim_pixel(&p, x, y, motion);
-                if s != CLAIM_NONE {
-                    claims[s as usize] = claims[s as usize].min(k);
-                }
-            }
-        }
         for i in 0..n as u32 {
             take_seed(&p, i, motion, &claims[..n], seeds_in, out, &mut flags[..n]);
         }

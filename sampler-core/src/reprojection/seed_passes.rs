@@ -22,8 +22,8 @@
 //! pass reads one word per seed instead of recomputing claims. Clear, claim
 //! and scan are the chunk form's.
 
-use super::claims::{claim_at, index_bits, CLAIM_NONE};
-use super::passes::REPROJECT_CHUNK;
+use super::claims::{index_bits, CLAIM_NONE};
+use super::passes::{chunk_range, claim_of, is_visible, REPROJECT_CHUNK};
 use crate::permutation::layout::FrameParams;
 use glam::Vec2;
 
@@ -48,15 +48,12 @@ pub fn take_seed(
     seeds_out: &mut [u32],
     flags: &mut [u32],
 ) {
-    let x = i % params.padded_width;
-    let y = i / params.padded_width;
-    if x >= params.width || y >= params.height {
+    if !is_visible(params, i) {
         seeds_out[i as usize] = seeds_in[i as usize];
         flags[i as usize] = 0;
         return;
     }
-    let m = motion[y.wrapping_mul(params.width).wrapping_add(x) as usize];
-    let (source, key) = claim_at(params, index_bits(params.seed_count()), x, y, [m.x, m.y]);
+    let (source, key) = claim_of(params, index_bits(params.seed_count()), i, motion);
     let mut flag = 0;
     if source != CLAIM_NONE && claims[source as usize] == key {
         seeds_out[i as usize] = seeds_in[source as usize];
@@ -74,20 +71,6 @@ pub fn take_seed(
 fn chunk_of(i: u32) -> (u32, u32) {
     let chunk = i / REPROJECT_CHUNK;
     (chunk.wrapping_mul(REPROJECT_CHUNK), chunk)
-}
-
-/// How many of the indices `[start, end)` carry `flag`.
-#[inline]
-fn count_flag(flags: &[u32], start: u32, end: u32, flag: u32) -> u32 {
-    let mut n = 0u32;
-    let mut j = start;
-    while j < end {
-        if flags[j as usize] & flag != 0 {
-            n = n.wrapping_add(1);
-        }
-        j = j.wrapping_add(1);
-    }
-    n
 }
 
 /// Invocations that count one chunk's flags on the GPU (one workgroup,
@@ -114,25 +97,13 @@ fn sum_flags(flags: &[u32], start: u32, end: u32) -> (u32, u32) {
     (need, free)
 }
 
-/// The end of chunk `chunk`'s indices (the last chunk may be short).
-#[inline]
-fn chunk_end(params: &FrameParams, chunk: u32) -> u32 {
-    chunk
-        .wrapping_mul(REPROJECT_CHUNK)
-        .wrapping_add(REPROJECT_CHUNK)
-        .min(params.seed_count())
-}
-
 /// Pass 3b for chunk `chunk`: `counts[2 * chunk]` = its pixels without a
 /// seed, `counts[2 * chunk + 1]` = its unclaimed sources (what the chunk
 /// form's take pass writes), from the flags of pass 3a.
 #[inline]
 pub fn count_chunk_flags(params: &FrameParams, chunk: u32, flags: &[u32], counts: &mut [u32]) {
-    let (need, free) = sum_flags(
-        flags,
-        chunk.wrapping_mul(REPROJECT_CHUNK),
-        chunk_end(params, chunk),
-    );
+    let (start, end) = chunk_range(params, chunk);
+    let (need, free) = sum_flags(flags, start, end);
     counts[(chunk * 2) as usize] = need;
     counts[(chunk * 2 + 1) as usize] = free;
 }
@@ -143,11 +114,9 @@ pub fn count_chunk_flags(params: &FrameParams, chunk: u32, flags: &[u32], counts
 #[inline]
 pub fn count_lane_flags(params: &FrameParams, chunk: u32, lane: u32, flags: &[u32]) -> (u32, u32) {
     let per = REPROJECT_CHUNK / COUNT_LANES;
-    let start = chunk
-        .wrapping_mul(REPROJECT_CHUNK)
-        .wrapping_add(lane.wrapping_mul(per));
-    let end = start.wrapping_add(per).min(chunk_end(params, chunk));
-    sum_flags(flags, start, end)
+    let (chunk_start, chunk_end) = chunk_range(params, chunk);
+    let start = chunk_start.wrapping_add(lane.wrapping_mul(per));
+    sum_flags(flags, start, start.wrapping_add(per).min(chunk_end))
 }
 
 /// Pass 5 for index `i`: an unclaimed source writes itself to `free[k]`,
@@ -157,7 +126,7 @@ pub fn count_lane_flags(params: &FrameParams, chunk: u32, lane: u32, flags: &[u3
 pub fn list_free_seed(i: u32, flags: &[u32], counts: &[u32], free: &mut [u32]) {
     if flags[i as usize] & FLAG_FREE_SOURCE != 0 {
         let (start, chunk) = chunk_of(i);
-        let k = counts[(chunk * 2 + 1) as usize].wrapping_add(count_flag(flags, start, i, FLAG_FREE_SOURCE));
+        let k = counts[(chunk * 2 + 1) as usize].wrapping_add(sum_flags(flags, start, i).1);
         free[k as usize] = i;
     }
 }
@@ -176,7 +145,7 @@ pub fn recycle_seed(
 ) {
     if flags[i as usize] & FLAG_NEEDS_SEED != 0 {
         let (start, chunk) = chunk_of(i);
-        let k = counts[(chunk * 2) as usize].wrapping_add(count_flag(flags, start, i, FLAG_NEEDS_SEED));
+        let k = counts[(chunk * 2) as usize].wrapping_add(sum_flags(flags, start, i).0);
         seeds_out[i as usize] = seeds_in[free[k as usize] as usize];
     }
 }
