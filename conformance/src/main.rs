@@ -11,7 +11,7 @@
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
-use conformance::motion::{markdown, run_study, MotionCase, MotionConfig, MotionMethod};
+use conformance::motion::{markdown, run_study, HistoryFetch, MotionCase, MotionConfig, MotionMethod};
 use conformance::report::{write_report, ReportConfig};
 use conformance::study::{default_cache_dir, Method, Study, StudyConfig, StudyScene};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -113,6 +113,11 @@ enum Command {
         /// keep fast orbits inside the room).
         #[arg(long)]
         sway_period: Option<u32>,
+        /// How the EMA's history reads its previous value: `nearest` (the pixel
+        /// that contains it) or `bilinear` (as TAA reads it; resamples at sub-pixel
+        /// precision and blurs).
+        #[arg(long, default_value = "nearest", value_parser = parse_history_fetch)]
+        history_fetch: HistoryFetch,
         /// Also write the tables to this file.
         #[arg(long)]
         out: Option<PathBuf>,
@@ -228,12 +233,14 @@ fn main() -> Result<()> {
             speeds,
             object_speed,
             sway_period,
+            history_fetch,
             out,
             no_cache,
         } => {
             let config = MotionConfig {
                 max_depth,
                 sway_period,
+                history_fetch,
                 ..MotionConfig::new(size, frames, ref_spp)
             };
             let mut cases: Vec<MotionCase> = speeds
@@ -262,5 +269,14 @@ fn main() -> Result<()> {
             }
             Ok(())
         }
+    }
+}
+
+/// `--history-fetch`: `nearest` or `bilinear`.
+fn parse_history_fetch(s: &str) -> Result<HistoryFetch, String> {
+    match s {
+        "nearest" => Ok(HistoryFetch::Nearest),
+        "bilinear" => Ok(HistoryFetch::Bilinear),
+        other => Err(format!("unknown history fetch {other:?}: nearest or bilinear")),
     }
 }

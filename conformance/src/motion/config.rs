@@ -1,5 +1,6 @@
 //! What the motion study renders ([`MotionConfig`]).
 
+use super::history::HistoryFetch;
 use gpu_tracer::scene::TraceSettings;
 use gpu_tracer::TileChoice;
 use kernels::abi::SEED_MODE_FIXED;
@@ -24,10 +25,13 @@ pub struct MotionConfig {
     /// Sway period in frames (a multiple of 4), `None` for
     /// [`sway_period`](super::case::sway_period) (`size / 4`).
     pub sway_period: Option<u32>,
+    /// How the EMA's history reads its previous values (default: nearest pixel).
+    pub history_fetch: HistoryFetch,
 }
 
 impl MotionConfig {
-    /// Defaults: depth 8, 4x4 blocks, 64x64 tile, salt 1, sway period `size / 4`.
+    /// Defaults: depth 8, 4x4 blocks, 64x64 tile, salt 1, sway period `size / 4`,
+    /// nearest-pixel history fetch.
     pub fn new(size: u32, frames: u32, ref_spp: u32) -> Self {
         MotionConfig {
             size,
@@ -38,6 +42,7 @@ impl MotionConfig {
             tile: TileChoice::Tile64,
             salt: 1,
             sway_period: None,
+            history_fetch: HistoryFetch::Nearest,
         }
     }
 

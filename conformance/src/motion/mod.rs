@@ -77,6 +77,7 @@ pub mod tables;
 
 pub use case::MotionCase;
 pub use config::MotionConfig;
+pub use history::HistoryFetch;
 pub use insets::{fit_insets, InsetAnchor, MIN_INSET_SIDE};
 pub use method::MotionMethod;
 pub use result::{CaseResult, Figure, MotionRun, SequenceStats, EMA_FROM};

@@ -244,10 +244,12 @@ impl MotionSequence {
         let mut sequence = SceneSequence::new(&self.scene, self.timeline.clone(), size)?;
         let blur = GaussianBlur::new(1.0)?;
         let mut analyzer = SpectrumAnalyzer::new();
-        let mut history = ReprojectedHistory::new(size, size, HISTORY_ALPHA);
+        let mut history =
+            ReprojectedHistory::new(size, size, HISTORY_ALPHA).with_fetch(self.config.history_fetch);
         // The same history of the per-frame error (frame minus its pose's
         // reference): the history's error without its resampling lag.
-        let mut error_history = ReprojectedHistory::new(size, size, HISTORY_ALPHA);
+        let mut error_history =
+            ReprojectedHistory::new(size, size, HISTORY_ALPHA).with_fetch(self.config.history_fetch);
         let still = self.case == MotionCase::Still;
         let mut run = MotionRun {
             method,
