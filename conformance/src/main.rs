@@ -79,6 +79,11 @@ enum Command {
         /// sun with a disk and a constant sky; its own camera and insets).
         #[arg(long, default_value = "cornell")]
         scene: String,
+        /// Also measure the insets' LF with the error multiplied by this scene's albedo
+        /// over the rendered scene's (same room and camera: cornell-textured over
+        /// cornell-untextured tells what the texture's modulation alone does).
+        #[arg(long)]
+        modulate_by: Option<String>,
         /// Also write the tables to this file.
         #[arg(long)]
         out: Option<PathBuf>,
@@ -181,13 +186,18 @@ fn main() -> Result<()> {
             methods,
             salt,
             scene,
+            modulate_by,
             out,
             no_cache,
         } => {
-            let scene = StudyScene::from_name(&scene).ok_or_else(|| {
-                let known: Vec<&str> = StudyScene::ALL.iter().map(|s| s.name()).collect();
-                anyhow::anyhow!("unknown scene {scene:?} (known: {})", known.join(", "))
-            })?;
+            let scene_named = |name: &str| {
+                StudyScene::from_name(name).ok_or_else(|| {
+                    let known: Vec<&str> = StudyScene::ALL.iter().map(|s| s.name()).collect();
+                    anyhow::anyhow!("unknown scene {name:?} (known: {})", known.join(", "))
+                })
+            };
+            let scene = scene_named(&scene)?;
+            let modulate_by = modulate_by.as_deref().map(scene_named).transpose()?;
             let mut rows = vec![Method::White];
             if methods.is_empty() {
                 rows = Method::FEATURE_ROWS.to_vec();
@@ -205,6 +215,7 @@ fn main() -> Result<()> {
                 max_depth,
                 salt,
                 scene,
+                modulate_by,
                 ..StudyConfig::new(size, 1, frames, ref_spp)
             };
             let cache = default_cache_dir();

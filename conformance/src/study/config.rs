@@ -43,6 +43,11 @@ pub struct StudyConfig {
     pub filters: bool,
     /// The scene ([`StudyScene`]; the Cornell box by default).
     pub scene: StudyScene,
+    /// A scene of the same room and camera whose albedo multiplies this scene's error
+    /// on the insets ([`MethodRun::lf_modulated`](super::result::MethodRun::lf_modulated);
+    /// `None` by default): the untextured twin's error modulated by the textured box's
+    /// texture, to tell what the texture's modulation alone does to a blue error.
+    pub modulate_by: Option<StudyScene>,
 }
 
 impl StudyConfig {
@@ -60,6 +65,7 @@ impl StudyConfig {
             salt: 1,
             filters: true,
             scene: StudyScene::Cornell,
+            modulate_by: None,
         }
     }
 

@@ -218,6 +218,8 @@ struct Meter<'a> {
     /// `ALBEDO_FLOOR`), from the still camera's G-buffer, for
     /// [`MethodRun::lf_demodulated`].
     inset_inverse_albedo: Vec<Grid>,
+    /// Per inset: [`Study::modulation`] cropped, for [`MethodRun::lf_modulated`].
+    inset_modulation: Option<Vec<Grid>>,
 }
 
 impl<'a> Meter<'a> {
@@ -230,6 +232,7 @@ impl<'a> Meter<'a> {
                 method,
                 lf_insets: Vec::new(),
                 lf_demodulated: Vec::new(),
+                lf_modulated: Vec::new(),
                 rmse: Vec::new(),
                 blur1: Vec::new(),
                 blur2: Vec::new(),
@@ -289,6 +292,10 @@ impl<'a> Meter<'a> {
                 let size = study.config.size as usize;
                 study.insets.iter().map(|i| crop(&inverse, size, i)).collect()
             },
+            inset_modulation: study.modulation.as_ref().map(|m| {
+                let size = study.config.size as usize;
+                study.insets.iter().map(|i| crop(m, size, i)).collect()
+            }),
         })
     }
 
@@ -307,14 +314,20 @@ impl<'a> Meter<'a> {
         self.run.blur2.push(self.blur2.apply(&grid).rms());
         let mut lf = Vec::with_capacity(self.study.insets.len());
         let mut lf_demodulated = 0.0;
+        let mut lf_modulated = 0.0;
         for (k, inset) in self.study.insets.iter().enumerate() {
             let sub = crop(&error, size, inset);
             let spectrum = self.analyzer.power_spectrum(&sub);
             lf.push(low_frequency_ratio(&spectrum));
-            let scale = &self.inset_inverse_albedo[k];
-            let divided = Grid::from_fn(sub.width(), sub.height(), |x, y| sub.get(x, y) * scale.get(x, y))
-                .expect("inset size");
-            lf_demodulated += low_frequency_ratio(&self.analyzer.power_spectrum(&divided));
+            let mut scaled_lf = |scale: &Grid| {
+                let scaled = Grid::from_fn(sub.width(), sub.height(), |x, y| sub.get(x, y) * scale.get(x, y))
+                    .expect("inset size");
+                low_frequency_ratio(&self.analyzer.power_spectrum(&scaled))
+            };
+            lf_demodulated += scaled_lf(&self.inset_inverse_albedo[k]);
+            if let Some(modulation) = &self.inset_modulation {
+                lf_modulated += scaled_lf(&modulation[k]);
+            }
             if k == 0 && t >= self.snapshot_frame {
                 let r = radial_power(&spectrum);
                 if self.run.radial.is_empty() {
@@ -334,6 +347,11 @@ impl<'a> Meter<'a> {
         self.run
             .lf_demodulated
             .push(lf_demodulated / self.study.insets.len().max(1) as f64);
+        if self.inset_modulation.is_some() {
+            self.run
+                .lf_modulated
+                .push(lf_modulated / self.study.insets.len().max(1) as f64);
+        }
         // Accumulation.
         let n = (t + 1) as f64;
         let mut mse = 0.0;

@@ -35,6 +35,11 @@ pub struct MethodRun {
     /// frame-0 G-buffer): the irradiance error the seeds arrange, before the texture
     /// multiplies it. Equal to [`Self::lf`] on untextured insets.
     pub lf_demodulated: Vec<f64>,
+    /// Per frame, with [`StudyConfig::modulate_by`](super::config::StudyConfig::modulate_by)
+    /// (else empty): mean over insets of the low-frequency power ratio of the error
+    /// multiplied by the other scene's albedo over this one's
+    /// ([`Study::modulation`](super::setup::Study::modulation)).
+    pub lf_modulated: Vec<f64>,
     /// Per frame: RMS error, unblurred, whole image.
     pub rmse: Vec<f64>,
     /// Per frame: RMS error after a Gaussian blur of sigma 1.
@@ -172,14 +177,25 @@ impl StudyResult {
     /// Mean over frames `from..` of `method`'s [`MethodRun::lf_demodulated`] divided by
     /// white's at the same frame.
     pub fn lf_demodulated_mean(&self, method: Method, from: usize) -> Option<f64> {
-        let (m, w) = (self.run(method)?, self.run(Method::White)?);
-        let n = m.lf_demodulated.len().min(w.lf_demodulated.len());
-        (n > from).then(|| {
-            (from..n)
-                .map(|i| m.lf_demodulated[i] / w.lf_demodulated[i])
-                .sum::<f64>()
-                / (n - from) as f64
-        })
+        self.per_frame_ratio_mean(method, from, |r| &r.lf_demodulated)
+    }
+
+    /// Mean over frames `from..` of `method`'s [`MethodRun::lf_modulated`] divided by
+    /// white's at the same frame (`None` without
+    /// [`StudyConfig::modulate_by`](super::config::StudyConfig::modulate_by)).
+    pub fn lf_modulated_mean(&self, method: Method, from: usize) -> Option<f64> {
+        self.per_frame_ratio_mean(method, from, |r| &r.lf_modulated)
+    }
+
+    fn per_frame_ratio_mean(
+        &self,
+        method: Method,
+        from: usize,
+        series: impl Fn(&MethodRun) -> &Vec<f64>,
+    ) -> Option<f64> {
+        let (m, w) = (series(self.run(method)?), series(self.run(Method::White)?));
+        let n = m.len().min(w.len());
+        (n > from).then(|| (from..n).map(|i| m[i] / w[i]).sum::<f64>() / (n - from) as f64)
     }
 
     /// Markdown tables of the study (white = 1): whole-image figures, the blurred RMSE
@@ -206,11 +222,19 @@ impl StudyResult {
             c.salt,
             c.scene.name()
         );
-        s += "| method | LF @8 | LF mean 8.. | LF demodulated mean 8.. | blur s1 8.. | blur s2 8..";
+        let modulated = c.modulate_by.is_some();
+        s += "| method | LF @8 | LF mean 8.. | LF demodulated mean 8..";
+        if let Some(other) = c.modulate_by {
+            s += &format!(" | LF modulated by {} mean 8..", other.name());
+        }
+        s += " | blur s1 8.. | blur s2 8..";
         for n in &points {
             s += &format!(" | acc {n}");
         }
         s += " |\n|---|---|---|---|---|---";
+        if modulated {
+            s += "|---";
+        }
         s += &"|---".repeat(points.len());
         s += "|\n";
         for r in &self.runs {
@@ -221,10 +245,16 @@ impl StudyResult {
                 .sum::<f64>()
                 / (frames - from).max(1) as f64;
             s += &format!(
-                "| {} | {} | {lf_mean:.3} | {} | {} | {}",
+                "| {} | {} | {lf_mean:.3} | {}",
                 m.name(),
                 cell(self.relative(m, Metric::LowFrequency, from)),
                 cell(self.lf_demodulated_mean(m, from)),
+            );
+            if modulated {
+                s += &format!(" | {}", cell(self.lf_modulated_mean(m, from)));
+            }
+            s += &format!(
+                " | {} | {}",
                 cell(self.pooled(m, Metric::Blur1, from)),
                 cell(self.pooled(m, Metric::Blur2, from)),
             );

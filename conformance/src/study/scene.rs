@@ -83,6 +83,14 @@ impl StudyScene {
         }
     }
 
+    /// Whether `self` and `other` are the same room seen by the same camera (a scene and
+    /// itself, or the textured box and its untextured twin, one glTF): what
+    /// [`StudyConfig::modulate_by`](super::config::StudyConfig::modulate_by) needs.
+    pub fn camera_matches(self, other: StudyScene) -> bool {
+        let twins = [StudyScene::CornellTextured, StudyScene::CornellUntextured];
+        self == other || (twins.contains(&self) && twins.contains(&other))
+    }
+
     /// The glTF file of the textured scenes.
     pub fn gltf_path() -> PathBuf {
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../gpu-tracer/tests/data/gltf/cornell_textured.gltf")
@@ -182,5 +190,16 @@ mod tests {
             assert!((u.albedo - want).length() < 1e-6, "material {i}");
         }
         assert_eq!(textured.camera, plain.camera);
+        assert_eq!(textured.camera, untextured.camera);
+    }
+
+    #[test]
+    fn only_one_room_under_one_camera_modulates() {
+        use StudyScene::*;
+        assert!(CornellUntextured.camera_matches(CornellTextured));
+        assert!(CornellTextured.camera_matches(CornellUntextured));
+        assert!(SunSky.camera_matches(SunSky));
+        assert!(!Cornell.camera_matches(CornellTextured));
+        assert!(!SunSky.camera_matches(CornellUntextured));
     }
 }

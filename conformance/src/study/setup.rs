@@ -26,6 +26,26 @@ pub struct Study {
     pub regions: Vec<Region>,
     /// The frame-0 G-buffer (centre rays; the camera does not move).
     pub gbuffer: Vec<GBufferGpu>,
+    /// With [`StudyConfig::modulate_by`]: per pixel, the albedo luma of that scene's
+    /// primary hit over this scene's (1 where this scene's is below
+    /// `sampler_core::features::surface::ALBEDO_FLOOR`).
+    pub modulation: Option<Vec<f32>>,
+}
+
+/// Per pixel, `luma(albedo of over) / luma(albedo of under)` (1 where `under`'s is
+/// below `ALBEDO_FLOOR`).
+fn albedo_ratio(over: &[GBufferGpu], under: &[GBufferGpu]) -> Vec<f32> {
+    over.iter()
+        .zip(under)
+        .map(|(o, u)| {
+            let a = sampler_core::luma(u.albedo.truncate());
+            if a >= sampler_core::features::surface::ALBEDO_FLOOR {
+                sampler_core::luma(o.albedo.truncate()) / a
+            } else {
+                1.0
+            }
+        })
+        .collect()
 }
 
 impl Study {
@@ -52,6 +72,22 @@ impl Study {
         let mut gbuffer = vec![GBufferGpu::default(); (config.size * config.size) as usize];
         cpu::gbuffer_frame(&scene, &params, &mut gbuffer)?;
         let regions = classify_regions(&gbuffer, config.size, config.size);
+        let modulation = match config.modulate_by {
+            Some(other) => {
+                ensure!(
+                    other.camera_matches(config.scene),
+                    "--modulate-by {} needs the camera and room of {}",
+                    other.name(),
+                    config.scene.name()
+                );
+                let other_scene = SceneGpu::build(&other.load()?)?;
+                let other_params = other_scene.trace_params(&config.settings(), 0)?;
+                let mut other_gbuffer = vec![GBufferGpu::default(); gbuffer.len()];
+                cpu::gbuffer_frame(&other_scene, &other_params, &mut other_gbuffer)?;
+                Some(albedo_ratio(&other_gbuffer, &gbuffer))
+            }
+            None => None,
+        };
         Ok(Study {
             config,
             scene,
@@ -59,6 +95,28 @@ impl Study {
             insets,
             regions,
             gbuffer,
+            modulation,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec4;
+
+    #[test]
+    fn albedo_ratio_is_one_over_dark_surfaces() {
+        let at = |v: f32| GBufferGpu {
+            albedo: Vec4::new(v, v, v, 0.0),
+            ..GBufferGpu::default()
+        };
+        let over = [at(0.8), at(0.1), at(0.5)];
+        let under = [at(0.4), at(0.4), at(0.0)];
+        let r = albedo_ratio(&over, &under);
+        assert!((r[0] - 2.0).abs() < 1e-5, "{r:?}");
+        assert!((r[1] - 0.25).abs() < 1e-5, "{r:?}");
+        // Black under (an emitter, the sky): left alone.
+        assert_eq!(r[2], 1.0);
     }
 }
