@@ -13,14 +13,18 @@
 //!
 //! Prints each sampler's median trace time and its excess over the seed
 //! stream's, as a share of the seed stream's frame (issue 29's goal for the
-//! spatiotemporal sampler: <= 3%). `ROUNDS=N` sets the number of rounds
+//! spatiotemporal sampler: <= 3%), and the same per traced ray: a sampler's
+//! numbers also choose the paths (how far Russian roulette lets them go,
+//! what the light samples hit), so each row's rays are counted by the CPU
+//! renderer on the same frame (white seeds, salt 1) and the per-ray excess
+//! is what the numbers themselves cost. `ROUNDS=N` sets the number of rounds
 //! (default 9; a lavapipe frame takes seconds); `--test` runs one;
 //! `SAMPLERS=seed stream,spatiotemporal` keeps only the named rows (the seed
 //! stream always runs: it is the baseline).
 
 use gpu_tracer::cornell::cornell_box;
 use gpu_tracer::gpu::{Gpu, PassTimer, PermutePipelines, SeedPermuter, TracePipelines, Tracer};
-use gpu_tracer::{SceneGpu, TraceSettings, TraceVariant};
+use gpu_tracer::{cpu, SceneGpu, TraceSettings, TraceVariant};
 use kernels::abi::{
     SAMPLER_JITTER_ONLY, SAMPLER_KRONECKER, SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS, SAMPLER_SPATIOTEMPORAL,
     SAMPLER_ZSOBOL,
@@ -95,6 +99,15 @@ fn main() {
                 || wanted.as_deref().is_none_or(|w| w.split(',').any(|x| x == name))
         })
         .collect();
+    // Rays of each row's frame, counted on the CPU.
+    let seeds = cpu::white_seeds(settings.padded_width, HEIGHT, 1);
+    let mut cpu_color = vec![glam::Vec4::ZERO; (WIDTH * HEIGHT) as usize];
+    let rays: Vec<u64> = samplers
+        .iter()
+        .map(|&(_, sampler, _)| {
+            cpu::render_frame(&scene, &params(sampler), &seeds, &mut cpu_color).expect("cpu frame")
+        })
+        .collect();
     let timer = PassTimer::new(&gpu, 1);
     let mut ms = vec![Vec::new(); samplers.len()];
     // Round 0 warms every pipeline up and is not counted.
@@ -114,15 +127,25 @@ fn main() {
     );
     println!("timing: {}", common::timing_name(timer.as_ref()));
     println!(
-        "{:<26} {:>10} {:>10} {:>10} {:>22}",
-        "sampler", "median ms", "min ms", "max ms", "excess, % of seed frame"
+        "{:<26} {:>10} {:>10} {:>10} {:>22} {:>12} {:>22}",
+        "sampler",
+        "median ms",
+        "min ms",
+        "max ms",
+        "excess, % of seed frame",
+        "rays/frame",
+        "excess per ray, %"
     );
     let medians: Vec<f64> = ms.iter_mut().map(|v| common::median(v)).collect();
-    for ((name, _, _), (v, m)) in samplers.iter().zip(ms.iter().zip(&medians)) {
+    let per_ray: Vec<f64> = medians.iter().zip(&rays).map(|(m, r)| m / *r as f64).collect();
+    for (k, (name, _, _)) in samplers.iter().enumerate() {
+        let (v, m) = (&ms[k], medians[k]);
         let (lo, hi) = (v[0], v[v.len() - 1]);
         println!(
-            "{name:<26} {m:>10.3} {lo:>10.3} {hi:>10.3} {:>21.2}%",
-            100.0 * (m - medians[0]) / medians[0]
+            "{name:<26} {m:>10.3} {lo:>10.3} {hi:>10.3} {:>21.2}% {:>12} {:>21.2}%",
+            100.0 * (m - medians[0]) / medians[0],
+            rays[k],
+            100.0 * (per_ray[k] - per_ray[0]) / per_ray[0]
         );
     }
 }

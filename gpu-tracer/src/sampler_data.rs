@@ -1,9 +1,11 @@
 //! The a-priori samplers' data, as the trace kernel reads it from one
 //! buffer (binding 7 of `kernels::abi::TRACE_ENTRY`): the screen-space Sobol
 //! keys (`sampler_core::defaults::screen_sobol_keys()`), then the
-//! spatiotemporal sampler's 64x64 shift tile (the ranks of
-//! `sampler_core::defaults::tile_64()`, at index `key_count()` of the keys'
-//! layout), then the Kronecker generators of its `SAMPLER_KRONECKER`
+//! spatiotemporal sampler's 64x64 shift tile as its `STEP_COUNT` shift-pair
+//! tiles (`sampler_core::sequences::spatiotemporal::write_shift_pair_tiles`
+//! of the ranks of `sampler_core::defaults::tile_64()`, at index
+//! `key_count()` of the keys' layout: a pair's two shift coordinates in one
+//! word), then the Kronecker generators of its `SAMPLER_KRONECKER`
 //! sequence (`sampler_core::sequences::kronecker::KRONECKER_GENERATORS`),
 //! then room for the spatiotemporal sampler's frame point table
 //! ([`with_frame_points`]: the sequence points every pixel of a frame shares,
@@ -14,6 +16,8 @@ use kernels::numbers::{
     point_slot_pair, point_slots, point_table_start, sampler_kind, spatiotemporal_sequence,
 };
 use sampler_core::sequences::kronecker::KRONECKER_GENERATORS;
+use sampler_core::sequences::spatiotemporal::write_shift_pair_tiles;
+use sampler_core::STEP_COUNT;
 use std::sync::OnceLock;
 
 /// Words reserved for the frame point table after the shift tile: 64
@@ -42,11 +46,22 @@ pub fn sampler_buffer() -> &'static [u32] {
             "keys fill their layout"
         );
         let mut buffer = keys.keys().to_vec();
-        buffer.extend_from_slice(tile.values());
+        buffer.extend_from_slice(&shift_pair_tiles(tile.values()));
         buffer.extend_from_slice(&KRONECKER_GENERATORS);
         buffer.resize(buffer.len() + POINT_TABLE_WORDS, 0);
         buffer
     })
+}
+
+/// The shift-pair tiles of the spatiotemporal sampler's rank tile `ranks`
+/// (side `2^SPATIOTEMPORAL_TILE_LOG2`).
+///
+/// # Panics
+/// If `ranks` is not that tile's size.
+fn shift_pair_tiles(ranks: &[u32]) -> Vec<u32> {
+    let mut out = vec![0u32; STEP_COUNT << (2 * SPATIOTEMPORAL_TILE_LOG2)];
+    write_shift_pair_tiles(ranks, SPATIOTEMPORAL_TILE_LOG2, &mut out).expect("the shift tile's size");
+    out
 }
 
 /// Index in [`sampler_buffer`] of the frame point table.
@@ -101,8 +116,15 @@ mod tests {
         let keys = sampler_core::defaults::screen_sobol_keys();
         let n = keys.layout().key_count();
         assert_eq!(&b[..n], keys.keys());
-        let tile = 1 << (2 * SPATIOTEMPORAL_TILE_LOG2);
-        assert_eq!(&b[n..n + tile], sampler_core::defaults::tile_64().values());
+        let tile = STEP_COUNT << (2 * SPATIOTEMPORAL_TILE_LOG2);
+        let ranks = sampler_core::defaults::tile_64();
+        let packed = &b[n..n + tile];
+        for j in 0..STEP_COUNT {
+            let part = &packed[j * tile / STEP_COUNT..(j + 1) * tile / STEP_COUNT];
+            // Every tile holds the ranks in its low halves.
+            assert!(part.iter().zip(ranks.values()).all(|(w, r)| w & 0xFFFF == *r));
+        }
+        assert_eq!(packed, shift_pair_tiles(ranks.values()).as_slice());
         assert_eq!(generators_start(n), n + tile);
         let g = KRONECKER_GENERATORS.len();
         assert_eq!(&b[n + tile..n + tile + g], KRONECKER_GENERATORS.as_slice());
@@ -183,5 +205,45 @@ mod tests {
         // Other samplers: no table.
         let (p, t) = with_frame_points(&TraceParams::default());
         assert_eq!((p.point_samples, t.len()), (0, 0));
+    }
+
+    /// The kernel's pair is the sampler's definition on the plain rank tile:
+    /// the sequence point plus the two separate tile reads of the shift.
+    #[test]
+    fn the_kernel_reads_the_shifts_of_the_rank_tile() {
+        use glam::{UVec2, Vec2};
+        use kernels::numbers::apriori_pair;
+        use sampler_core::sequences::r2::q32_to_f32;
+        use sampler_core::sequences::spatiotemporal::{
+            spatiotemporal_pair_u32, spatiotemporal_shift_u32, SEQUENCE_SOBOL,
+        };
+        let l = sampler_core::defaults::screen_sobol_keys().layout();
+        let params = TraceParams {
+            spp: 2,
+            max_depth: 8,
+            frame: 41,
+            sampler: SAMPLER_SPATIOTEMPORAL,
+            key_side_log2: l.side_log2,
+            key_pairs: l.pairs,
+            key_levels: l.levels,
+            ..Default::default()
+        };
+        let ranks = sampler_core::defaults::tile_64();
+        for pair in 0..25 {
+            for pixel in [
+                UVec2::new(0, 0),
+                UVec2::new(63, 1),
+                UVec2::new(1279, 719),
+                UVec2::new(200, 77),
+            ] {
+                let shift = spatiotemporal_shift_u32(ranks.values(), SPATIOTEMPORAL_TILE_LOG2, pixel, pair);
+                let want = spatiotemporal_pair_u32(SEQUENCE_SOBOL, shift, params.frame, params.spp, 1, pair);
+                assert_eq!(
+                    apriori_pair(&params, sampler_buffer(), pixel, 1, pair),
+                    Vec2::new(q32_to_f32(want[0]), q32_to_f32(want[1])),
+                    "pair {pair} pixel {pixel}"
+                );
+            }
+        }
     }
 }

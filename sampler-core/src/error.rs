@@ -42,6 +42,10 @@ pub enum Buffer {
     /// The slice-to-slice retarget tables of a temporal sorting target:
     /// `depth * tile * tile` packed offsets.
     TemporalTables,
+    /// The spatiotemporal sampler's shift-pair tiles: `STEP_COUNT * tile *
+    /// tile` words
+    /// ([`write_shift_pair_tiles`](crate::sequences::spatiotemporal::write_shift_pair_tiles)).
+    ShiftPairTiles,
 }
 
 impl fmt::Display for Buffer {
@@ -64,6 +68,7 @@ impl fmt::Display for Buffer {
             Buffer::SamplePoints => "spatiotemporal point table",
             Buffer::TemporalSlices => "temporal target slices",
             Buffer::TemporalTables => "temporal target retarget tables",
+            Buffer::ShiftPairTiles => "spatiotemporal shift-pair tiles",
         })
     }
 }

@@ -70,10 +70,10 @@ use sampler_core::sequences::kronecker::{kronecker_point_at, KRONECKER_PAIRS};
 use sampler_core::sequences::r2::q32_to_f32;
 use sampler_core::sequences::screen_sobol::ScreenSobolLayout;
 use sampler_core::sequences::spatiotemporal::{
-    home_texel, spatiotemporal_index, spatiotemporal_point_u32, spatiotemporal_shift_at, SEQUENCE_KRONECKER,
-    SEQUENCE_SOBOL, SPATIOTEMPORAL_SEED,
+    home_texel, spatiotemporal_index, spatiotemporal_point_u32, spatiotemporal_shift_packed,
+    SEQUENCE_KRONECKER, SEQUENCE_SOBOL, SPATIOTEMPORAL_SEED,
 };
-use sampler_core::RandomStream;
+use sampler_core::{RandomStream, STEP_COUNT};
 
 /// Stream dimensions used before the first vertex (pixel jitter).
 pub const DIMS_CAMERA: u32 = 2;
@@ -192,10 +192,12 @@ pub fn point_slot_pair(slot: u32, max_depth: u32) -> u32 {
 /// Index in binding 7 of the Kronecker generators
 /// (`sampler_core::sequences::kronecker::KRONECKER_GENERATORS`, read with
 /// [`SAMPLER_KRONECKER`]): after the screen-space Sobol keys (`key_count`
-/// words) and the `2^SPATIOTEMPORAL_TILE_LOG2`-sided shift tile.
+/// words) and the [`STEP_COUNT`] shift-pair tiles of the
+/// `2^SPATIOTEMPORAL_TILE_LOG2`-sided shift tile
+/// (`sampler_core::sequences::spatiotemporal::write_shift_pair_tiles`).
 #[inline]
 pub fn generators_start(key_count: usize) -> usize {
-    key_count + (1usize << (2 * SPATIOTEMPORAL_TILE_LOG2))
+    key_count + (STEP_COUNT << (2 * SPATIOTEMPORAL_TILE_LOG2))
 }
 
 /// Index in binding 7 of the frame point table: after the generators
@@ -266,9 +268,11 @@ fn spatiotemporal_point(params: &TraceParams, keys: &[u32], key_count: usize, s:
 /// - [`SAMPLER_SPATIOTEMPORAL`]: index `frame * spp + s` of the shared
 ///   progressive sequence (Owen-scrambled Sobol, or the Kronecker sequence
 ///   with [`SAMPLER_KRONECKER`], [`spatiotemporal_sequence`]), rotated by the
-///   pixel's shift read from the tile
-///   stored after the keys (`sampler_core::sequences::spatiotemporal`; the
-///   point from the frame table after the tile when
+///   pixel's shift read, both coordinates in one load, from the shift-pair
+///   tiles stored after the keys
+///   (`sampler_core::sequences::spatiotemporal::spatiotemporal_shift_packed`:
+///   bit for bit the two reads of the rank tile; the
+///   point from the frame table after the tiles when
 ///   [`TraceParams::point_samples`] covers `s`, see [`point_slot`]): one
 ///   sequence per pixel across frames, so its mean converges like the
 ///   sequence's and its error is anti-correlated from frame to frame.
@@ -288,7 +292,8 @@ pub fn apriori_pair(params: &TraceParams, keys: &[u32], pixel: UVec2, s: u32, pa
     } else if kind == SAMPLER_ZSOBOL {
         zsobol_pair(spp, params.frame, pixel, s, pair)
     } else if kind == SAMPLER_SPATIOTEMPORAL {
-        let shift = spatiotemporal_shift_at(keys, layout.key_count(), SPATIOTEMPORAL_TILE_LOG2, pixel, pair);
+        let shift =
+            spatiotemporal_shift_packed(keys, layout.key_count(), SPATIOTEMPORAL_TILE_LOG2, pixel, pair);
         let p = spatiotemporal_point(params, keys, layout.key_count(), s, pair);
         Vec2::new(
             q32_to_f32(p[0].wrapping_add(shift[0])),

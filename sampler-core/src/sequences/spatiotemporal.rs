@@ -58,6 +58,19 @@
 //! none of the whole image's, whose gain with a still camera is at the
 //! light's silhouette, where the pixel footprint itself slides over the edge.
 //!
+//! # Both coordinates of a shift in one read
+//!
+//! The two coordinates of pair `k` read the tile at `p + o_(2k+1)` and `p +
+//! o_(2k+2)`, and `o_(2k+2) - o_(2k+1)` is one of the walk's
+//! [`STEP_COUNT`] steps ([`step_index`]). A renderer can therefore store,
+//! per step `j`, a tile whose texel `q` holds `rank(q) | rank(q + step_j)
+//! << 16` ([`write_shift_pair_tiles`], `STEP_COUNT` times the tile's words)
+//! and read a pair's whole shift with one load
+//! ([`spatiotemporal_shift_packed`]): the same shifts, bit for bit, for half
+//! the scattered reads (what a shader's pixel spends most of the sampler's
+//! time on: `BENCHMARKS.md`, "Spatiotemporal sampler"). Ranks must fit in
+//! 16 bits: tiles up to 256x256.
+//!
 //! So the sampler needs no per-frame data and no history, and its sequence
 //! continues for 2^32 samples; nothing here is optimised for a filter yet
 //! (the two coordinates of a shift are two scalar blue-noise reads, not a
@@ -71,7 +84,7 @@ use crate::error::{Buffer, Error};
 use crate::sequences::kronecker::kronecker_point_u32;
 use crate::sequences::owen::{owen_sobol_pair_u32, shuffle_index};
 use crate::sequences::seed::hash_u32;
-use crate::sequences::walk::walk_offset;
+use crate::sequences::walk::{base_step, step_index, tile_log2, walk_offset, STEP_COUNT};
 use glam::UVec2;
 
 /// Seed of the shared sequence, so that a renderer's pairs match the
@@ -127,6 +140,85 @@ fn shift_coordinate(buffer: &[u32], start: usize, side_log2: u32, pixel: UVec2, 
     let i = start.wrapping_add(((y << side_log2) | x) as usize);
     let rank = if i < buffer.len() { buffer[i] } else { 0 };
     (rank << (32 - bits)) | (1u32 << (31 - bits))
+}
+
+/// `log2` of the largest tile whose ranks [`write_shift_pair_tiles`] can
+/// pack (two 16-bit ranks a word).
+pub const MAX_SHIFT_PAIR_TILE_LOG2: u32 = 8;
+
+/// Writes the [`STEP_COUNT`] shift-pair tiles of the rank tile `ranks` (side
+/// `2^side_log2`, row-major) into `out` (module docs, "Both coordinates of a
+/// shift in one read"): `out[j * n + q] = ranks[q] | ranks[(q + step_j) mod
+/// side] << 16`, `n = 4^side_log2`, where `step_j` is the walk's step of
+/// index `j` (`sx + 2 sy`: `base_step + (sx, sy)`).
+///
+/// # Errors
+/// [`Error::TileSize`] if the side is not a power of two in
+/// `2..=2^`[`MAX_SHIFT_PAIR_TILE_LOG2`]; [`Error::BufferSize`] if `ranks` is
+/// not `n` long ([`Buffer::DitherTile`]) or `out` not `STEP_COUNT * n`
+/// ([`Buffer::ShiftPairTiles`]). A rank of `2^16` or more cannot occur in a
+/// tile of that size; one would be cut to 16 bits.
+pub fn write_shift_pair_tiles(ranks: &[u32], side_log2: u32, out: &mut [u32]) -> Result<(), Error> {
+    let side = 1u32 << side_log2.min(31);
+    if side_log2 > MAX_SHIFT_PAIR_TILE_LOG2 || tile_log2(side).is_none() {
+        return Err(Error::TileSize { tile: side });
+    }
+    let n = (side * side) as usize;
+    if ranks.len() != n {
+        return Err(Error::BufferSize {
+            buffer: Buffer::DitherTile,
+            expected: n,
+            actual: ranks.len(),
+        });
+    }
+    if out.len() != STEP_COUNT * n {
+        return Err(Error::BufferSize {
+            buffer: Buffer::ShiftPairTiles,
+            expected: STEP_COUNT * n,
+            actual: out.len(),
+        });
+    }
+    let mask = side - 1;
+    let base = base_step(side_log2);
+    for (j, tile) in out.chunks_exact_mut(n).enumerate() {
+        let step = UVec2::new(base.x + (j as u32 & 1), base.y + (j as u32 >> 1));
+        for (q, word) in tile.iter_mut().enumerate() {
+            let (x, y) = (q as u32 & mask, q as u32 >> side_log2);
+            let next = (((y + step.y) & mask) << side_log2) | ((x + step.x) & mask);
+            *word = (ranks[q] & 0xFFFF) | (ranks[next as usize] << 16);
+        }
+    }
+    Ok(())
+}
+
+/// [`spatiotemporal_shift_at`] from the shift-pair tiles of the rank tile
+/// instead ([`write_shift_pair_tiles`], starting at `buffer[start]`): the same
+/// two words, bit for bit, from one read. A read past `buffer` gives rank 0
+/// for both coordinates.
+#[inline]
+pub fn spatiotemporal_shift_packed(
+    buffer: &[u32],
+    start: usize,
+    side_log2: u32,
+    pixel: UVec2,
+    pair: u32,
+) -> [u32; 2] {
+    let mask = (1u32 << side_log2).wrapping_sub(1);
+    let bits = 2 * side_log2;
+    let first = pair.wrapping_mul(2).wrapping_add(1);
+    let o = walk_offset(first, side_log2);
+    let x = pixel.x.wrapping_add(o.x) & mask;
+    let y = pixel.y.wrapping_add(o.y) & mask;
+    let tile = (step_index(first, side_log2) as usize) << bits;
+    let i = start
+        .wrapping_add(tile)
+        .wrapping_add(((y << side_log2) | x) as usize);
+    let word = if i < buffer.len() { buffer[i] } else { 0 };
+    let half = 1u32 << (31 - bits);
+    [
+        ((word & 0xFFFF) << (32 - bits)) | half,
+        ((word >> 16) << (32 - bits)) | half,
+    ]
 }
 
 /// Pair `pair` of sequence index `index` before the per-pixel shift: the 2D
@@ -245,6 +337,7 @@ pub fn spatiotemporal_frame_points(
 
 #[cfg(test)]
 mod tests {
+    extern crate std;
     use super::*;
 
     /// Every `2^m` consecutive frames of one pixel (1 spp), from frame 0 and
@@ -339,6 +432,70 @@ mod tests {
     }
 
     /// A pixel's first home reads the shift at the pixel (modulo the tile).
+    #[test]
+    fn packed_shift_pairs_are_the_two_reads() {
+        for side_log2 in [1u32, 3, 6] {
+            let n = 1usize << (2 * side_log2);
+            // Ranks in 0..n as a stand-in tile.
+            let ranks: std::vec::Vec<u32> = (0..n as u32)
+                .map(|i| (i.wrapping_mul(2_654_435_761) >> 7) % n as u32)
+                .collect();
+            let mut packed = std::vec![0u32; STEP_COUNT * n];
+            write_shift_pair_tiles(&ranks, side_log2, &mut packed).expect("sizes");
+            // Behind other data, as the tracer's buffer holds them.
+            let mut buffer = std::vec![7u32; 5];
+            buffer.extend_from_slice(&packed);
+            let side = 1u32 << side_log2;
+            for pair in 0..60 {
+                for y in 0..side + 3 {
+                    for x in 0..side + 2 {
+                        let p = UVec2::new(x * 7, y);
+                        assert_eq!(
+                            spatiotemporal_shift_packed(&buffer, 5, side_log2, p, pair),
+                            spatiotemporal_shift_u32(&ranks, side_log2, p, pair),
+                            "side 2^{side_log2} pixel {p} pair {pair}"
+                        );
+                    }
+                }
+            }
+            // Past the buffer: rank 0 for both, as the unpacked read.
+            let [a, b] = spatiotemporal_shift_packed(&buffer[..6], 5, side_log2, UVec2::new(1, 1), 3);
+            assert_eq!(a >> (32 - 2 * side_log2), 0);
+            assert_eq!(b >> (32 - 2 * side_log2), 0);
+        }
+    }
+
+    #[test]
+    fn shift_pair_tiles_refuse_bad_sizes() {
+        let ranks = [0u32; 16];
+        let mut out = [0u32; 64];
+        assert!(write_shift_pair_tiles(&ranks, 2, &mut out).is_ok());
+        assert_eq!(
+            write_shift_pair_tiles(&ranks[..15], 2, &mut out),
+            Err(Error::BufferSize {
+                buffer: Buffer::DitherTile,
+                expected: 16,
+                actual: 15
+            })
+        );
+        assert_eq!(
+            write_shift_pair_tiles(&ranks, 2, &mut out[..63]),
+            Err(Error::BufferSize {
+                buffer: Buffer::ShiftPairTiles,
+                expected: 64,
+                actual: 63
+            })
+        );
+        assert_eq!(
+            write_shift_pair_tiles(&ranks, 0, &mut out),
+            Err(Error::TileSize { tile: 1 })
+        );
+        assert_eq!(
+            write_shift_pair_tiles(&ranks, 9, &mut out),
+            Err(Error::TileSize { tile: 512 })
+        );
+    }
+
     #[test]
     fn a_first_home_is_the_pixel() {
         let mut homes = [0u32; 6 * 5];
