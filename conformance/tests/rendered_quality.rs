@@ -314,9 +314,11 @@ fn every_method_is_measured_after_the_real_time_filters() {
 
 /// Issue 15's rendered goal: after `taa+atrous` the best method's RMSE is at
 /// most 0.75 of white's on the whole image and on the interior, and no
-/// method is more than 2% worse than white. Missed (QUALITY.md, "What the
-/// viewer sees"): the a-trous filter's own bias is most of white's filtered
-/// error on the whole image.
+/// method is more than 2% worse than white. Missed: the whole image is met
+/// since the a-trous passes the lights' silhouettes through (0.63 at CI size;
+/// QUALITY.md, "The filter passes the lights' silhouettes through"), the
+/// interior (about 0.8 at this size, 0.70 at 256x256) and the 2% are not (the
+/// sort-only and walk permutation rows are white or worse in time).
 #[test]
 #[ignore = "issue 15 goal not met (see QUALITY.md); run with --ignored"]
 fn best_method_after_taa_atrous_is_at_most_three_quarters_of_white() {

@@ -16,7 +16,15 @@
 //! used as taps: an emitter's radiance is not noise to be shared with its
 //! surroundings, and a 3x3 variance that straddles a light's silhouette is
 //! so large that the luminance test would let the light bleed into the
-//! surfaces around it ([`filtered_surface`]).
+//! surfaces around it ([`filtered_surface`]). So are the pixels beside an
+//! emitter (one of their 3x3 neighbours sees it; `w` =
+//! [`BESIDE_EMITTER`]): their samples see the light over part of the pixel,
+//! so their values are the light's silhouette, not noise around a smooth
+//! illumination, and averaging them with the surface beyond blurs the
+//! silhouette (on the Cornell box that blur was 0.89 of white noise's
+//! filtered error with no noise at all: `QUALITY.md`, "The filter passes
+//! the lights' silhouettes through"); the temporal filter alone smooths
+//! them.
 
 use super::{index, FilterParams};
 use crate::abi::{GBufferGpu, GBUFFER_EMITTER, GBUFFER_HIT};
@@ -32,6 +40,12 @@ pub const SIGMA_N: u32 = 128;
 /// Luminance sensitivity `sigma_l`, in standard deviations (SVGF's value).
 pub const SIGMA_L: f32 = 4.0;
 
+/// The `w` [`variance_pixel`] gives a filtered surface with an emitter among
+/// its 3x3 neighbours (a light's silhouette): [`atrous_pixel`] passes such a
+/// pixel through and never uses it as a tap (module docs). A variance is
+/// never negative, so the value cannot be taken for one.
+pub const BESIDE_EMITTER: f32 = -1.0;
+
 /// The B-spline weight of a tap `k` steps from the centre, `|k| <= 2`:
 /// 3/8, 1/4, 1/16 (a function, not a constant array: naga rejects the
 /// array type rust-gpu emits for a constant indexed at run time).
@@ -46,26 +60,37 @@ fn bspline(k: i32) -> f32 {
 
 /// The colour of pixel `(x, y)` with `w` set to the variance of the luma
 /// over its 3x3 neighbourhood (pixels in the frame that are
-/// [`filtered_surface`]s; 0 if there is none).
+/// [`filtered_surface`]s; 0 if there is none), or to [`BESIDE_EMITTER`] if
+/// one of those neighbours (in the frame) sees an emitter.
 #[inline]
 pub fn variance_pixel(params: &FilterParams, x: u32, y: u32, color: &[Vec4], gbuffer: &[GBufferGpu]) -> Vec4 {
     let (w, h) = (params.width, params.height);
     let c = color[index(x, y, w)];
     let (mut n, mut sum, mut sum2) = (0.0f32, 0.0f32, 0.0f32);
+    let mut beside_emitter = 0u32;
     let mut dy = 0;
     while dy < 3 {
         let mut dx = 0;
         while dx < 3 {
             let (qx, qy) = ((x + dx).wrapping_sub(1), (y + dy).wrapping_sub(1));
-            if qx < w && qy < h && filtered_surface(&gbuffer[index(qx, qy, w)]) {
-                let l = luma(color[index(qx, qy, w)].truncate());
-                n += 1.0;
-                sum += l;
-                sum2 += l * l;
+            if qx < w && qy < h {
+                let gq = &gbuffer[index(qx, qy, w)];
+                if filtered_surface(gq) {
+                    let l = luma(color[index(qx, qy, w)].truncate());
+                    n += 1.0;
+                    sum += l;
+                    sum2 += l * l;
+                }
+                if gq.ids.w & GBUFFER_EMITTER != 0 {
+                    beside_emitter = 1;
+                }
             }
             dx += 1;
         }
         dy += 1;
+    }
+    if beside_emitter == 1 {
+        return c.truncate().extend(BESIDE_EMITTER);
     }
     let var = if n > 0.0 {
         let mean = sum / n;
@@ -85,7 +110,7 @@ pub fn atrous_pixel(params: &FilterParams, x: u32, y: u32, src: &[Vec4], gbuffer
     let (w, h) = (params.width, params.height);
     let centre = src[index(x, y, w)];
     let g = &gbuffer[index(x, y, w)];
-    if !filtered_surface(g) {
+    if !filtered_surface(g) || centre.w == BESIDE_EMITTER {
         return centre;
     }
     let n_p = g.normal_depth.truncate();
@@ -106,8 +131,8 @@ pub fn atrous_pixel(params: &FilterParams, x: u32, y: u32, src: &[Vec4], gbuffer
             if qx >= 0 && qy >= 0 && qx < w as i32 && qy < h as i32 {
                 let q = index(qx as u32, qy as u32, w);
                 let gq = &gbuffer[q];
-                if filtered_surface(gq) {
-                    let c = src[q];
+                let c = src[q];
+                if filtered_surface(gq) && c.w != BESIDE_EMITTER {
                     let expected = libm::fabsf(gx * (i * step) as f32 + gy * (j * step) as f32);
                     let w_z = -libm::fabsf(z_p - gq.normal_depth.w) / (SIGMA_Z * expected + 1e-4);
                     let w_l = -libm::fabsf(l_p - luma(c.truncate())) / l_scale;
@@ -294,7 +319,17 @@ mod tests {
         assert_eq!(atrous_pixel(&p, 2, 2, &color, &gbuffer), color[12]);
         let v = atrous_pixel(&p, 1, 2, &color, &gbuffer);
         assert!((v.x - 1.0).abs() < 1e-6, "{v}");
-        assert_eq!(variance_pixel(&p, 1, 2, &color, &gbuffer).w, 0.0);
+        // Its neighbours are the light's silhouette: marked, passed through
+        // and never taps; a pixel two away is filtered as usual.
+        assert_eq!(variance_pixel(&p, 1, 2, &color, &gbuffer).w, BESIDE_EMITTER);
+        assert_eq!(variance_pixel(&p, 0, 2, &color, &gbuffer).w, 0.0);
+        let mut marked: Vec<Vec4> = (0..25)
+            .map(|i| variance_pixel(&p, i % 5, i / 5, &color, &gbuffer))
+            .collect();
+        marked[11] = Vec4::new(9.0, 9.0, 9.0, BESIDE_EMITTER);
+        assert_eq!(atrous_pixel(&p, 1, 2, &marked, &gbuffer), marked[11]);
+        let v = atrous_pixel(&p, 0, 2, &marked, &gbuffer);
+        assert!((v.x - 1.0).abs() < 1e-6, "a marked pixel was used as a tap: {v}");
     }
 
     #[test]
