@@ -132,13 +132,27 @@ pub fn spatiotemporal_shift_at(
 /// the walk's offset `2 pair + c + 1`, as a 0.32 fixed-point shift.
 #[inline]
 fn shift_coordinate(buffer: &[u32], start: usize, side_log2: u32, pixel: UVec2, pair: u32, c: u32) -> u32 {
+    let walk = pair.wrapping_mul(2).wrapping_add(c + 1);
+    let i = start.wrapping_add(shift_texel(side_log2, pixel, walk));
+    shift_word(if i < buffer.len() { buffer[i] } else { 0 }, side_log2)
+}
+
+/// Row-major index of the texel of a `2^side_log2`-sided tile that `pixel`
+/// reads at the walk's offset `o_walk` (toroidally).
+#[inline]
+fn shift_texel(side_log2: u32, pixel: UVec2, walk: u32) -> usize {
     let mask = (1u32 << side_log2).wrapping_sub(1);
-    let bits = 2 * side_log2;
-    let o = walk_offset(pair.wrapping_mul(2).wrapping_add(c + 1), side_log2);
+    let o = walk_offset(walk, side_log2);
     let x = pixel.x.wrapping_add(o.x) & mask;
     let y = pixel.y.wrapping_add(o.y) & mask;
-    let i = start.wrapping_add(((y << side_log2) | x) as usize);
-    let rank = if i < buffer.len() { buffer[i] } else { 0 };
+    ((y << side_log2) | x) as usize
+}
+
+/// The 0.32 fixed-point shift of `rank` in a tile of `4^side_log2` texels:
+/// the centre of the rank's stratum.
+#[inline]
+fn shift_word(rank: u32, side_log2: u32) -> u32 {
+    let bits = 2 * side_log2;
     (rank << (32 - bits)) | (1u32 << (31 - bits))
 }
 
@@ -203,21 +217,15 @@ pub fn spatiotemporal_shift_packed(
     pixel: UVec2,
     pair: u32,
 ) -> [u32; 2] {
-    let mask = (1u32 << side_log2).wrapping_sub(1);
-    let bits = 2 * side_log2;
     let first = pair.wrapping_mul(2).wrapping_add(1);
-    let o = walk_offset(first, side_log2);
-    let x = pixel.x.wrapping_add(o.x) & mask;
-    let y = pixel.y.wrapping_add(o.y) & mask;
-    let tile = (step_index(first, side_log2) as usize) << bits;
+    let tile = (step_index(first, side_log2) as usize) << (2 * side_log2);
     let i = start
         .wrapping_add(tile)
-        .wrapping_add(((y << side_log2) | x) as usize);
+        .wrapping_add(shift_texel(side_log2, pixel, first));
     let word = if i < buffer.len() { buffer[i] } else { 0 };
-    let half = 1u32 << (31 - bits);
     [
-        ((word & 0xFFFF) << (32 - bits)) | half,
-        ((word >> 16) << (32 - bits)) | half,
+        shift_word(word & 0xFFFF, side_log2),
+        shift_word(word >> 16, side_log2),
     ]
 }
 
