@@ -383,6 +383,70 @@ fn textured_inset_lf_is_within_1_2x_of_the_untextured_twin() {
     assert!(ratio <= 1.2, "textured / untextured LF {ratio:.2}");
 }
 
+/// `StudyConfig::modulate_by` (`conformance study --modulate-by`): each inset's error
+/// multiplied by another scene's albedo over the rendered one's. Modulated by the scene
+/// itself (a ratio of 1 at every pixel) it is the plain LF; by the textured box it is
+/// not; a room seen by another camera is refused. (What it measures at full size:
+/// QUALITY.md, "Filtered textures".)
+#[test]
+fn the_modulated_lf_is_the_error_times_the_albedo_ratio() {
+    use conformance::study::StudyScene;
+    let frames = 10;
+    let config = |scene, modulate_by| StudyConfig {
+        scene,
+        modulate_by: Some(modulate_by),
+        filters: false,
+        ..StudyConfig::new(64, 1, frames, 16)
+    };
+    let run = |modulate_by| {
+        let study = Study::new(
+            config(StudyScene::CornellUntextured, modulate_by),
+            Some(&default_cache_dir()),
+            |_, _| {},
+        )
+        .expect("study setup");
+        study
+            .run(&[Method::White, Method::Permute], |_, _| {})
+            .expect("study run")
+    };
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let itself = run(StudyScene::CornellUntextured);
+    let textured = run(StudyScene::CornellTextured);
+    let mut differs = 0.0f64;
+    for m in [Method::White, Method::Permute] {
+        let (a, b) = (itself.run(m).unwrap(), textured.run(m).unwrap());
+        assert_eq!(a.lf_modulated.len(), frames as usize, "{}", m.name());
+        for (t, (lf, modulated)) in a.lf_insets.iter().zip(&a.lf_modulated).enumerate() {
+            assert!(
+                (mean(lf) - modulated).abs() <= 1e-12 * mean(lf).abs().max(1.0),
+                "{} frame {t}: modulated by itself {modulated} against {}",
+                m.name(),
+                mean(lf)
+            );
+        }
+        for (lf, modulated) in b.lf_insets.iter().zip(&b.lf_modulated) {
+            differs = differs.max((mean(lf) - modulated).abs() / mean(lf));
+        }
+    }
+    println!(
+        "modulated by the checker: LF moves by up to {:.1}%",
+        100.0 * differs
+    );
+    assert!(
+        differs > 0.01,
+        "the checker did not change the modulated LF: {differs}"
+    );
+    let refused = Study::new(
+        config(StudyScene::Cornell, StudyScene::CornellTextured),
+        None,
+        |_, _| {},
+    );
+    let why = refused
+        .expect_err("another room's albedo was accepted")
+        .to_string();
+    assert!(why.contains("--modulate-by"), "{why}");
+}
+
 /// The feature-aware permutation against the temporal target, with ZSobol's
 /// jitter (`--mode temporal --features on --sampler zsobol-jitter`), on the
 /// held-out textured box: the feature-aware sort keeps the flat walls' low
