@@ -444,7 +444,7 @@ fn the_modulated_lf_is_the_error_times_the_albedo_ratio() {
     let why = refused
         .expect_err("another room's albedo was accepted")
         .to_string();
-    assert!(why.contains("--modulate-by"), "{why}");
+    assert!(why.contains("modulate_by"), "{why}");
 }
 
 /// The feature-aware permutation against the temporal target, with ZSobol's

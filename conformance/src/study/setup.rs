@@ -76,7 +76,8 @@ impl Study {
             Some(other) => {
                 ensure!(
                     other.camera_matches(config.scene),
-                    "--modulate-by {} needs the camera and room of {}",
+                    "modulate_by: {} is not the room of {} seen by its camera (a scene and itself, or the \
+                     textured box and its untextured twin)",
                     other.name(),
                     config.scene.name()
                 );
