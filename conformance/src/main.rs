@@ -1,13 +1,14 @@
 //! `conformance report --out DIR [--size N --frames N --ref-spp N]`: the rendered-quality
 //! study of the seed permutation (issue 5) as an HTML page with images and plots.
 //!
-//! `conformance study [--size N --frames N --ref-spp N --methods a,b,...]`: the static
-//! study (`conformance::study`) for chosen rows only, printed as markdown tables
-//! (whole image, per region, feature diagnostics).
+//! `conformance study [--size N --frames N --ref-spp N --methods a,b,... --scene S
+//! --modulate-by S]`: the static study (`conformance::study`) for chosen rows only,
+//! printed as markdown tables (whole image, per region, feature diagnostics; with
+//! `--modulate-by`, the insets' LF with the error multiplied by another scene's albedo).
 //!
-//! `conformance motion [--size N --frames N --ref-spp N --speeds A,B --object-speed C]`:
-//! the study in motion (issue 13, `conformance::motion`), printed as markdown
-//! tables.
+//! `conformance motion [--size N --frames N --ref-spp N --speeds A,B --object-speed C
+//! --history-fetch nearest|bilinear]`: the study in motion (issue 13,
+//! `conformance::motion`), printed as markdown tables.
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};

@@ -53,7 +53,8 @@
 //!   ([`crate::metrics::regions`]: emitter zone, edges, interior as issue 14 defines
 //!   them; from each frame's G-buffer).
 //! - **EMA**: RMSE of a reprojecting exponential history ([`history`], alpha
-//!   0.1, reset on disocclusion) against the frame's reference, over frames
+//!   0.1, reset on disocclusion, previous values read at the nearest pixel or bilinearly:
+//!   [`MotionConfig::history_fetch`]) against the frame's reference, over frames
 //!   `t >= EMA_FROM` (16, once the history has settled), whole image and interior, with
 //!   the reference's own noise subtracted (per pixel, from its halves).
 //!
