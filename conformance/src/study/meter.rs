@@ -8,7 +8,7 @@ use super::history::HistoryMeter;
 use super::insets::crop;
 use super::method::Method;
 use super::result::{MethodRun, Snapshot, StudyResult};
-use super::setup::Study;
+use super::setup::{albedo_luma, Study};
 use super::temporal_sort::{render_temporal_permute, render_temporal_sort};
 use super::walks::{render_dither, render_walk, Walk};
 use crate::metrics::regions::{region_shares, square_sums_by_region};
@@ -280,14 +280,7 @@ impl<'a> Meter<'a> {
                 let inverse: Vec<f32> = study
                     .gbuffer
                     .iter()
-                    .map(|g| {
-                        let a = sampler_core::luma(g.albedo.truncate());
-                        if a >= sampler_core::features::surface::ALBEDO_FLOOR {
-                            1.0 / a
-                        } else {
-                            1.0
-                        }
-                    })
+                    .map(|g| albedo_luma(g).map_or(1.0, |a| 1.0 / a))
                     .collect();
                 let size = study.config.size as usize;
                 study.insets.iter().map(|i| crop(&inverse, size, i)).collect()

@@ -32,19 +32,20 @@ pub struct Study {
     pub modulation: Option<Vec<f32>>,
 }
 
+/// The luma of `g`'s albedo, or `None` below
+/// `sampler_core::features::surface::ALBEDO_FLOOR` (emitters, the sky, black
+/// surfaces: nothing to divide by).
+pub(crate) fn albedo_luma(g: &GBufferGpu) -> Option<f32> {
+    let a = sampler_core::luma(g.albedo.truncate());
+    (a >= sampler_core::features::surface::ALBEDO_FLOOR).then_some(a)
+}
+
 /// Per pixel, `luma(albedo of over) / luma(albedo of under)` (1 where `under`'s is
 /// below `ALBEDO_FLOOR`).
 fn albedo_ratio(over: &[GBufferGpu], under: &[GBufferGpu]) -> Vec<f32> {
     over.iter()
         .zip(under)
-        .map(|(o, u)| {
-            let a = sampler_core::luma(u.albedo.truncate());
-            if a >= sampler_core::features::surface::ALBEDO_FLOOR {
-                sampler_core::luma(o.albedo.truncate()) / a
-            } else {
-                1.0
-            }
-        })
+        .map(|(o, u)| albedo_luma(u).map_or(1.0, |a| sampler_core::luma(o.albedo.truncate()) / a))
         .collect()
 }
 
