@@ -37,6 +37,9 @@
 //! - [`feature_keys`]: what the feature-aware seed permutation sorts, per
 //!   pixel, on the CPU ([`feature_keys::FeatureKeys`]).
 //! - [`motion`]: the motion vectors of the seed reprojection on the CPU.
+//! - [`method_choice`]: the permutation mode and sampler a render takes
+//!   when its caller names none ([`method_choice::choose_method`]: the
+//!   temporal permutation with ZSobol's pixel jitter).
 //! - [`render`]: the temporal render loop on the CPU or the GPU
 //!   ([`render_sequence_cpu`], [`render_sequence_gpu`]), with the G-buffer
 //!   and motion vectors of `kernels::gbuffer` when asked.
@@ -74,6 +77,7 @@ pub mod filter;
 pub mod gltf;
 pub mod gpu;
 pub mod image_out;
+pub mod method_choice;
 pub mod motion;
 pub mod obj;
 pub mod outdoor;

@@ -15,6 +15,7 @@ use gpu_tracer::feature_keys::FeatureKey;
 use gpu_tracer::filter::{FilterChain, FilterSettings, SequenceFilter};
 use gpu_tracer::gpu::{Gpu, GpuError};
 use gpu_tracer::image_out::{write_exr, write_png, ToneMap};
+use gpu_tracer::method_choice::choose_method;
 use gpu_tracer::scene::{Camera, Scene};
 use gpu_tracer::timeline::{SceneSequence, Timeline};
 use gpu_tracer::{
@@ -145,11 +146,11 @@ struct RenderArgs {
     /// Frames to render.
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..))]
     frames: u32,
-    /// How seeds change between frames: `white`, `sort`, `permute` (default
-    /// with the seed stream and the other samplers), `temporal` (sort
-    /// against slice `t mod 64` of the default spatiotemporal mask, retarget
-    /// to the next slice: blue in time too; 64 tile; with `--features on`
-    /// sorted in groups of one surface and cut at edges) or
+    /// How seeds change between frames: `white`, `sort`, `permute` (the R2
+    /// walk of Heitz & Belcour; default with `--tile 128`), `temporal` (the
+    /// default: sort against slice `t mod 64` of the default spatiotemporal
+    /// mask, retarget to the next slice: blue in time too; 64 tile; with
+    /// `--features on` sorted in groups of one surface and cut at edges) or
     /// `hold` (default with `--sampler spatiotemporal`, the only sampler it
     /// takes: each pixel's shift stays with it, and follows the motion with
     /// reprojection).
@@ -182,8 +183,11 @@ struct RenderArgs {
     /// `screen-sobol-jitter` and `zsobol-jitter` take only the position inside
     /// the pixel from that sampler and everything else from the (permuted)
     /// seeds: with `--mode permute`, silhouettes get a stratified jitter too.
-    #[arg(long, value_enum, default_value_t = SamplerArg::Seeds)]
-    sampler: SamplerArg,
+    /// Default: `zsobol-jitter` with the modes that permute seeds (`seeds`
+    /// past 256 spp or 4096 pixels a side, with a note), `seeds` with
+    /// `--mode white`, `spatiotemporal-kronecker` with `--mode hold`.
+    #[arg(long, value_enum)]
+    sampler: Option<SamplerArg>,
     /// Output directory (created if missing).
     #[arg(long, default_value = "out")]
     out: PathBuf,
@@ -243,6 +247,42 @@ impl SamplerArg {
         self.to_possible_value()
             .map(|v| v.get_name().to_owned())
             .unwrap_or_default()
+    }
+
+    /// The trace's sampler flags ([`TraceSettings::sampler`]).
+    fn flags(self) -> u32 {
+        match self {
+            SamplerArg::Seeds => SAMPLER_SEEDS,
+            SamplerArg::ScreenSobol => SAMPLER_SCREEN_SOBOL,
+            SamplerArg::Zsobol => SAMPLER_ZSOBOL,
+            SamplerArg::ScreenSobolJitter => SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY,
+            SamplerArg::ZsobolJitter => SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY,
+            SamplerArg::Spatiotemporal => kernels::abi::SAMPLER_SPATIOTEMPORAL,
+            SamplerArg::SpatiotemporalKronecker => {
+                kernels::abi::SAMPLER_SPATIOTEMPORAL | kernels::abi::SAMPLER_KRONECKER
+            }
+        }
+    }
+
+    /// The sampler with these flags.
+    fn from_flags(flags: u32) -> Option<SamplerArg> {
+        SamplerArg::value_variants()
+            .iter()
+            .copied()
+            .find(|s| s.flags() == flags)
+    }
+}
+
+impl ModeArg {
+    /// The mode it names.
+    fn mode(self) -> PermuteMode {
+        match self {
+            ModeArg::White => PermuteMode::White,
+            ModeArg::Sort => PermuteMode::Sort,
+            ModeArg::Permute => PermuteMode::Permute,
+            ModeArg::Hold => PermuteMode::Hold,
+            ModeArg::Temporal => PermuteMode::Temporal,
+        }
     }
 }
 
@@ -360,43 +400,42 @@ fn render(args: RenderArgs) -> Result<()> {
         SeedModeArg::Fixed => SEED_MODE_FIXED,
         SeedModeArg::Advance => SEED_MODE_ADVANCE,
     };
-    settings.sampler = match args.sampler {
-        SamplerArg::Seeds => SAMPLER_SEEDS,
-        SamplerArg::ScreenSobol => SAMPLER_SCREEN_SOBOL,
-        SamplerArg::Zsobol => SAMPLER_ZSOBOL,
-        SamplerArg::ScreenSobolJitter => SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY,
-        SamplerArg::ZsobolJitter => SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY,
-        SamplerArg::Spatiotemporal => kernels::abi::SAMPLER_SPATIOTEMPORAL,
-        SamplerArg::SpatiotemporalKronecker => {
-            kernels::abi::SAMPLER_SPATIOTEMPORAL | kernels::abi::SAMPLER_KRONECKER
-        }
-    };
+    let tile_arg = args
+        .tile
+        .map(|side| TileChoice::from_side(side).context("tile must be 64 or 128"))
+        .transpose()?;
+    let named_sampler = args.sampler.map(SamplerArg::flags);
     let spatiotemporal = matches!(
         args.sampler,
-        SamplerArg::Spatiotemporal | SamplerArg::SpatiotemporalKronecker
+        Some(SamplerArg::Spatiotemporal | SamplerArg::SpatiotemporalKronecker)
     );
-    let mode =
-        match (args.mode, spatiotemporal) {
-            (None, true) => ModeArg::Hold,
-            (None, false) => ModeArg::Permute,
-            (Some(ModeArg::Hold), false) => bail!(
+    match (args.mode, spatiotemporal) {
+        (Some(ModeArg::Hold), false) if args.sampler.is_some() => bail!(
             "--mode hold keeps every pixel's numbers from frame to frame: only --sampler spatiotemporal, \
              which advances its own sequence every frame, can use it"
         ),
-            (Some(m @ (ModeArg::Sort | ModeArg::Permute | ModeArg::Temporal)), true) => {
-                bail!(
+        (Some(m @ (ModeArg::Sort | ModeArg::Permute | ModeArg::Temporal)), true) => bail!(
             "--mode {} has nothing to permute with --sampler spatiotemporal, which draws every number \
              itself: use --mode hold (its default) or white",
-            m.to_possible_value().map(|v| v.get_name().to_owned()).unwrap_or_default()
-        )
-            }
-            (Some(m), _) => m,
-        };
+            m.to_possible_value()
+                .map(|v| v.get_name().to_owned())
+                .unwrap_or_default()
+        ),
+        _ => {}
+    }
+    let choice = choose_method(args.mode.map(ModeArg::mode), named_sampler, tile_arg, &settings);
+    settings.sampler = choice.sampler;
+    let sampler_name = SamplerArg::from_flags(choice.sampler)
+        .map(SamplerArg::name)
+        .context("the chosen sampler has no command-line name")?;
+    if let Some(why) = choice.fallback {
+        eprintln!("note: {why}");
+    }
     // Settings the chosen sampler does not support fail here, before any work.
     sequence
         .scene()
         .trace_params(&settings, 0)
-        .with_context(|| format!("--sampler {} cannot render these settings", args.sampler.name()))?;
+        .with_context(|| format!("--sampler {sampler_name} cannot render these settings"))?;
     let filtering = args.filter != FilterChain::None;
     let mut filter = SequenceFilter::new(
         args.filter,
@@ -419,22 +458,15 @@ fn render(args: RenderArgs) -> Result<()> {
             prepare_out_dir(dir)?;
         }
     }
-    let temporal = matches!(mode, ModeArg::Temporal);
-    let side = args.tile.unwrap_or(64);
-    if temporal && side != TileChoice::TEMPORAL.side() {
+    let temporal = choice.mode == PermuteMode::Temporal;
+    let tile = tile_arg.unwrap_or(TileChoice::TEMPORAL);
+    if temporal && tile != TileChoice::TEMPORAL {
         bail!("--mode temporal sorts against the 64x64 slices of its default target: use --tile 64 (the default)");
     }
-    let tile = TileChoice::from_side(side).context("tile must be 64 or 128")?;
     let job = RenderJob {
         settings,
         frames: args.frames,
-        mode: match mode {
-            ModeArg::White => PermuteMode::White,
-            ModeArg::Sort => PermuteMode::Sort,
-            ModeArg::Permute => PermuteMode::Permute,
-            ModeArg::Hold => PermuteMode::Hold,
-            ModeArg::Temporal => PermuteMode::Temporal,
-        },
+        mode: choice.mode,
         block: args.block,
         tile,
         salt: 0,
@@ -579,7 +611,7 @@ fn render(args: RenderArgs) -> Result<()> {
         output.device,
         secs,
         job.mode,
-        args.sampler.name(),
+        sampler_name,
         if reproject { "on" } else { "off" },
         if features {
             format!("on, {} key", options.feature_key.name())

@@ -32,7 +32,11 @@ pub enum MotionMethod {
     /// frames digital shifts of one net, each pixel's point fixed on the screen.
     ZSobol,
     /// The temporal permutation (`--mode temporal`, the 64 tile) with ZSobol's
-    /// jitter (`--sampler zsobol-jitter`), the seeds reprojected.
+    /// jitter (`--sampler zsobol-jitter`), seeds left at their pixels when
+    /// things move: the render defaults with `--reproject off`.
+    TemporalPermuteJitter,
+    /// [`MotionMethod::TemporalPermuteJitter`] with the seeds reprojected
+    /// (the render defaults when something moves).
     TemporalPermuteJitterReproject,
     /// [`MotionMethod::TemporalPermuteJitterReproject`] with the
     /// feature-aware permutation (`--mode temporal --features on`).
@@ -41,7 +45,7 @@ pub enum MotionMethod {
 
 impl MotionMethod {
     /// Every row, white first.
-    pub const ALL: [MotionMethod; 12] = [
+    pub const ALL: [MotionMethod; 13] = [
         MotionMethod::White,
         MotionMethod::Permute,
         MotionMethod::PermuteReproject,
@@ -52,6 +56,7 @@ impl MotionMethod {
         MotionMethod::SpatiotemporalFollow,
         MotionMethod::SpatiotemporalKroneckerFollow,
         MotionMethod::ZSobol,
+        MotionMethod::TemporalPermuteJitter,
         MotionMethod::TemporalPermuteJitterReproject,
         MotionMethod::FeatureTemporalPermuteJitterReproject,
     ];
@@ -69,6 +74,7 @@ impl MotionMethod {
             MotionMethod::SpatiotemporalFollow => "spatiotemporal, shifts follow (hold + reprojection)",
             MotionMethod::SpatiotemporalKroneckerFollow => "spatiotemporal-kronecker, shifts follow",
             MotionMethod::ZSobol => "zsobol",
+            MotionMethod::TemporalPermuteJitter => "temporal-permute + zsobol jitter, no reprojection",
             MotionMethod::TemporalPermuteJitterReproject => "temporal-permute + zsobol jitter + reprojection",
             MotionMethod::FeatureTemporalPermuteJitterReproject => {
                 "feature-aware temporal-permute + zsobol jitter + reprojection"
@@ -112,6 +118,10 @@ impl MotionMethod {
             MotionMethod::ZSobol => {
                 settings.sampler = kernels::abi::SAMPLER_ZSOBOL;
                 (PermuteMode::White, false)
+            }
+            MotionMethod::TemporalPermuteJitter => {
+                settings.sampler = kernels::abi::SAMPLER_ZSOBOL | kernels::abi::SAMPLER_JITTER_ONLY;
+                (PermuteMode::Temporal, false)
             }
             MotionMethod::TemporalPermuteJitterReproject
             | MotionMethod::FeatureTemporalPermuteJitterReproject => {

@@ -86,7 +86,10 @@ fn bad_input_fails_with_a_clear_message_and_writes_nothing() {
             vec!["--sampler", "zsobol", "--spp", "512"],
             "at most 256 with the zsobol sampler",
         ),
-        (vec!["--mode", "hold"], "only --sampler spatiotemporal"),
+        (
+            vec!["--mode", "hold", "--sampler", "seeds"],
+            "only --sampler spatiotemporal",
+        ),
         (
             vec!["--sampler", "spatiotemporal", "--mode", "permute"],
             "nothing to permute with --sampler spatiotemporal",

@@ -408,3 +408,56 @@ fn spatiotemporal_defaults_to_hold_and_follows_a_pan() {
     let mean: f32 = img.pixels().map(|p| p[0] + p[1] + p[2]).sum::<f32>() / (32.0 * 24.0);
     assert!(mean.is_finite() && mean > 0.01, "mean radiance {mean}");
 }
+
+/// What `render` takes when `--mode` or `--sampler` is left out: the
+/// temporal permutation with ZSobol's jitter; the walk with `--tile 128`;
+/// white noise stays white noise; past ZSobol's limits the seed stream, with
+/// a note; `--mode hold` alone takes the Kronecker spatiotemporal sampler.
+#[test]
+fn render_defaults_to_the_temporal_permutation_with_zsobols_jitter() {
+    let exe = tracer();
+    let cases: [(&[&str], &str, bool); 6] = [
+        (&[], "(Temporal mode, zsobol-jitter sampler", false),
+        (&["--tile", "128"], "(Permute mode, zsobol-jitter sampler", false),
+        (&["--mode", "white"], "(White mode, seeds sampler", false),
+        (
+            &["--mode", "permute"],
+            "(Permute mode, zsobol-jitter sampler",
+            false,
+        ),
+        (&["--spp", "257"], "(Temporal mode, seeds sampler", true),
+        (
+            &["--mode", "hold"],
+            "(Hold mode, spatiotemporal-kronecker sampler",
+            false,
+        ),
+    ];
+    for (extra, summary, note) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let mut args = vec![
+            "render",
+            "--width",
+            "16",
+            "--height",
+            "12",
+            "--frames",
+            "2",
+            "--max-depth",
+            "2",
+            "--device",
+            "cpu",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = run(&exe, &args);
+        let t = text(&o);
+        assert!(o.status.success() && t.contains(summary), "{extra:?}: {t}");
+        assert_eq!(
+            t.contains("note: the default pixel jitter (zsobol-jitter) takes at most 256 spp"),
+            note,
+            "{extra:?}: {t}"
+        );
+    }
+}

@@ -1,0 +1,179 @@
+//! The permutation mode and sampler a render takes when its caller leaves one
+//! or both out.
+//!
+//! The defaults are the combination measured best on the four study scenes
+//! (Cornell box, glossy box, textured box, sun and sky; QUALITY.md, "The
+//! defaults"): the temporally blue permutation ([`PermuteMode::Temporal`])
+//! with ZSobol's pixel jitter ([`DEFAULT_PERMUTE_SAMPLER`]). Per frame it
+//! keeps the permutation's flat walls and the a-priori jitter's silhouettes;
+//! behind a history it keeps less of white noise's error than any other
+//! permutation on every scene, where the published method (the R2 walk with
+//! every number from the seeds) is white in time and up to 5% worse than
+//! white on the whole image.
+
+use crate::render::TileChoice;
+use crate::scene::{TraceSettings, ZSOBOL_MAX_SPP};
+use crate::PermuteMode;
+use kernels::abi::{
+    SAMPLER_JITTER_ONLY, SAMPLER_KIND_MASK, SAMPLER_KRONECKER, SAMPLER_SEEDS, SAMPLER_SPATIOTEMPORAL,
+    SAMPLER_ZSOBOL,
+};
+
+/// The sampler of the modes that permute seeds ([`PermuteMode::Sort`],
+/// [`PermuteMode::Permute`], [`PermuteMode::Temporal`]) when none is named:
+/// the position inside the pixel from ZSobol, whose frames are digital
+/// shifts of one net (so a pixel's jitter is stratified in space and over
+/// frames), every other number from the permuted seeds.
+pub const DEFAULT_PERMUTE_SAMPLER: u32 = SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY;
+
+/// The sampler of [`PermuteMode::Hold`] when none is named: the
+/// spatiotemporal sampler with its Kronecker sequence in time, the row that
+/// keeps least of white's error behind a history.
+pub const DEFAULT_HOLD_SAMPLER: u32 = SAMPLER_SPATIOTEMPORAL | SAMPLER_KRONECKER;
+
+/// A render's mode and sampler, named or chosen.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MethodChoice {
+    /// How seeds change between frames.
+    pub mode: PermuteMode,
+    /// The trace's sampler flags ([`TraceSettings::sampler`]).
+    pub sampler: u32,
+    /// Why the default sampler could not be taken and the seed stream was,
+    /// when that happened (a line for the user); `None` otherwise.
+    pub fallback: Option<&'static str>,
+}
+
+/// The mode when none is named: [`PermuteMode::Hold`] for the
+/// spatiotemporal sampler (it draws every number itself), the walk's
+/// [`PermuteMode::Permute`] when a tile other than the temporal target's
+/// 64x64 one is asked for, else [`PermuteMode::Temporal`].
+pub fn default_mode(sampler: Option<u32>, tile: Option<TileChoice>) -> PermuteMode {
+    let spatiotemporal = sampler.is_some_and(|s| s & SAMPLER_KIND_MASK == SAMPLER_SPATIOTEMPORAL);
+    if spatiotemporal {
+        PermuteMode::Hold
+    } else if tile.is_some_and(|t| t != TileChoice::TEMPORAL) {
+        PermuteMode::Permute
+    } else {
+        PermuteMode::Temporal
+    }
+}
+
+/// The sampler when none is named, for `mode` and the frame in `settings`
+/// (its `sampler` field is ignored): the seed stream for
+/// [`PermuteMode::White`] (the baseline stays white noise),
+/// [`DEFAULT_HOLD_SAMPLER`] for [`PermuteMode::Hold`], and
+/// [`DEFAULT_PERMUTE_SAMPLER`] for the modes that permute seeds, or the seed
+/// stream with a reason where ZSobol cannot render the frame (more than
+/// [`ZSOBOL_MAX_SPP`] spp or a side above 4096 pixels).
+pub fn default_sampler(mode: PermuteMode, settings: &TraceSettings) -> (u32, Option<&'static str>) {
+    match mode {
+        PermuteMode::White => (SAMPLER_SEEDS, None),
+        PermuteMode::Hold => (DEFAULT_HOLD_SAMPLER, None),
+        PermuteMode::Sort | PermuteMode::Permute | PermuteMode::Temporal => {
+            let side = settings.width.max(settings.height);
+            if settings.spp <= ZSOBOL_MAX_SPP && side <= sampler_core::sequences::zsobol::ZSOBOL_TILE {
+                (DEFAULT_PERMUTE_SAMPLER, None)
+            } else {
+                (
+                    SAMPLER_SEEDS,
+                    Some(
+                        "the default pixel jitter (zsobol-jitter) takes at most 256 spp and 4096 pixels a side: \
+                         every number comes from the seeds",
+                    ),
+                )
+            }
+        }
+    }
+}
+
+/// The mode and sampler of a render whose caller named `mode` and `sampler`
+/// or left them out (`None`): a named one is kept as it is (whether the two
+/// go together is [`crate::RenderJob::validate`]'s to say), a missing one is
+/// [`default_mode`] or [`default_sampler`] of the other.
+pub fn choose_method(
+    mode: Option<PermuteMode>,
+    sampler: Option<u32>,
+    tile: Option<TileChoice>,
+    settings: &TraceSettings,
+) -> MethodChoice {
+    let mode = mode.unwrap_or_else(|| default_mode(sampler, tile));
+    let (sampler, fallback) = match sampler {
+        Some(s) => (s, None),
+        None => default_sampler(mode, settings),
+    };
+    MethodChoice {
+        mode,
+        sampler,
+        fallback,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use kernels::abi::SAMPLER_SCREEN_SOBOL;
+
+    fn frame(width: u32, height: u32, spp: u32) -> TraceSettings {
+        TraceSettings {
+            spp,
+            ..TraceSettings::new(width, height)
+        }
+    }
+
+    #[test]
+    fn nothing_named_is_the_temporal_permutation_with_zsobols_jitter() {
+        let c = choose_method(None, None, None, &frame(512, 512, 1));
+        assert_eq!(c.mode, PermuteMode::Temporal);
+        assert_eq!(c.sampler, SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY);
+        assert_eq!(c.fallback, None);
+    }
+
+    #[test]
+    fn a_named_mode_or_sampler_is_kept_and_the_other_follows_it() {
+        let f = frame(256, 256, 4);
+        let white = choose_method(Some(PermuteMode::White), None, None, &f);
+        assert_eq!((white.mode, white.sampler), (PermuteMode::White, SAMPLER_SEEDS));
+        let walk = choose_method(Some(PermuteMode::Permute), None, None, &f);
+        assert_eq!(
+            (walk.mode, walk.sampler),
+            (PermuteMode::Permute, DEFAULT_PERMUTE_SAMPLER)
+        );
+        let hold = choose_method(Some(PermuteMode::Hold), None, None, &f);
+        assert_eq!(hold.sampler, DEFAULT_HOLD_SAMPLER);
+        let seeds = choose_method(None, Some(SAMPLER_SEEDS), None, &f);
+        assert_eq!(
+            (seeds.mode, seeds.sampler),
+            (PermuteMode::Temporal, SAMPLER_SEEDS)
+        );
+        let st = choose_method(None, Some(SAMPLER_SPATIOTEMPORAL), None, &f);
+        assert_eq!(st.mode, PermuteMode::Hold);
+        let sobol = choose_method(Some(PermuteMode::Sort), Some(SAMPLER_SCREEN_SOBOL), None, &f);
+        assert_eq!(
+            (sobol.mode, sobol.sampler),
+            (PermuteMode::Sort, SAMPLER_SCREEN_SOBOL)
+        );
+    }
+
+    #[test]
+    fn the_128_tile_takes_the_walk_because_the_temporal_target_is_64() {
+        let c = choose_method(None, None, Some(TileChoice::Tile128), &frame(64, 64, 1));
+        assert_eq!(c.mode, PermuteMode::Permute);
+        let c = choose_method(None, None, Some(TileChoice::Tile64), &frame(64, 64, 1));
+        assert_eq!(c.mode, PermuteMode::Temporal);
+    }
+
+    #[test]
+    fn frames_zsobol_cannot_render_fall_back_to_the_seeds_and_say_why() {
+        for f in [
+            frame(64, 64, ZSOBOL_MAX_SPP + 1),
+            frame(4097, 8, 1),
+            frame(8, 4097, 1),
+        ] {
+            let c = choose_method(None, None, None, &f);
+            assert_eq!(c.sampler, SAMPLER_SEEDS, "{f:?}");
+            assert!(c.fallback.is_some_and(|why| why.contains("zsobol")), "{f:?}");
+        }
+        let edge = choose_method(None, None, None, &frame(4096, 4096, ZSOBOL_MAX_SPP));
+        assert_eq!((edge.sampler, edge.fallback), (DEFAULT_PERMUTE_SAMPLER, None));
+    }
+}
