@@ -6,7 +6,8 @@
 //! `cargo bench -p gpu-tracer --bench cpu_render`; the bench prints
 //! `rays/s` and `paths/s` per configuration after criterion's own report,
 //! and the G-buffer pass (primary visibility + motion vectors) as a share of
-//! the 1-spp frame, measured in interleaved rounds (goal: <= 10%).
+//! the 1-spp frame, measured in interleaved rounds (goal: <= 10%), and the
+//! render defaults' sampler (ZSobol's pixel jitter) against the seed stream.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::Vec4;
@@ -73,6 +74,33 @@ fn bench_cpu_render(c: &mut Criterion) {
         "cpu_render cornell 256x256 {cores} thread(s): trace 1 spp {tr:.2} ms, g-buffer + motion {gb:.2} ms \
          = {:.1}% of the frame (median of 9 interleaved rounds)",
         100.0 * gb / tr
+    );
+    // The render defaults' sampler (ZSobol's pixel jitter, the rest from the
+    // seeds) against the seed stream alone, interleaved, all cores.
+    let jitter = TraceSettings {
+        sampler: gpu_tracer::method_choice::DEFAULT_PERMUTE_SAMPLER,
+        ..settings
+    };
+    let jitter_params = scene.trace_params(&jitter, 0).expect("params");
+    let (mut seeds_ms, mut jitter_ms, mut rays) = (Vec::new(), Vec::new(), [0u64; 2]);
+    for _ in 0..9 {
+        let start = Instant::now();
+        rays[0] += render_frame(&scene, &params, &seeds, &mut color).expect("render");
+        seeds_ms.push(start.elapsed().as_secs_f64() * 1e3);
+        let start = Instant::now();
+        rays[1] += render_frame(&scene, &jitter_params, &seeds, &mut color).expect("render");
+        jitter_ms.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    seeds_ms.sort_by(f64::total_cmp);
+    jitter_ms.sort_by(f64::total_cmp);
+    println!(
+        "cpu_render cornell 256x256 {cores} thread(s): seed stream {:.2} ms, zsobol-jitter (the render defaults) \
+         {:.2} ms = {:+.1}% (median of 9 interleaved rounds; rays {} / {})",
+        seeds_ms[4],
+        jitter_ms[4],
+        100.0 * (jitter_ms[4] / seeds_ms[4] - 1.0),
+        rays[0],
+        rays[1]
     );
     for (threads, paths_per_s, rays_per_s, frame_s) in report {
         println!(
