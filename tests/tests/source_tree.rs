@@ -36,6 +36,15 @@ fn crate_roots() -> Vec<PathBuf> {
                 roots.push(path);
             }
         }
+        // Binaries with modules of their own: `src/bin/<name>/main.rs`.
+        if let Ok(bins) = std::fs::read_dir(root.join(krate).join("src/bin")) {
+            let mut bins: Vec<PathBuf> = bins
+                .filter_map(|e| e.ok().map(|e| e.path().join("main.rs")))
+                .filter(|p| p.exists())
+                .collect();
+            bins.sort();
+            roots.extend(bins);
+        }
     }
     roots
 }
