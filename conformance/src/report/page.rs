@@ -515,7 +515,8 @@ that is near 1 the filter, not the noise, decides; without it (noise part) the l
             name(best(&|m| r.pooled_filtered_noise(m, head, Some(Region::Interior), t))),
         );
     }
-    h += " The permutation's figures are in the rows <i>permute</i> and <i>permute-jitter</i>.</p>\n";
+    h += " The permutation's figures are in the rows <i>permute</i> and <i>permute-jitter</i>; the render \
+defaults' (the temporally blue permutation with ZSobol's pixel jitter) in <i>temporal-permute-jitter</i>.</p>\n";
     h
 }
 

@@ -100,10 +100,13 @@ impl Method {
         Method::FeatureTemporalPermuteJitter,
     ];
 
-    /// The rows of the report ([`crate::report`]): every method but the sort-key
-    /// variants of the feature-aware permutation, which `conformance study`
-    /// measures on request.
-    pub const REPORT: [Method; 11] = [
+    /// The rows of the report ([`crate::report`]): the baselines, the
+    /// permutations and samplers a user chooses between, the render defaults
+    /// ([`Method::TemporalPermuteJitter`]) and the sampler for a history
+    /// ([`Method::SpatiotemporalKronecker`]); the other rows (the sort-key
+    /// variants, the temporal diagnostics) `conformance study` measures on
+    /// request.
+    pub const REPORT: [Method; 13] = [
         Method::White,
         Method::Sort,
         Method::Permute,
@@ -115,6 +118,8 @@ impl Method {
         Method::ZSobol,
         Method::FeaturePermute,
         Method::FeaturePermuteJitter,
+        Method::TemporalPermuteJitter,
+        Method::SpatiotemporalKronecker,
     ];
 
     /// The rows of issue 14's comparison (`conformance study` defaults).
