@@ -15,8 +15,8 @@ use crate::render::TileChoice;
 use crate::scene::{TraceSettings, ZSOBOL_MAX_SPP};
 use crate::PermuteMode;
 use kernels::abi::{
-    SAMPLER_JITTER_ONLY, SAMPLER_KIND_MASK, SAMPLER_KRONECKER, SAMPLER_SEEDS, SAMPLER_SPATIOTEMPORAL,
-    SAMPLER_ZSOBOL,
+    SAMPLER_JITTER_ONLY, SAMPLER_KIND_MASK, SAMPLER_KRONECKER, SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS,
+    SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL,
 };
 
 /// The sampler of the modes that permute seeds ([`PermuteMode::Sort`],
@@ -44,13 +44,20 @@ pub struct MethodChoice {
 }
 
 /// The mode when none is named: [`PermuteMode::Hold`] for the
-/// spatiotemporal sampler (it draws every number itself), the walk's
+/// spatiotemporal sampler (it draws every number itself),
+/// [`PermuteMode::White`] for an a-priori sampler that draws every 2D
+/// decision (`SAMPLER_SCREEN_SOBOL` or `SAMPLER_ZSOBOL` without
+/// `SAMPLER_JITTER_ONLY`: the seeds would drive Russian roulette alone, as
+/// the study's rows of those samplers have it), the walk's
 /// [`PermuteMode::Permute`] when a tile other than the temporal target's
 /// 64x64 one is asked for, else [`PermuteMode::Temporal`].
 pub fn default_mode(sampler: Option<u32>, tile: Option<TileChoice>) -> PermuteMode {
-    let spatiotemporal = sampler.is_some_and(|s| s & SAMPLER_KIND_MASK == SAMPLER_SPATIOTEMPORAL);
-    if spatiotemporal {
+    let kind = sampler.map(|s| s & SAMPLER_KIND_MASK);
+    let jitter_only = sampler.is_some_and(|s| s & SAMPLER_JITTER_ONLY != 0);
+    if kind == Some(SAMPLER_SPATIOTEMPORAL) {
         PermuteMode::Hold
+    } else if matches!(kind, Some(SAMPLER_SCREEN_SOBOL | SAMPLER_ZSOBOL)) && !jitter_only {
+        PermuteMode::White
     } else if tile.is_some_and(|t| t != TileChoice::TEMPORAL) {
         PermuteMode::Permute
     } else {
@@ -111,7 +118,6 @@ pub fn choose_method(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use kernels::abi::SAMPLER_SCREEN_SOBOL;
 
     fn frame(width: u32, height: u32, spp: u32) -> TraceSettings {
         TraceSettings {
@@ -152,6 +158,16 @@ mod tests {
             (sobol.mode, sobol.sampler),
             (PermuteMode::Sort, SAMPLER_SCREEN_SOBOL)
         );
+    }
+
+    #[test]
+    fn a_sampler_that_draws_every_decision_renders_with_white_seeds() {
+        let f = frame(64, 64, 1);
+        for s in [SAMPLER_SCREEN_SOBOL, SAMPLER_ZSOBOL] {
+            assert_eq!(choose_method(None, Some(s), None, &f).mode, PermuteMode::White);
+            let jitter = choose_method(None, Some(s | SAMPLER_JITTER_ONLY), None, &f);
+            assert_eq!(jitter.mode, PermuteMode::Temporal);
+        }
     }
 
     #[test]

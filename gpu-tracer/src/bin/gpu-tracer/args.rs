@@ -126,7 +126,9 @@ pub(crate) struct RenderArgs {
     /// Frames to render.
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..))]
     pub(crate) frames: u32,
-    /// How seeds change between frames: `white`, `sort`, `permute` (the R2
+    /// How seeds change between frames: `white` (default with `--sampler
+    /// screen-sobol` or `zsobol`, which draw every decision but Russian
+    /// roulette themselves), `sort`, `permute` (the R2
     /// walk of Heitz & Belcour; default with `--tile 128`), `temporal` (the
     /// default: sort against slice `t mod 64` of the default spatiotemporal
     /// mask, retarget to the next slice: blue in time too; 64 tile; with
