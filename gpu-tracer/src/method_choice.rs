@@ -8,8 +8,8 @@
 //! keeps the permutation's flat walls and the a-priori jitter's silhouettes;
 //! behind a history it keeps less of white noise's error than any other
 //! permutation on every scene, where the published method (the R2 walk with
-//! every number from the seeds) is white in time and up to 5% worse than
-//! white on the whole image.
+//! every number from the seeds) is white in time and 2-8% worse than white
+//! on the whole image behind a history.
 
 use crate::render::TileChoice;
 use crate::scene::{TraceSettings, ZSOBOL_MAX_SPP};
