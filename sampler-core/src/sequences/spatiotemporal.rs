@@ -84,7 +84,7 @@ use crate::error::{Buffer, Error};
 use crate::sequences::kronecker::kronecker_point_u32;
 use crate::sequences::owen::{owen_sobol_pair_u32, shuffle_index};
 use crate::sequences::seed::hash_u32;
-use crate::sequences::walk::{base_step, step_index, tile_log2, walk_offset, STEP_COUNT};
+use crate::sequences::walk::{step_index, step_of_index, tile_log2, walk_offset, STEP_COUNT};
 use glam::UVec2;
 
 /// Seed of the shared sequence, so that a renderer's pairs match the
@@ -164,7 +164,7 @@ pub const MAX_SHIFT_PAIR_TILE_LOG2: u32 = 8;
 /// `2^side_log2`, row-major) into `out` (module docs, "Both coordinates of a
 /// shift in one read"): `out[j * n + q] = ranks[q] | ranks[(q + step_j) mod
 /// side] << 16`, `n = 4^side_log2`, where `step_j` is the walk's step of
-/// index `j` (`sx + 2 sy`: `base_step + (sx, sy)`).
+/// index `j` ([`step_of_index`]).
 ///
 /// # Errors
 /// [`Error::TileSize`] if the side is not a power of two in
@@ -193,9 +193,8 @@ pub fn write_shift_pair_tiles(ranks: &[u32], side_log2: u32, out: &mut [u32]) ->
         });
     }
     let mask = side - 1;
-    let base = base_step(side_log2);
     for (j, tile) in out.chunks_exact_mut(n).enumerate() {
-        let step = UVec2::new(base.x + (j as u32 & 1), base.y + (j as u32 >> 1));
+        let step = step_of_index(j as u32, side_log2);
         for (q, word) in tile.iter_mut().enumerate() {
             let (x, y) = (q as u32 & mask, q as u32 >> side_log2);
             let next = (((y + step.y) & mask) << side_log2) | ((x + step.x) & mask);
@@ -439,7 +438,8 @@ mod tests {
             .all(|&v| v >> (32 - 2 * side_log2) == 0 || v >> (32 - 2 * side_log2) == tile[0]));
     }
 
-    /// A pixel's first home reads the shift at the pixel (modulo the tile).
+    /// Both coordinates from one word of the shift-pair tiles are the two
+    /// reads of the rank tile, for every pair and pixel (wrapping included).
     #[test]
     fn packed_shift_pairs_are_the_two_reads() {
         for side_log2 in [1u32, 3, 6] {
@@ -504,6 +504,7 @@ mod tests {
         );
     }
 
+    /// A pixel's first home reads the shift at the pixel (modulo the tile).
     #[test]
     fn a_first_home_is_the_pixel() {
         let mut homes = [0u32; 6 * 5];

@@ -4,7 +4,7 @@
 
 use clap::{Parser, Subcommand, ValueEnum};
 use gpu_tracer::filter::FilterChain;
-use gpu_tracer::PermuteMode;
+use gpu_tracer::{PermuteMode, TileChoice};
 use kernels::abi::{
     MAX_DEPTH_LIMIT, SAMPLER_JITTER_ONLY, SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS, SAMPLER_ZSOBOL,
 };
@@ -144,7 +144,7 @@ pub(crate) struct RenderArgs {
     /// Side of the baked dither tile: 64 or 128 (default 64, the only side
     /// `--mode temporal` takes).
     #[arg(long, value_parser = parse_tile)]
-    pub(crate) tile: Option<u32>,
+    pub(crate) tile: Option<TileChoice>,
     /// Maximum path length in segments.
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=MAX_DEPTH_LIMIT as i64))]
     pub(crate) max_depth: u32,
@@ -334,10 +334,11 @@ pub(crate) fn parse_environment(s: &str) -> Result<EnvArg, String> {
     Ok(EnvArg::Constant(v))
 }
 
-pub(crate) fn parse_tile(s: &str) -> Result<u32, String> {
+/// Parses `--tile`: the side of a baked dither tile, 64 or 128.
+pub(crate) fn parse_tile(s: &str) -> Result<TileChoice, String> {
     match s {
-        "64" => Ok(64),
-        "128" => Ok(128),
+        "64" => Ok(TileChoice::Tile64),
+        "128" => Ok(TileChoice::Tile128),
         _ => Err(format!("{s} is not a baked tile size (64 or 128)")),
     }
 }

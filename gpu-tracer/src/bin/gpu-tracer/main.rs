@@ -48,10 +48,7 @@ fn render(args: RenderArgs) -> Result<()> {
         SeedModeArg::Fixed => SEED_MODE_FIXED,
         SeedModeArg::Advance => SEED_MODE_ADVANCE,
     };
-    let tile_arg = args
-        .tile
-        .map(|side| TileChoice::from_side(side).context("tile must be 64 or 128"))
-        .transpose()?;
+    let tile_arg = args.tile;
     let named_sampler = args.sampler.map(SamplerArg::flags);
     let spatiotemporal = matches!(
         args.sampler,
