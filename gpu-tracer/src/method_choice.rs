@@ -31,6 +31,24 @@ pub const DEFAULT_PERMUTE_SAMPLER: u32 = SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY;
 /// keeps least of white's error behind a history.
 pub const DEFAULT_HOLD_SAMPLER: u32 = SAMPLER_SPATIOTEMPORAL | SAMPLER_KRONECKER;
 
+/// Pixels per frame below which a pixel's seed stays where it is when seeds
+/// are reprojected (`SequenceOptions::reproject_hold_below`) in the modes
+/// that permute seeds: slower surfaces keep their seeds at their pixels,
+/// faster ones carry them along. The crossover measured for the defaults
+/// (QUALITY.md, "Which default for reprojection"): leaving seeds at their
+/// pixels wins up to about 4 px/frame, following the surface from about 8.
+pub const DEFAULT_REPROJECT_HOLD_BELOW: f32 = 6.0;
+
+/// [`DEFAULT_REPROJECT_HOLD_BELOW`] for the modes that permute seeds; 0 for
+/// [`PermuteMode::Hold`], whose homes must follow every surface (each point
+/// keeps its shift), and for [`PermuteMode::White`], which never reprojects.
+pub fn default_reproject_hold_below(mode: PermuteMode) -> f32 {
+    match mode {
+        PermuteMode::Sort | PermuteMode::Permute | PermuteMode::Temporal => DEFAULT_REPROJECT_HOLD_BELOW,
+        PermuteMode::Hold | PermuteMode::White => 0.0,
+    }
+}
+
 /// A render's mode and sampler, named or chosen.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MethodChoice {

@@ -7,7 +7,7 @@
 
 use glam::UVec2;
 use kernels::abi::GBufferGpu;
-use kernels::motion::{reprojection_motion_pixel, visibility};
+use kernels::motion::{reprojection_motion_pixel, seed_motion, visibility};
 
 pub use kernels::motion::DISOCCLUSION_DEPTH_TOLERANCE;
 
@@ -60,6 +60,28 @@ pub fn reprojection_motion(
         .collect()
 }
 
+/// [`reprojection_motion`] as the seed reprojection takes it: zero where the
+/// pixel's surface moved less than `hold_below` pixels since the previous
+/// frame (`kernels::motion::seed_motion`, the code the GPU's motion pass
+/// runs), so that its seed stays. `hold_below` in pixels per frame, finite
+/// and `>= 0`; 0 gives [`reprojection_motion`] exactly.
+///
+/// # Panics
+/// If `current` or `previous` is not `width * height` long.
+pub fn seed_reprojection_motion(
+    current: &[GBufferGpu],
+    previous: &[UVec2],
+    width: u32,
+    height: u32,
+    hold_below: f32,
+) -> Vec<[f32; 2]> {
+    let mut motion = reprojection_motion(current, previous, width, height);
+    for (m, g) in motion.iter_mut().zip(current) {
+        *m = seed_motion(g, glam::Vec2::from(*m), hold_below).to_array();
+    }
+    motion
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -109,5 +131,31 @@ mod tests {
             reprojection_motion(&current, &vis(&previous), 3, 1)[0],
             [1.0, 0.0]
         );
+    }
+
+    #[test]
+    fn slow_surfaces_hold_their_seeds_fast_and_disoccluded_ones_do_not() {
+        let previous = [
+            texel(1, 10.0, [0.0; 2], 10.0),
+            texel(1, 10.0, [0.0; 2], 10.0),
+            texel(2, 4.0, [0.0; 2], 4.0),
+        ];
+        let current = [
+            texel(1, 10.0, [1.0, 0.0], 10.0),  // 1 px: follows at 0.5, holds at 2
+            texel(1, 10.0, [1.0, 0.0], 10.0),  // disoccluded, 1 px: holds at 2
+            texel(1, 10.0, [-2.5, 0.0], 10.0), // 2.5 px: follows at 2
+        ];
+        let vis = vis(&previous);
+        let plain = reprojection_motion(&current, &vis, 3, 1);
+        assert_eq!(seed_reprojection_motion(&current, &vis, 3, 1, 0.0), plain);
+        assert_eq!(seed_reprojection_motion(&current, &vis, 3, 1, 0.5), plain);
+        let held = seed_reprojection_motion(&current, &vis, 3, 1, 2.0);
+        assert_eq!(held, vec![[0.0, 0.0], [0.0, 0.0], plain[2]]);
+        assert_eq!(plain[2], [-2.5, 0.0]);
+        // No previous position (NaN motion): never held.
+        let mut nan = current;
+        nan[0].motion.x = f32::NAN;
+        let m = seed_reprojection_motion(&nan, &vis, 3, 1, 100.0);
+        assert_eq!(m[0], kernels::motion::DISOCCLUDED.to_array());
     }
 }

@@ -8,7 +8,7 @@ use crate::gpu::{
     Gpu, GpuError, PermuteMode, PermutePipelines, ReprojectPipelines, SeedPermuter, SeedReprojector,
     TracePipelines, Tracer,
 };
-use crate::motion::{reprojection_motion, write_visibility};
+use crate::motion::{seed_reprojection_motion, write_visibility};
 use crate::scene::{SceneGpu, TraceSettings};
 use crate::timeline::SceneSequence;
 use glam::{UVec2, Vec4};
@@ -77,7 +77,7 @@ pub struct FrameView<'a> {
 }
 
 /// What a sequence render does besides tracing and permuting.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SequenceOptions {
     /// Compute each frame's G-buffer and hand it to the frame callback.
     pub gbuffer: bool,
@@ -87,6 +87,13 @@ pub struct SequenceOptions {
     /// code in `SeedReprojector`).
     /// Ignored in [`PermuteMode::White`] (fresh seeds every frame).
     pub reproject: bool,
+    /// With [`Self::reproject`]: pixels whose surface moved less than this
+    /// many pixels since the previous frame keep their seed instead of
+    /// taking their surface's (`kernels::motion::seed_motion`, per pixel,
+    /// the same on the GPU). Pixels per frame, finite and `>= 0`; 0 (the
+    /// default here): every seed follows its surface. The command line's
+    /// default is [`crate::method_choice::DEFAULT_REPROJECT_HOLD_BELOW`].
+    pub reproject_hold_below: f32,
     /// Feature-aware permutation (`sampler_core::permute_frame_features`
     /// with `FeatureThresholds::DEFAULT`): sort keys with the albedo divided
     /// out, blocks sorted in groups of one surface, retarget moves cut at
@@ -99,6 +106,23 @@ pub struct SequenceOptions {
     /// ([`FeatureKey`]; demodulated by default). The GPU computes the
     /// demodulated key only and refuses the others.
     pub feature_key: FeatureKey,
+}
+
+impl SequenceOptions {
+    /// Checks the options' ranges.
+    ///
+    /// # Errors
+    /// [`RenderError::BadOption`] when [`Self::reproject_hold_below`] is NaN,
+    /// infinite or negative.
+    pub fn validate(&self) -> Result<(), RenderError> {
+        let below = self.reproject_hold_below;
+        if !(below.is_finite() && below >= 0.0) {
+            return Err(RenderError::BadOption(format!(
+                "reproject_hold_below must be finite and >= 0 pixels per frame, not {below}"
+            )));
+        }
+        Ok(())
+    }
 }
 
 /// What [`RenderJob::prepare`] hands the loops: layout, padded settings,
@@ -161,6 +185,9 @@ pub enum RenderError {
     /// Settings that do not go together (e.g. [`PermuteMode::Hold`] with a
     /// sampler other than the spatiotemporal one); says which and why.
     Incompatible(String),
+    /// A sequence option out of its range (e.g. a NaN or negative
+    /// [`SequenceOptions::reproject_hold_below`]); names it.
+    BadOption(String),
 }
 
 impl fmt::Display for RenderError {
@@ -172,6 +199,7 @@ impl fmt::Display for RenderError {
             RenderError::NoFrames => write!(f, "the number of frames must be at least 1"),
             RenderError::Unsupported(what) => write!(f, "not supported on the GPU: {what}"),
             RenderError::Incompatible(what) => write!(f, "incompatible settings: {what}"),
+            RenderError::BadOption(what) => write!(f, "bad sequence option: {what}"),
         }
     }
 }
@@ -182,7 +210,10 @@ impl std::error::Error for RenderError {
             RenderError::Layout(e) => Some(e),
             RenderError::Trace(e) => Some(e),
             RenderError::Gpu(e) => Some(e),
-            RenderError::NoFrames | RenderError::Unsupported(_) | RenderError::Incompatible(_) => None,
+            RenderError::NoFrames
+            | RenderError::Unsupported(_)
+            | RenderError::Incompatible(_)
+            | RenderError::BadOption(_) => None,
         }
     }
 }
@@ -321,6 +352,7 @@ pub fn render_sequence_cpu(
     options: SequenceOptions,
     mut on_frame: impl FnMut(&FrameView<'_>),
 ) -> Result<RenderOutput, RenderError> {
+    options.validate()?;
     let (layout, settings, tile, tables, temporal) = job.prepare()?;
     let n = layout.pixel_count();
     let reproject = options.reproject && job.mode != PermuteMode::White;
@@ -355,7 +387,8 @@ pub fn render_sequence_cpu(
             cpu::gbuffer_frame(scene, &params, &mut gbuf)?;
         }
         if reproject && t > 0 {
-            let motion = reprojection_motion(&gbuf, &previous_vis, layout.width(), layout.height());
+            let (w, h, below) = (layout.width(), layout.height(), options.reproject_hold_below);
+            let motion = seed_reprojection_motion(&gbuf, &previous_vis, w, h, below);
             // Seeds, or with the hold mode the homes: moved alike.
             sampler_core::reproject_frame(&layout, &motion, &seeds, &mut claims, &mut next)?;
             std::mem::swap(&mut seeds, &mut next);
@@ -474,6 +507,7 @@ pub fn render_sequence_gpu(
     mut on_submit: impl FnMut(u32),
     mut on_frame: Option<&mut SequenceCallback<'_>>,
 ) -> Result<RenderOutput, RenderError> {
+    options.validate()?;
     let (layout, settings, tile, tables, temporal) = job.prepare()?;
     let reproject = options.reproject && job.mode != PermuteMode::White;
     let features = job.feature_aware(&options);
@@ -534,7 +568,8 @@ pub fn render_sequence_gpu(
         if t > 0 && sequence.advance()? {
             tracer.update_scene(gpu, &trace_pipelines, sequence.scene())?;
         }
-        let params = sequence.scene().trace_params(&settings, t)?;
+        let mut params = sequence.scene().trace_params(&settings, t)?;
+        params.seed_hold_below = options.reproject_hold_below;
         tracer.set_params(gpu, &params);
         let salt_or_frame = if job.mode == PermuteMode::White {
             sampler_core::frame_salt(job.salt, t + 1)
@@ -648,6 +683,46 @@ mod tests {
         }
         assert_eq!(frames[0][0], frames[1][0]);
         assert_ne!(frames[0][3], frames[1][3]);
+    }
+
+    /// Seeds of surfaces slower than `reproject_hold_below` stay: with the
+    /// threshold above the pan's 1.5 px/frame the frames are those of no
+    /// reprojection, bit for bit; at 0 they are the reprojected ones, and
+    /// below the pan's speed they differ from no reprojection; a NaN,
+    /// infinite or negative threshold is refused.
+    #[test]
+    fn slow_surfaces_keep_their_seeds_under_reprojection() {
+        let base = cornell_box();
+        let timeline = Timeline {
+            camera_path: Some(CameraPath {
+                kind: CameraPathKind::Pan,
+                speed: 1.5,
+            }),
+            ..Timeline::still()
+        };
+        let job = job(kernels::abi::SAMPLER_SEEDS, PermuteMode::Temporal);
+        let render = |reproject: bool, hold_below: f32| {
+            let mut sequence = SceneSequence::new(&base, timeline.clone(), 20).unwrap();
+            let options = SequenceOptions {
+                reproject,
+                reproject_hold_below: hold_below,
+                ..SequenceOptions::default()
+            };
+            let mut frames = Vec::new();
+            render_sequence_cpu(&mut sequence, &job, options, |f| frames.push(f.color.to_vec()))
+                .map(|_| frames)
+        };
+        let still_seeds = render(false, 0.0).unwrap();
+        let followed = render(true, 0.0).unwrap();
+        assert_ne!(followed[3], still_seeds[3]);
+        assert_eq!(render(true, 100.0).unwrap(), still_seeds);
+        // Below the walls' 1.5 px/frame: they follow (the background,
+        // still under a pan, holds).
+        assert_ne!(render(true, 1.0).unwrap()[3], still_seeds[3]);
+        for bad in [f32::NAN, -1.0, f32::INFINITY] {
+            let e = render(true, bad).unwrap_err();
+            assert!(matches!(e, RenderError::BadOption(_)), "{e}");
+        }
     }
 
     /// The temporal mode renders on the CPU: its first frame is the

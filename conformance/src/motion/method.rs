@@ -41,11 +41,15 @@ pub enum MotionMethod {
     /// [`MotionMethod::TemporalPermuteJitterReproject`] with the
     /// feature-aware permutation (`--mode temporal --features on`).
     FeatureTemporalPermuteJitterReproject,
+    /// [`MotionMethod::TemporalPermuteJitterReproject`] with the seeds of
+    /// pixels slower than `gpu_tracer::method_choice::DEFAULT_REPROJECT_HOLD_BELOW`
+    /// left at their pixels (`SequenceOptions::reproject_hold_below`).
+    TemporalPermuteJitterReprojectFast,
 }
 
 impl MotionMethod {
     /// Every row, white first.
-    pub const ALL: [MotionMethod; 13] = [
+    pub const ALL: [MotionMethod; 14] = [
         MotionMethod::White,
         MotionMethod::Permute,
         MotionMethod::PermuteReproject,
@@ -59,6 +63,7 @@ impl MotionMethod {
         MotionMethod::TemporalPermuteJitter,
         MotionMethod::TemporalPermuteJitterReproject,
         MotionMethod::FeatureTemporalPermuteJitterReproject,
+        MotionMethod::TemporalPermuteJitterReprojectFast,
     ];
 
     /// Name used in tables.
@@ -78,6 +83,9 @@ impl MotionMethod {
             MotionMethod::TemporalPermuteJitterReproject => "temporal-permute + zsobol jitter + reprojection",
             MotionMethod::FeatureTemporalPermuteJitterReproject => {
                 "feature-aware temporal-permute + zsobol jitter + reprojection"
+            }
+            MotionMethod::TemporalPermuteJitterReprojectFast => {
+                "temporal-permute + zsobol jitter + reprojection of fast surfaces (the default)"
             }
         }
     }
@@ -124,7 +132,8 @@ impl MotionMethod {
                 (PermuteMode::Temporal, false)
             }
             MotionMethod::TemporalPermuteJitterReproject
-            | MotionMethod::FeatureTemporalPermuteJitterReproject => {
+            | MotionMethod::FeatureTemporalPermuteJitterReproject
+            | MotionMethod::TemporalPermuteJitterReprojectFast => {
                 settings.sampler = kernels::abi::SAMPLER_ZSOBOL | kernels::abi::SAMPLER_JITTER_ONLY;
                 (PermuteMode::Temporal, true)
             }
@@ -142,9 +151,15 @@ impl MotionMethod {
             tile,
             salt: config.salt,
         };
+        let hold_below = if self == MotionMethod::TemporalPermuteJitterReprojectFast {
+            gpu_tracer::method_choice::DEFAULT_REPROJECT_HOLD_BELOW
+        } else {
+            0.0
+        };
         let options = SequenceOptions {
             gbuffer: false,
             reproject,
+            reproject_hold_below: hold_below,
             features,
             ..SequenceOptions::default()
         };

@@ -30,7 +30,11 @@
 //! permute-jitter (`SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY`) with reprojection,
 //! feature-aware permute with reprojection (`SequenceOptions::features`, issue 14:
 //! demodulated keys, blocks sorted in groups of one surface, retarget moves cut at
-//! edges), screen-sobol (white seeds, every 2D decision from the screen-space sampler).
+//! edges), screen-sobol (white seeds, every 2D decision from the screen-space sampler),
+//! and the later rows of [`MotionMethod::ALL`]: the a-priori samplers, and the render
+//! defaults (temporal permutation with ZSobol's jitter) without reprojection, with it,
+//! feature-aware, and with it only for surfaces faster than
+//! `gpu_tracer::method_choice::DEFAULT_REPROJECT_HOLD_BELOW` (the default).
 //!
 //! # Per-frame reference
 //! Every frame is compared with a reference of the same pose

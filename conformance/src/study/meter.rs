@@ -135,6 +135,7 @@ impl Study {
                 let options = SequenceOptions {
                     gbuffer: false,
                     reproject: false,
+                    reproject_hold_below: 0.0,
                     features: true,
                     feature_key: match method {
                         Method::FeaturePermuteRawKey => FeatureKey::Raw,

@@ -91,14 +91,14 @@ fn reprojection_kernels_match_the_cpu_bit_for_bit() {
 }
 
 /// The motion pass (`entry::motion_cs`) against the CPU's
-/// `gpu_tracer::motion::reprojection_motion` on the same G-buffers: the
-/// same vectors bit for bit, `DISOCCLUDED` where the CPU marks a
-/// disocclusion.
+/// `gpu_tracer::motion::seed_reprojection_motion` on the same G-buffers,
+/// with every seed following and with slow pixels holding theirs: the same
+/// vectors bit for bit, `DISOCCLUDED` where the CPU marks a disocclusion.
 #[test]
 fn motion_kernel_matches_the_cpu() {
     use glam::{UVec2, UVec4, Vec2};
     use gpu_tracer::gpu::{TracePipelines, Tracer};
-    use gpu_tracer::motion::{reprojection_motion, write_visibility};
+    use gpu_tracer::motion::{reprojection_motion, seed_reprojection_motion, write_visibility};
     use gpu_tracer::{cornell::cornell_box, SceneGpu, TraceSettings};
     use kernels::abi::{GBufferGpu, GBUFFER_HIT, GBUFFER_NO_HIT, GBUFFER_PREV_IN_FRONT};
     let Some(gpu) = Gpu::for_test("motion_kernel_matches_the_cpu") else {
@@ -152,28 +152,92 @@ fn motion_kernel_matches_the_cpu() {
     )
     .expect("tracer");
     tracer.enable_motion(&gpu, &pipelines, &motion);
-    for g in [&previous, &current] {
-        gpu.queue
-            .write_buffer(&tracer.gbuffer, 0, bytemuck::cast_slice(g));
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        tracer.encode_motion(&mut encoder, &pipelines, None);
-        gpu.queue.submit([encoder.finish()]);
-    }
-    let got: Vec<Vec2> = gpu.read(&motion, n).unwrap();
-
     let mut vis = vec![UVec2::ZERO; n];
     write_visibility(&previous, &mut vis);
-    let expected = reprojection_motion(&current, &vis, w, h);
-    for (i, (g, e)) in got.iter().zip(&expected).enumerate() {
-        assert!(
-            g.x.to_bits() == e[0].to_bits() && g.y.to_bits() == e[1].to_bits(),
-            "pixel {i}: GPU {g:?}, CPU {e:?}"
-        );
+    let plain = reprojection_motion(&current, &vis, w, h);
+    // 0: every seed follows; 2.5 px/frame: the slow half of the pixels hold.
+    for hold_below in [0.0f32, 2.5] {
+        let mut p = params;
+        p.seed_hold_below = hold_below;
+        tracer.set_params(&gpu, &p);
+        for g in [&previous, &current] {
+            gpu.queue
+                .write_buffer(&tracer.gbuffer, 0, bytemuck::cast_slice(g));
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            tracer.encode_motion(&mut encoder, &pipelines, None);
+            gpu.queue.submit([encoder.finish()]);
+        }
+        let got: Vec<Vec2> = gpu.read(&motion, n).unwrap();
+        let expected = seed_reprojection_motion(&current, &vis, w, h, hold_below);
+        for (i, (g, e)) in got.iter().zip(&expected).enumerate() {
+            assert!(
+                g.x.to_bits() == e[0].to_bits() && g.y.to_bits() == e[1].to_bits(),
+                "hold below {hold_below}: pixel {i}: GPU {g:?}, CPU {e:?}"
+            );
+        }
+        let changed = expected.iter().zip(&plain).filter(|(e, p)| e != p).count();
+        if hold_below == 0.0 {
+            assert_eq!(expected, plain);
+            let gone = kernels::motion::DISOCCLUDED.to_array();
+            let disoccluded = expected.iter().filter(|m| **m == gone).count();
+            assert!(
+                disoccluded > n / 10 && disoccluded < n * 9 / 10,
+                "{disoccluded} of {n} NaN"
+            );
+        } else {
+            assert!(changed > n / 10 && changed < n * 9 / 10, "{changed} of {n} held");
+        }
     }
-    let gone = kernels::motion::DISOCCLUDED.to_array();
-    let disoccluded = expected.iter().filter(|m| **m == gone).count();
-    assert!(
-        disoccluded > n / 10 && disoccluded < n * 9 / 10,
-        "{disoccluded} of {n} NaN"
-    );
+}
+
+/// A panning sequence on the GPU (`render_sequence_gpu`, the temporal
+/// permutation with reprojection): with `reproject_hold_below` above every
+/// surface's speed the frames equal those of no reprojection, bit for bit
+/// (the motion pass wrote zero motion, so the reprojection is the
+/// identity); at 0 they differ from them. The threshold reaches the GPU's
+/// motion pass through `TraceParams::seed_hold_below`.
+#[test]
+fn slow_surfaces_keep_their_seeds_on_the_gpu() {
+    use gpu_tracer::camera_path::{CameraPath, CameraPathKind};
+    use gpu_tracer::render::{render_sequence_gpu, FrameView, SequenceOptions};
+    use gpu_tracer::timeline::{SceneSequence, Timeline};
+    use gpu_tracer::{cornell::cornell_box, RenderJob, TileChoice, TraceSettings};
+    let Some(gpu) = Gpu::for_test("slow_surfaces_keep_their_seeds_on_the_gpu") else {
+        return;
+    };
+    let base = cornell_box();
+    let timeline = Timeline {
+        camera_path: Some(CameraPath {
+            kind: CameraPathKind::Pan,
+            speed: 1.5,
+        }),
+        ..Timeline::still()
+    };
+    let mut settings = TraceSettings::new(24, 20);
+    settings.max_depth = 3;
+    let job = RenderJob {
+        settings,
+        frames: 4,
+        mode: gpu_tracer::PermuteMode::Temporal,
+        block: 4,
+        tile: TileChoice::TEMPORAL,
+        salt: 3,
+    };
+    let render = |reproject: bool, hold_below: f32| {
+        let mut sequence = SceneSequence::new(&base, timeline.clone(), 20).unwrap();
+        let options = SequenceOptions {
+            reproject,
+            reproject_hold_below: hold_below,
+            ..SequenceOptions::default()
+        };
+        let mut frames = Vec::new();
+        let mut collect = |f: &FrameView<'_>| frames.push(f.color.to_vec());
+        render_sequence_gpu(&gpu, &mut sequence, &job, options, |_| {}, Some(&mut collect)).unwrap();
+        frames
+    };
+    let still_seeds = render(false, 0.0);
+    let followed = render(true, 0.0);
+    assert_eq!(still_seeds.len(), 4);
+    assert_ne!(followed[3], still_seeds[3], "reprojection moved no seed");
+    assert!(render(true, 100.0) == still_seeds, "held seeds moved on the GPU");
 }

@@ -298,8 +298,11 @@ pub struct TraceParams {
     /// another frame than [`Self::frame`] gives wrong numbers: the host writes
     /// both together.
     pub point_samples: u32,
-    /// Padding, 0.
-    pub pad1: u32,
+    /// Pixels per frame below which the motion pass ([`MOTION_ENTRY`])
+    /// writes zero motion, so that the seed reprojection leaves the pixel's
+    /// seed where it is (`crate::motion::seed_motion`); finite, `>= 0`;
+    /// 0: every seed follows its surface. Read by the motion pass only.
+    pub seed_hold_below: f32,
     /// Radiance of the constant environment, linear RGB in `xyz` (each
     /// finite and `>= 0`; zero: no environment): what every ray that leaves
     /// the scene sees, in every direction, when [`Self::environment_map`] is

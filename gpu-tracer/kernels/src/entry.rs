@@ -7,7 +7,7 @@ use crate::abi::{
 };
 use crate::accumulate::accumulate_pixel;
 use crate::gbuffer::gbuffer_pixel_variant;
-use crate::motion::{reprojection_motion_pixel, visibility};
+use crate::motion::{reprojection_motion_pixel, seed_motion, visibility};
 use crate::surface_features::{demodulated_intensity, surface_feature};
 use crate::trace::trace_pixel_variant;
 use crate::trace_variant;
@@ -159,7 +159,9 @@ gbuffer_entry!(
 /// [`MOTION_ENTRY`](crate::abi::MOTION_ENTRY): one invocation per visible
 /// pixel; writes the pixel's visibility for the next frame and its
 /// reprojection motion against the previous frame's visibility
-/// (`reprojection_motion_pixel`). Invocations outside the frame do nothing.
+/// (`reprojection_motion_pixel`), zero where the surface moved less than
+/// [`TraceParams::seed_hold_below`] (`seed_motion`). Invocations outside the
+/// frame do nothing.
 #[spirv(compute(threads(8, 8)))]
 pub fn motion_cs(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -175,7 +177,8 @@ pub fn motion_cs(
     let i = id.y.wrapping_mul(params.width).wrapping_add(id.x) as usize;
     let g = gbuffer[i];
     current[i] = visibility(&g);
-    motion[i] = reprojection_motion_pixel(&g, id.x, id.y, params.width, params.height, previous);
+    let m = reprojection_motion_pixel(&g, id.x, id.y, params.width, params.height, previous);
+    motion[i] = seed_motion(&g, m, params.seed_hold_below);
 }
 
 /// [`FEATURES_ENTRY`](crate::abi::FEATURES_ENTRY): one invocation per

@@ -2,7 +2,8 @@
 //! with disoccluded pixels marked [`DISOCCLUDED`], per pixel, in the form
 //! `sampler_core::reproject_frame` and the GPU reprojection passes take.
 //! The CPU renderer (`gpu_tracer::motion`) and the motion entry point
-//! ([`crate::entry::motion_cs`]) both call [`reprojection_motion_pixel`].
+//! ([`crate::entry::motion_cs`]) both call [`reprojection_motion_pixel`] and
+//! [`seed_motion`].
 
 use crate::abi::{GBufferGpu, GBUFFER_HIT, GBUFFER_NO_HIT, GBUFFER_PREV_IN_FRONT};
 use glam::{UVec2, Vec2};
@@ -71,5 +72,29 @@ pub fn reprojection_motion_pixel(
         m
     } else {
         DISOCCLUDED
+    }
+}
+
+/// The motion the seed reprojection takes for a pixel with G-buffer texel
+/// `g` and reprojection motion `motion` ([`reprojection_motion_pixel`]):
+/// zero, so that the pixel keeps the seed it had, when its surface moved
+/// less than `hold_below` pixels since the previous frame (the length of the
+/// G-buffer's backward motion `g.motion.xy`, disoccluded or not; the
+/// background's is the camera's rotation); `motion` otherwise.
+///
+/// `hold_below` is in pixels per frame, finite and `>= 0`; 0 gives `motion`
+/// unchanged for every pixel (every seed follows its surface). A NaN
+/// G-buffer motion (no previous position) never holds. Slow surfaces are
+/// where a seed is better left at its pixel: the sorting pass's prediction
+/// (this pixel's next value from its last) survives a sub-pixel drift, and
+/// moving seeds by rounded whole pixels scrambles the ranks it set
+/// (`QUALITY.md`, "Which default for reprojection").
+#[inline]
+pub fn seed_motion(g: &GBufferGpu, motion: Vec2, hold_below: f32) -> Vec2 {
+    let raw = Vec2::new(g.motion.x, g.motion.y);
+    if raw.length_squared() < hold_below * hold_below {
+        Vec2::ZERO
+    } else {
+        motion
     }
 }

@@ -206,7 +206,7 @@ impl SceneGpu {
             prev_tan_half_fov_y: self.prev_camera.tan_half_fov_y,
             image_count: self.image_count,
             point_samples: 0,
-            pad1: 0,
+            seed_hold_below: 0.0,
             environment: s.environment.extend(self.environment_select_pdf()),
             environment_map: self.environment_map,
         })

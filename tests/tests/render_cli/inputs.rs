@@ -99,6 +99,8 @@ fn bad_input_fails_with_a_clear_message_and_writes_nothing() {
             vec!["--sampler", "spatiotemporal", "--mode", "temporal"],
             "--mode temporal has nothing to permute with --sampler spatiotemporal",
         ),
+        (vec!["--reproject-hold-below", "-1"], "not a finite speed >= 0"),
+        (vec!["--reproject-hold-below", "nan"], "not a finite speed >= 0"),
         (vec!["--out", file.to_str().unwrap()], "not a directory"),
         (
             vec!["--out", under_file.to_str().unwrap()],
@@ -320,8 +322,13 @@ fn camera_path_motion_and_emitterless_warning() {
         ],
     );
     assert!(o.status.success(), "{}", text(&o));
-    // A moving camera on the CPU reprojects seeds by default.
-    assert!(text(&o).contains("reprojection on"), "{}", text(&o));
+    // A moving camera on the CPU reprojects seeds by default, those of
+    // surfaces from 6 px/frame on.
+    assert!(
+        text(&o).contains("reprojection on from 6 px/frame"),
+        "{}",
+        text(&o)
+    );
     let m = image::open(dir.path().join("aovs/frame_00001.motion.exr"))
         .unwrap()
         .into_rgb32f();

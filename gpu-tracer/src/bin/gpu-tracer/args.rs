@@ -82,6 +82,13 @@ pub(crate) struct RenderArgs {
     /// the camera or objects move.
     #[arg(long, value_enum)]
     pub(crate) reproject: Option<OnOff>,
+    /// With reprojection: pixels whose surface moved less than this many
+    /// pixels since the previous frame keep their seed (slow surfaces keep
+    /// the sorting pass's prediction; fast ones carry their seeds along).
+    /// Pixels per frame, >= 0; 0: every seed follows its surface. Default 6
+    /// in the modes that permute seeds, 0 in `--mode hold`.
+    #[arg(long, value_parser = parse_pixels_per_frame, allow_hyphen_values = true)]
+    pub(crate) reproject_hold_below: Option<f32>,
     /// Feature-aware permutation in `--mode permute` and `--mode temporal`: sort keys with the
     /// albedo divided out, each block sorted in groups of one surface, and
     /// no retarget move across an edge (object id, normal, depth from the
@@ -335,6 +342,14 @@ pub(crate) fn parse_environment(s: &str) -> Result<EnvArg, String> {
 }
 
 /// Parses `--tile`: the side of a baked dither tile, 64 or 128.
+/// `--reproject-hold-below`: a finite number of pixels per frame, `>= 0`.
+pub(crate) fn parse_pixels_per_frame(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!("'{s}' is not a finite speed >= 0 (pixels per frame)")),
+    }
+}
+
 pub(crate) fn parse_tile(s: &str) -> Result<TileChoice, String> {
     match s {
         "64" => Ok(TileChoice::Tile64),

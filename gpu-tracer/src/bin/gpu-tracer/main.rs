@@ -17,7 +17,7 @@ use clap::{Parser, ValueEnum};
 use device::open_device;
 use gpu_tracer::feature_keys::FeatureKey;
 use gpu_tracer::filter::{FilterChain, FilterSettings, SequenceFilter};
-use gpu_tracer::method_choice::choose_method;
+use gpu_tracer::method_choice::{choose_method, default_reproject_hold_below};
 use gpu_tracer::{
     render_sequence_cpu, render_sequence_gpu, FrameView, PermuteMode, RenderJob, SequenceOptions, TileChoice,
     TraceSettings,
@@ -127,6 +127,9 @@ fn render(args: RenderArgs) -> Result<()> {
     let options = SequenceOptions {
         gbuffer: want_gbuffer,
         reproject,
+        reproject_hold_below: args
+            .reproject_hold_below
+            .unwrap_or_else(|| default_reproject_hold_below(job.mode)),
         features,
         feature_key: match args.feature_key {
             FeatureKeyArg::Demodulated => FeatureKey::Demodulated,
@@ -209,7 +212,13 @@ fn render(args: RenderArgs) -> Result<()> {
         secs,
         job.mode,
         sampler_name,
-        if reproject { "on" } else { "off" },
+        if !reproject {
+            "off".to_string()
+        } else if options.reproject_hold_below > 0.0 {
+            format!("on from {} px/frame", options.reproject_hold_below)
+        } else {
+            "on".to_string()
+        },
         if features {
             format!("on, {} key", options.feature_key.name())
         } else {
