@@ -653,3 +653,27 @@ fn running_means(r: &StudyResult, m: Method, frames: &[usize]) -> Vec<f64> {
         .map(|&n| r.accumulated_region(m, n, None).expect("measured"))
         .collect()
 }
+
+/// On the diffuse Cornell box no first hit is glossy: the interior's history
+/// on diffuse first hits is the interior's history, the glossy split has no
+/// pixel, and the study prints no table for it.
+#[test]
+fn the_diffuse_box_has_no_glossy_interior() {
+    use conformance::metrics::regions::Region;
+    use conformance::study::HistoryMetric;
+    let r = one_spp();
+    assert_eq!(r.glossy_interior_share, 0.0);
+    assert!(r.surfaces_markdown().is_empty());
+    for m in [Method::Permute, Method::TemporalPermuteJitter] {
+        let diffuse = r.history_by_surface(m, false).expect("measured");
+        let interior = r
+            .pooled_history(m, HistoryMetric::Ema, Some(Region::Interior))
+            .expect("measured");
+        println!(
+            "{}: EMA interior {interior:.4}, on diffuse first hits {diffuse:.4}",
+            m.name()
+        );
+        assert!((diffuse - interior).abs() < 1e-9, "{diffuse} vs {interior}");
+        assert_eq!(r.history_by_surface(m, true), None);
+    }
+}

@@ -20,6 +20,8 @@
 //! - [`threshold`]: thresholded-mask RMS after a blur.
 //! - [`temporal`]: EMA over frames, thresholded RMS after accumulation, temporal spectrum.
 //! - [`regions`]: emitter zone, edges and interior of a frame, from its G-buffer.
+//! - [`surfaces`]: which pixels see a glossy surface first, from a G-buffer and the
+//!   scene's materials.
 //!
 //! Every measurement takes its input as values and reports bad sizes or parameters as
 //! an [`Error`](error::Error); nothing panics on user input.
@@ -31,6 +33,7 @@ pub mod low_frequency;
 pub mod radial;
 pub mod regions;
 pub mod spectrum;
+pub mod surfaces;
 pub mod temporal;
 pub mod threshold;
 pub mod volume;

@@ -35,21 +35,32 @@ pub struct HistoryErrors {
     pub ema: Vec<[f64; 3]>,
     /// Entry `t`: the same after a Gaussian blur of sigma 1 of the whole error image.
     pub ema_blur1: Vec<[f64; 3]>,
+    /// Entry `t`: sum of `(h_t - reference)^2` over the interior pixels whose
+    /// first hit is glossy (`[0]`) and diffuse (`[1]`) ([`super::surfaces`]).
+    pub ema_interior_by_surface: Vec<[f64; 2]>,
 }
 
 /// Runs the EMA over a method's frames and records [`HistoryErrors`].
 pub(crate) struct HistoryMeter {
     size: usize,
+    /// Per pixel: the first hit is glossy ([`super::surfaces::glossy_first_hits`]).
+    glossy: Vec<bool>,
     history: Vec<f32>,
     blur: GaussianBlur,
     errors: HistoryErrors,
 }
 
 impl HistoryMeter {
-    /// A meter for `size x size` frames.
-    pub(crate) fn new(size: u32) -> Result<Self> {
+    /// A meter for `size x size` frames whose pixels' first hits are glossy
+    /// where `glossy` says so (`size * size` entries).
+    pub(crate) fn new(size: u32, glossy: Vec<bool>) -> Result<Self> {
+        anyhow::ensure!(
+            glossy.len() == (size * size) as usize,
+            "the glossy mask must be size * size"
+        );
         Ok(HistoryMeter {
             size: size as usize,
+            glossy,
             history: Vec::new(),
             blur: GaussianBlur::new(1.0)?,
             errors: HistoryErrors::default(),
@@ -68,6 +79,9 @@ impl HistoryMeter {
         }
         let error: Vec<f32> = self.history.iter().zip(reference).map(|(h, r)| h - r).collect();
         self.errors.ema.push(square_sums_by_region(&error, regions));
+        self.errors
+            .ema_interior_by_surface
+            .push(interior_sums(&error, regions, &self.glossy));
         let grid = Grid::new(self.size, self.size, error).expect("frame size");
         self.errors
             .ema_blur1
@@ -80,9 +94,29 @@ impl HistoryMeter {
     }
 }
 
+/// Squared sums of `error` over the interior pixels whose first hit is
+/// glossy (`[0]`) and diffuse (`[1]`).
+fn interior_sums(error: &[f32], regions: &[Region], glossy: &[bool]) -> [f64; 2] {
+    let mut sums = [0.0f64; 2];
+    for ((e, r), g) in error.iter().zip(regions).zip(glossy) {
+        if *r == Region::Interior {
+            sums[usize::from(!g)] += (*e as f64) * (*e as f64);
+        }
+    }
+    sums
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn interior_sums_split_by_surface_and_skip_other_regions() {
+        let error = [1.0f32, 2.0, 3.0, 4.0];
+        let regions = [Region::Interior, Region::Interior, Region::Edge, Region::Interior];
+        let glossy = [true, false, true, false];
+        assert_eq!(interior_sums(&error, &regions, &glossy), [1.0, 4.0 + 16.0]);
+    }
 
     /// White noise through the EMA keeps `alpha / (2 - alpha)` of its variance;
     /// its first difference over frames (blue in time, same variance) keeps
@@ -93,8 +127,9 @@ mod tests {
         let n = size * size;
         let regions = vec![Region::Interior; n];
         let reference = vec![0.0f32; n];
-        let mut white = HistoryMeter::new(size as u32).unwrap();
-        let mut blue = HistoryMeter::new(size as u32).unwrap();
+        let glossy: Vec<bool> = (0..n).map(|i| i % 3 == 0).collect();
+        let mut white = HistoryMeter::new(size as u32, glossy.clone()).unwrap();
+        let mut blue = HistoryMeter::new(size as u32, glossy).unwrap();
         let mut state = 1u32;
         let mut previous = vec![0.0f32; n];
         let frames = 400;
@@ -133,5 +168,10 @@ mod tests {
         let blurred = w.ema_blur1[EMA_FROM..].iter().map(|v| v[2]).sum::<f64>();
         let plain = w.ema[EMA_FROM..].iter().map(|v| v[2]).sum::<f64>();
         assert!(blurred < 0.2 * plain, "{blurred} vs {plain}");
+        // The interior split by surface adds up to the interior.
+        for (whole, split) in w.ema.iter().zip(&w.ema_interior_by_surface) {
+            assert!((whole[2] - split[0] - split[1]).abs() <= 1e-9 * whole[2].max(1.0));
+            assert!(split[0] > 0.0 && split[1] > split[0]);
+        }
     }
 }

@@ -12,6 +12,7 @@ use super::setup::{albedo_luma, Study};
 use super::temporal_sort::{render_temporal_permute, render_temporal_sort};
 use super::walks::{render_dither, render_walk, Walk};
 use crate::metrics::regions::{region_shares, square_sums_by_region};
+use crate::metrics::surfaces::glossy_interior_share;
 use crate::{low_frequency_ratio, radial_power, GaussianBlur, Grid, SpectrumAnalyzer};
 use anyhow::{ensure, Result};
 use glam::{Vec2, Vec4};
@@ -38,6 +39,7 @@ impl Study {
             insets: self.insets.clone(),
             reference_noise_var: self.reference.noise_var,
             region_shares: region_shares(&self.regions),
+            glossy_interior_share: glossy_interior_share(&self.regions, &self.glossy),
             features: self.feature_diagnostics()?,
             runs,
             filter_bias,
@@ -276,7 +278,7 @@ impl<'a> Meter<'a> {
                 false => None,
             },
             filter_error: None,
-            history: HistoryMeter::new(study.config.size)?,
+            history: HistoryMeter::new(study.config.size, study.glossy.clone())?,
             inset_inverse_albedo: {
                 let inverse: Vec<f32> = study
                     .gbuffer

@@ -20,6 +20,7 @@
 //!   clamp) and after the EMA then a Gaussian blur.
 //! - [`result`]: the measured study and every figure read off it.
 //! - [`uncertainty`]: how far one run's accumulated figures can be trusted.
+//! - [`surfaces`]: the interior's history on glossy and on diffuse first hits.
 //! - `meter`: [`Study::run`] and the per-frame measurement.
 //!
 //! Each module uses only those listed above it.
@@ -125,6 +126,7 @@ pub mod reference;
 pub mod result;
 pub mod scene;
 pub mod setup;
+pub mod surfaces;
 pub mod temporal_sort;
 pub mod uncertainty;
 pub mod walks;

@@ -113,6 +113,9 @@ pub struct StudyResult {
     pub reference_noise_var: f64,
     /// Share of the image of each region ([`Region::ALL`] order).
     pub region_shares: [f64; 3],
+    /// Share of the interior's pixels whose first hit is glossy
+    /// ([`super::surfaces`]); 0 on a scene without glossy surfaces.
+    pub glossy_interior_share: f64,
     /// What the feature-aware permutation sees in this frame ([`FeatureDiagnostics`]).
     pub features: FeatureDiagnostics,
     /// The runs, in the order they were requested.
@@ -333,6 +336,7 @@ impl StudyResult {
             );
             s += &self.temporal_markdown();
             s += &self.uncertainty_markdown();
+            s += &self.surfaces_markdown();
         }
         if self.runs.iter().any(|r| !r.filtered.is_empty()) {
             s += &format!(

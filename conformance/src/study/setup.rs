@@ -5,6 +5,7 @@ use super::config::StudyConfig;
 use super::insets::{check_inset, inset_layout, max_gradient, Inset};
 use super::reference::Reference;
 use crate::metrics::regions::{classify_regions, Region};
+use crate::metrics::surfaces::glossy_first_hits;
 use anyhow::{ensure, Result};
 use gpu_tracer::cpu;
 use gpu_tracer::scene::SceneGpu;
@@ -26,6 +27,8 @@ pub struct Study {
     pub regions: Vec<Region>,
     /// The frame-0 G-buffer (centre rays; the camera does not move).
     pub gbuffer: Vec<GBufferGpu>,
+    /// Per pixel, whether its first hit is glossy ([`crate::metrics::surfaces`]).
+    pub glossy: Vec<bool>,
     /// With [`StudyConfig::modulate_by`]: per pixel, the albedo luma of that scene's
     /// primary hit over this scene's (1 where this scene's is below
     /// `sampler_core::features::surface::ALBEDO_FLOOR`).
@@ -73,6 +76,7 @@ impl Study {
         let mut gbuffer = vec![GBufferGpu::default(); (config.size * config.size) as usize];
         cpu::gbuffer_frame(&scene, &params, &mut gbuffer)?;
         let regions = classify_regions(&gbuffer, config.size, config.size);
+        let glossy = glossy_first_hits(&scene.materials, &gbuffer);
         let modulation = match config.modulate_by {
             Some(other) => {
                 ensure!(
@@ -97,6 +101,7 @@ impl Study {
             insets,
             regions,
             gbuffer,
+            glossy,
             modulation,
         })
     }
