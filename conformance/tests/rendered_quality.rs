@@ -664,6 +664,7 @@ fn the_diffuse_box_has_no_glossy_interior() {
     let r = one_spp();
     assert_eq!(r.glossy_interior_share, 0.0);
     assert!(r.surfaces_markdown().is_empty());
+    assert_eq!(r.glossy_error_share(Method::White), Some(0.0));
     for m in [Method::Permute, Method::TemporalPermuteJitter] {
         let diffuse = r.history_by_surface(m, false).expect("measured");
         let interior = r

@@ -27,6 +27,18 @@ impl StudyResult {
         (w > 0.0).then(|| (m / w).sqrt())
     }
 
+    /// The share of `method`'s squared history error (EMA alone, frames
+    /// [`EMA_FROM`]..) in the interior that falls on glossy first hits.
+    /// `None` for a missing run, too few frames or no interior error.
+    pub fn glossy_error_share(&self, method: Method) -> Option<f64> {
+        let e = &self.run(method)?.history.ema_interior_by_surface;
+        let (g, d) = e
+            .get(EMA_FROM..)?
+            .iter()
+            .fold((0.0, 0.0), |(g, d), v| (g + v[0], d + v[1]));
+        (g + d > 0.0).then(|| g / (g + d))
+    }
+
     /// Markdown table of [`Self::history_by_surface`] per method, with the
     /// glossy share of the interior; empty when the interior has no glossy
     /// first hit.
@@ -35,9 +47,13 @@ impl StudyResult {
             return String::new();
         }
         let cell = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
+        let error_share = self
+            .glossy_error_share(Method::White)
+            .map_or("-".to_string(), |v| format!("{:.1}%", 100.0 * v));
         let mut s = format!(
             "\nThe interior's history by first hit (EMA {EMA_ALPHA}, white = 1; glossy: metallic-roughness, \
-             roughness < {GLOSSY_ROUGHNESS}, {:.1}% of the interior):\n\n\
+             roughness < {GLOSSY_ROUGHNESS}: {:.1}% of the interior's pixels, {error_share} of white's squared \
+             error there after the EMA):\n\n\
              | method | EMA interior, glossy first hits | EMA interior, diffuse first hits |\n|---|---|---|\n",
             100.0 * self.glossy_interior_share
         );
