@@ -659,18 +659,23 @@ mod tests {
         assert!(hold.mean.iter().any(|c| c.x > 0.0), "the Cornell box renders");
     }
 
+    /// A camera panning `speed` pixels a frame at the back wall.
+    fn pan_at(speed: f32) -> Timeline {
+        Timeline {
+            camera_path: Some(CameraPath {
+                kind: CameraPathKind::Pan,
+                speed,
+            }),
+            ..Timeline::still()
+        }
+    }
+
     /// In motion, reprojection moves the homes: the frames after the first
     /// differ from those of homes left at their pixels, and the first agrees.
     #[test]
     fn reprojection_moves_the_homes_in_motion() {
         let base = cornell_box();
-        let timeline = Timeline {
-            camera_path: Some(CameraPath {
-                kind: CameraPathKind::Pan,
-                speed: 1.5,
-            }),
-            ..Timeline::still()
-        };
+        let timeline = pan_at(1.5);
         let job = job(SAMPLER_SPATIOTEMPORAL, PermuteMode::Hold);
         let mut frames = [Vec::new(), Vec::new()];
         for (k, reproject) in [false, true].into_iter().enumerate() {
@@ -693,13 +698,7 @@ mod tests {
     #[test]
     fn slow_surfaces_keep_their_seeds_under_reprojection() {
         let base = cornell_box();
-        let timeline = Timeline {
-            camera_path: Some(CameraPath {
-                kind: CameraPathKind::Pan,
-                speed: 1.5,
-            }),
-            ..Timeline::still()
-        };
+        let timeline = pan_at(1.5);
         let job = job(kernels::abi::SAMPLER_SEEDS, PermuteMode::Temporal);
         let render = |reproject: bool, hold_below: f32| {
             let mut sequence = SceneSequence::new(&base, timeline.clone(), 20).unwrap();
