@@ -32,19 +32,29 @@ pub const DEFAULT_PERMUTE_SAMPLER: u32 = SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY;
 pub const DEFAULT_HOLD_SAMPLER: u32 = SAMPLER_SPATIOTEMPORAL | SAMPLER_KRONECKER;
 
 /// Pixels per frame below which a pixel's seed stays where it is when seeds
-/// are reprojected (`SequenceOptions::reproject_hold_below`) in the modes
-/// that permute seeds: slower surfaces keep their seeds at their pixels,
-/// faster ones carry them along. The crossover measured for the defaults
-/// (QUALITY.md, "Which default for reprojection"): leaving seeds at their
-/// pixels wins up to about 4 px/frame, following the surface from about 8.
+/// are reprojected (`SequenceOptions::reproject_hold_below`) in
+/// [`PermuteMode::Temporal`]: slower surfaces keep their seeds at their
+/// pixels, faster ones carry them along. Measured for the defaults
+/// (QUALITY.md, "Slow surfaces keep their seeds"): leaving seeds at their
+/// pixels wins up to about 4 px/frame, following the surface from about 8,
+/// and 6 per pixel beat 3 and 9.
 pub const DEFAULT_REPROJECT_HOLD_BELOW: f32 = 6.0;
 
-/// [`DEFAULT_REPROJECT_HOLD_BELOW`] for the modes that permute seeds; 0 for
-/// [`PermuteMode::Hold`], whose homes must follow every surface (each point
-/// keeps its shift), and for [`PermuteMode::White`], which never reprojects.
+/// [`DEFAULT_REPROJECT_HOLD_BELOW`] for the walk's modes
+/// ([`PermuteMode::Permute`], [`PermuteMode::Sort`]): 4 px/frame, inside the
+/// walk's own crossover (QUALITY.md, "Seeds in motion": leaving its seeds
+/// wins at 2.4 px/frame, following them at 4.7). Not measured per pixel.
+pub const WALK_REPROJECT_HOLD_BELOW: f32 = 4.0;
+
+/// The speed below which seeds stay, per mode: [`DEFAULT_REPROJECT_HOLD_BELOW`]
+/// for [`PermuteMode::Temporal`], [`WALK_REPROJECT_HOLD_BELOW`] for the walk's
+/// modes, 0 for [`PermuteMode::Hold`], whose homes must follow every surface
+/// (each point keeps its shift), and for [`PermuteMode::White`], which never
+/// reprojects.
 pub fn default_reproject_hold_below(mode: PermuteMode) -> f32 {
     match mode {
-        PermuteMode::Sort | PermuteMode::Permute | PermuteMode::Temporal => DEFAULT_REPROJECT_HOLD_BELOW,
+        PermuteMode::Temporal => DEFAULT_REPROJECT_HOLD_BELOW,
+        PermuteMode::Sort | PermuteMode::Permute => WALK_REPROJECT_HOLD_BELOW,
         PermuteMode::Hold | PermuteMode::White => 0.0,
     }
 }
@@ -186,6 +196,15 @@ mod tests {
             let jitter = choose_method(None, Some(s | SAMPLER_JITTER_ONLY), None, &f);
             assert_eq!(jitter.mode, PermuteMode::Temporal);
         }
+    }
+
+    #[test]
+    fn seeds_stay_below_each_modes_crossover_and_homes_always_follow() {
+        assert_eq!(default_reproject_hold_below(PermuteMode::Temporal), 6.0);
+        assert_eq!(default_reproject_hold_below(PermuteMode::Permute), 4.0);
+        assert_eq!(default_reproject_hold_below(PermuteMode::Sort), 4.0);
+        assert_eq!(default_reproject_hold_below(PermuteMode::Hold), 0.0);
+        assert_eq!(default_reproject_hold_below(PermuteMode::White), 0.0);
     }
 
     #[test]

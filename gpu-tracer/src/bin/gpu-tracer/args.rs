@@ -86,7 +86,7 @@ pub(crate) struct RenderArgs {
     /// pixels since the previous frame keep their seed (slow surfaces keep
     /// the sorting pass's prediction; fast ones carry their seeds along).
     /// Pixels per frame, >= 0; 0: every seed follows its surface. Default 6
-    /// in the modes that permute seeds, 0 in `--mode hold`.
+    /// in `--mode temporal`, 4 in `--mode permute|sort`, 0 in `--mode hold`.
     #[arg(long, value_parser = parse_pixels_per_frame, allow_hyphen_values = true)]
     pub(crate) reproject_hold_below: Option<f32>,
     /// Feature-aware permutation in `--mode permute` and `--mode temporal`: sort keys with the
