@@ -5,7 +5,7 @@
 //! `kernels::motion::reprojection_motion_pixel`, the code the GPU's motion
 //! pass runs.
 
-use glam::UVec2;
+use glam::{UVec2, Vec2};
 use kernels::abi::GBufferGpu;
 use kernels::motion::{reprojection_motion_pixel, seed_motion, visibility};
 
@@ -45,19 +45,7 @@ pub fn reprojection_motion(
     width: u32,
     height: u32,
 ) -> Vec<[f32; 2]> {
-    let n = width as usize * height as usize;
-    assert!(
-        current.len() == n && previous.len() == n,
-        "G-buffer and visibility must be width * height"
-    );
-    current
-        .iter()
-        .enumerate()
-        .map(|(i, g)| {
-            let (x, y) = (i as u32 % width, i as u32 / width);
-            reprojection_motion_pixel(g, x, y, width, height, previous).to_array()
-        })
-        .collect()
+    motion_per_pixel(current, previous, width, height, |_, m| m)
 }
 
 /// [`reprojection_motion`] as the seed reprojection takes it: zero where the
@@ -75,11 +63,32 @@ pub fn seed_reprojection_motion(
     height: u32,
     hold_below: f32,
 ) -> Vec<[f32; 2]> {
-    let mut motion = reprojection_motion(current, previous, width, height);
-    for (m, g) in motion.iter_mut().zip(current) {
-        *m = seed_motion(g, glam::Vec2::from(*m), hold_below).to_array();
-    }
-    motion
+    motion_per_pixel(current, previous, width, height, |g, m| {
+        seed_motion(g, m, hold_below)
+    })
+}
+
+/// One pass over the pixels: `finish(texel, reprojection_motion_pixel(..))`.
+fn motion_per_pixel(
+    current: &[GBufferGpu],
+    previous: &[UVec2],
+    width: u32,
+    height: u32,
+    finish: impl Fn(&GBufferGpu, Vec2) -> Vec2,
+) -> Vec<[f32; 2]> {
+    let n = width as usize * height as usize;
+    assert!(
+        current.len() == n && previous.len() == n,
+        "G-buffer and visibility must be width * height"
+    );
+    current
+        .iter()
+        .enumerate()
+        .map(|(i, g)| {
+            let (x, y) = (i as u32 % width, i as u32 / width);
+            finish(g, reprojection_motion_pixel(g, x, y, width, height, previous)).to_array()
+        })
+        .collect()
 }
 
 #[cfg(test)]
