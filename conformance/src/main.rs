@@ -6,8 +6,8 @@
 //! printed as markdown tables (whole image, per region, feature diagnostics; with
 //! `--modulate-by`, the insets' LF with the error multiplied by another scene's albedo).
 //!
-//! `conformance motion [--size N --frames N --ref-spp N --speeds A,B --object-speed C
-//! --history-fetch nearest|bilinear]`: the study in motion (issue 13,
+//! `conformance motion [--size N --frames N --ref-spp N --methods a,b,... --speeds A,B
+//! --object-speed C --history-fetch nearest|bilinear]`: the study in motion (issue 13,
 //! `conformance::motion`), printed as markdown tables.
 
 use anyhow::Result;
@@ -109,6 +109,15 @@ enum Command {
         /// Maximum path length in segments.
         #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=64))]
         max_depth: u32,
+        /// Rows, by key (white is always measured: every figure is relative to
+        /// it). Default: every row. Keys: white, permute, permute-reproject,
+        /// permute-jitter-reproject, feature-permute-reproject, screen-sobol,
+        /// spatiotemporal, spatiotemporal-follow, spatiotemporal-kronecker-follow,
+        /// zsobol, temporal-permute-jitter, temporal-permute-jitter-reproject,
+        /// feature-temporal-permute-jitter-reproject,
+        /// temporal-permute-jitter-reproject-fast.
+        #[arg(long, value_delimiter = ',')]
+        methods: Vec<String>,
         /// Orbit speeds at the image centre, pixels per frame.
         #[arg(long, value_delimiter = ',', default_values_t = [0.5f32, 2.0])]
         speeds: Vec<f32>,
@@ -242,6 +251,7 @@ fn main() -> Result<()> {
             frames,
             ref_spp,
             max_depth,
+            methods,
             speeds,
             object_speed,
             sway_period,
@@ -249,6 +259,7 @@ fn main() -> Result<()> {
             out,
             no_cache,
         } => {
+            let rows = MotionMethod::rows_named(&methods)?;
             let config = MotionConfig {
                 max_depth,
                 sway_period,
@@ -269,7 +280,7 @@ fn main() -> Result<()> {
             let results = run_study(
                 config,
                 &cases,
-                &MotionMethod::ALL,
+                &rows,
                 (!no_cache).then_some(cache.as_path()),
                 |msg| eprintln!("[{:7.1} s] {msg}", start.elapsed().as_secs_f64()),
             )?;

@@ -66,6 +66,55 @@ impl MotionMethod {
         MotionMethod::TemporalPermuteJitterReprojectFast,
     ];
 
+    /// Short name on the command line (`conformance motion --methods`): the
+    /// study's method names ([`crate::study::Method::name`]) where a row is one
+    /// of them, with `-reproject` where the seeds follow the motion.
+    pub fn key(self) -> &'static str {
+        match self {
+            MotionMethod::White => "white",
+            MotionMethod::Permute => "permute",
+            MotionMethod::PermuteReproject => "permute-reproject",
+            MotionMethod::PermuteJitterReproject => "permute-jitter-reproject",
+            MotionMethod::FeaturePermuteReproject => "feature-permute-reproject",
+            MotionMethod::ScreenSobol => "screen-sobol",
+            MotionMethod::Spatiotemporal => "spatiotemporal",
+            MotionMethod::SpatiotemporalFollow => "spatiotemporal-follow",
+            MotionMethod::SpatiotemporalKroneckerFollow => "spatiotemporal-kronecker-follow",
+            MotionMethod::ZSobol => "zsobol",
+            MotionMethod::TemporalPermuteJitter => "temporal-permute-jitter",
+            MotionMethod::TemporalPermuteJitterReproject => "temporal-permute-jitter-reproject",
+            MotionMethod::FeatureTemporalPermuteJitterReproject => {
+                "feature-temporal-permute-jitter-reproject"
+            }
+            MotionMethod::TemporalPermuteJitterReprojectFast => "temporal-permute-jitter-reproject-fast",
+        }
+    }
+
+    /// The rows named by `keys` ([`MotionMethod::key`]), white first (every
+    /// figure is relative to it) and each row once, in the order given;
+    /// every row ([`MotionMethod::ALL`]) when `keys` is empty. An unknown key
+    /// is an error that lists the known ones.
+    pub fn rows_named<S: AsRef<str>>(keys: &[S]) -> anyhow::Result<Vec<MotionMethod>> {
+        if keys.is_empty() {
+            return Ok(MotionMethod::ALL.to_vec());
+        }
+        let mut rows = vec![MotionMethod::White];
+        for key in keys {
+            let key = key.as_ref();
+            let row = MotionMethod::ALL
+                .into_iter()
+                .find(|m| m.key() == key)
+                .ok_or_else(|| {
+                    let known: Vec<&str> = MotionMethod::ALL.iter().map(|m| m.key()).collect();
+                    anyhow::anyhow!("unknown motion row {key:?} (known: {})", known.join(", "))
+                })?;
+            if !rows.contains(&row) {
+                rows.push(row);
+            }
+        }
+        Ok(rows)
+    }
+
     /// Name used in tables.
     pub fn name(self) -> &'static str {
         match self {
@@ -164,5 +213,44 @@ impl MotionMethod {
             ..SequenceOptions::default()
         };
         (job, options)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::MotionMethod;
+    use std::collections::HashSet;
+
+    #[test]
+    fn every_row_has_its_own_key() {
+        let keys: HashSet<&str> = MotionMethod::ALL.iter().map(|m| m.key()).collect();
+        assert_eq!(keys.len(), MotionMethod::ALL.len());
+        for m in MotionMethod::ALL {
+            assert_eq!(MotionMethod::rows_named(&[m.key()]).unwrap().last(), Some(&m));
+        }
+    }
+
+    #[test]
+    fn named_rows_start_with_white_and_appear_once() {
+        let rows = MotionMethod::rows_named(&["zsobol", "permute-reproject", "zsobol", "white"]).unwrap();
+        assert_eq!(
+            rows,
+            [
+                MotionMethod::White,
+                MotionMethod::ZSobol,
+                MotionMethod::PermuteReproject
+            ]
+        );
+        let none: [&str; 0] = [];
+        assert_eq!(MotionMethod::rows_named(&none).unwrap(), MotionMethod::ALL);
+    }
+
+    #[test]
+    fn an_unknown_row_lists_the_known_keys() {
+        let err = MotionMethod::rows_named(&["zsobol", "permute+reproject"])
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("\"permute+reproject\""), "{err}");
+        assert!(err.contains("temporal-permute-jitter-reproject-fast"), "{err}");
     }
 }
