@@ -80,6 +80,11 @@ enum Command {
         /// sun with a disk and a constant sky; its own camera and insets).
         #[arg(long, default_value = "cornell")]
         scene: String,
+        /// Path regularisation of every row, white and the reference, in [0, 1] (0:
+        /// off): the tables then also give its bias against the unbiased reference and
+        /// its effect on white's noise.
+        #[arg(long, default_value_t = 0.0)]
+        glossy_regularization: f32,
         /// Also measure the insets' LF with the error multiplied by this scene's albedo
         /// over the rendered scene's (same room and camera: cornell-textured over
         /// cornell-untextured tells what the texture's modulation alone does).
@@ -196,6 +201,7 @@ fn main() -> Result<()> {
             methods,
             salt,
             scene,
+            glossy_regularization,
             modulate_by,
             out,
             no_cache,
@@ -226,6 +232,7 @@ fn main() -> Result<()> {
                 salt,
                 scene,
                 modulate_by,
+                glossy_regularization,
                 ..StudyConfig::new(size, 1, frames, ref_spp)
             };
             let cache = default_cache_dir();

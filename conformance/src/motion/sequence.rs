@@ -119,6 +119,7 @@ impl MotionSequence {
                         config.max_depth,
                         config.ref_spp,
                         settings.environment,
+                        settings.glossy_regularization,
                         &name,
                         cache_dir,
                         |_, _| rendered = true,

@@ -48,6 +48,11 @@ pub struct StudyConfig {
     /// `None` by default): the untextured twin's error modulated by the textured box's
     /// texture, to tell what the texture's modulation alone does to a blue error.
     pub modulate_by: Option<StudyScene>,
+    /// Path regularisation of every row, white and the reference
+    /// (`TraceSettings::glossy_regularization`, in `[0, 1]`; 0, the default:
+    /// off). Above 0 the study also measures the bias against the unbiased
+    /// reference ([`super::regularization`]).
+    pub glossy_regularization: f32,
 }
 
 impl StudyConfig {
@@ -66,6 +71,7 @@ impl StudyConfig {
             filters: true,
             scene: StudyScene::Cornell,
             modulate_by: None,
+            glossy_regularization: 0.0,
         }
     }
 
@@ -75,6 +81,7 @@ impl StudyConfig {
         s.max_depth = self.max_depth;
         s.seed_mode = self.seed_mode;
         s.environment = self.scene.environment();
+        s.glossy_regularization = self.glossy_regularization;
         s
     }
 

@@ -43,6 +43,7 @@ impl Study {
             features: self.feature_diagnostics()?,
             runs,
             filter_bias,
+            regularization: self.regularization.clone(),
         })
     }
 

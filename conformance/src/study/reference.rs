@@ -50,8 +50,13 @@ impl Reference {
         cache_dir: Option<&Path>,
         progress: impl FnMut(u32, u32),
     ) -> Result<Reference> {
+        let regularized = if config.glossy_regularization > 0.0 {
+            format!("-reg{}", config.glossy_regularization)
+        } else {
+            String::new()
+        };
         let name = format!(
-            "{scene}-ref-{s}x{s}-spp{r}-depth{d}-rr{rr}.bin",
+            "{scene}-ref-{s}x{s}-spp{r}-depth{d}-rr{rr}{regularized}.bin",
             scene = config.scene.name(),
             s = config.size,
             r = config.ref_spp / 2 * 2,
@@ -64,6 +69,7 @@ impl Reference {
             config.max_depth,
             config.ref_spp,
             config.scene.environment(),
+            config.glossy_regularization,
             &name,
             cache_dir,
             progress,
@@ -75,7 +81,9 @@ impl Reference {
     /// halves of `ref_spp / 2`), paths of at most `max_depth` segments, cached under
     /// `cache_name`, which must identify the scene, pose and settings (for moving
     /// scenes: [`pose_key`]), with `environment` the constant sky's radiance
-    /// (`TraceSettings::environment`). `progress(done, total)` counts render passes.
+    /// (`TraceSettings::environment`) and `glossy_regularization` the path
+    /// regularisation (`TraceSettings::glossy_regularization`; 0: the unbiased
+    /// image). `progress(done, total)` counts render passes.
     ///
     /// # Errors
     /// `ref_spp < 2` or rendering errors; cache I/O errors are ignored (the image is
@@ -87,6 +95,7 @@ impl Reference {
         max_depth: u32,
         ref_spp: u32,
         environment: Vec3,
+        glossy_regularization: f32,
         cache_name: &str,
         cache_dir: Option<&Path>,
         mut progress: impl FnMut(u32, u32),
@@ -106,6 +115,7 @@ impl Reference {
         settings.max_depth = max_depth;
         settings.seed_mode = SEED_MODE_FIXED;
         settings.environment = environment;
+        settings.glossy_regularization = glossy_regularization;
         let mut halves = [vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]];
         let mut color = vec![Vec4::ZERO; n];
         let total = 2 * passes;

@@ -8,6 +8,7 @@ use super::filtered::{pooled_sum, FilteredErrors, STUDY_FILTERS};
 use super::history::{HistoryErrors, EMA_ALPHA, EMA_FROM};
 use super::insets::Inset;
 use super::method::Method;
+use super::regularization::RegularizationEffect;
 use crate::metrics::regions::Region;
 use glam::Vec3;
 use gpu_tracer::filter::FilterChain;
@@ -123,6 +124,9 @@ pub struct StudyResult {
     /// The reference itself sent through each filter chain, one frame per
     /// study frame: the filters' own error floor ([`Self::filter_bias`]).
     pub filter_bias: Vec<FilteredErrors>,
+    /// With [`StudyConfig::glossy_regularization`] above 0: its bias and its
+    /// effect on white's noise ([`RegularizationEffect`]).
+    pub regularization: Option<RegularizationEffect>,
 }
 
 /// Which error of the history ([`super::history`]) a figure reads.
@@ -344,6 +348,10 @@ impl StudyResult {
                  white after the same filter = 1; the last row is the reference itself filtered: the filter's bias):\n\n"
             );
             s += &self.filtered_markdown(from);
+        }
+        if let Some(effect) = &self.regularization {
+            s += "\n";
+            s += &effect.markdown();
         }
         let f = &self.features;
         s += &format!(

@@ -4,6 +4,7 @@
 use super::config::StudyConfig;
 use super::insets::{check_inset, inset_layout, max_gradient, Inset};
 use super::reference::Reference;
+use super::regularization::RegularizationEffect;
 use crate::metrics::regions::{classify_regions, Region};
 use crate::metrics::surfaces::glossy_first_hits;
 use anyhow::{ensure, Result};
@@ -33,6 +34,10 @@ pub struct Study {
     /// primary hit over this scene's (1 where this scene's is below
     /// `sampler_core::features::surface::ALBEDO_FLOOR`).
     pub modulation: Option<Vec<f32>>,
+    /// With [`StudyConfig::glossy_regularization`] above 0: its bias and its
+    /// effect on white's noise, from the unbiased reference beside the
+    /// regularised one ([`RegularizationEffect`]).
+    pub regularization: Option<RegularizationEffect>,
 }
 
 /// The luma of `g`'s albedo, or `None` below
@@ -67,6 +72,15 @@ impl Study {
         config.layout()?;
         let scene = SceneGpu::build(&config.scene.load()?)?;
         let reference = Reference::get(&scene, &config, cache_dir, progress)?;
+        let unbiased = if config.glossy_regularization > 0.0 {
+            let unbiased_config = StudyConfig {
+                glossy_regularization: 0.0,
+                ..config
+            };
+            Some(Reference::get(&scene, &unbiased_config, cache_dir, |_, _| {})?)
+        } else {
+            None
+        };
         let mut insets = inset_layout(config.scene, config.size);
         let params = scene.trace_params(&config.settings(), 0)?;
         for inset in &mut insets {
@@ -77,6 +91,15 @@ impl Study {
         cpu::gbuffer_frame(&scene, &params, &mut gbuffer)?;
         let regions = classify_regions(&gbuffer, config.size, config.size);
         let glossy = glossy_first_hits(&scene.materials, &gbuffer);
+        let regularization = match &unbiased {
+            Some(unbiased) => Some(RegularizationEffect::measure(
+                config.glossy_regularization,
+                &reference,
+                unbiased,
+                &regions,
+            )?),
+            None => None,
+        };
         let modulation = match config.modulate_by {
             Some(other) => {
                 ensure!(
@@ -103,6 +126,7 @@ impl Study {
             gbuffer,
             glossy,
             modulation,
+            regularization,
         })
     }
 }

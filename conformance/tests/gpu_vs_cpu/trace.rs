@@ -54,7 +54,8 @@ fn path_traced_frames_agree_statistically_with_the_cpu_renderer() {
 /// reused lobe number, MIS with `eval` and `pdf`): per-pixel means agree
 /// statistically with the CPU renderer, and with the same seeds the frames
 /// agree pixel for pixel up to float rounding, so the GPU runs the same
-/// BSDF code on the same numbers.
+/// BSDF code on the same numbers; with path regularisation too (the
+/// roughness floor and the continuing lobe's roughness).
 #[test]
 fn glossy_frames_agree_with_the_cpu_renderer() {
     let Some(gpu) = Gpu::for_test("glossy_frames_agree_with_the_cpu_renderer") else {
@@ -62,13 +63,16 @@ fn glossy_frames_agree_with_the_cpu_renderer() {
     };
     let scene = gpu_tracer::SceneGpu::build(&gpu_tracer::cornell::cornell_glossy()).unwrap();
     compare_trace_statistics(&gpu, &scene, kernels::abi::SAMPLER_SEEDS, "glossy seeds");
-    compare_same_seeds(
-        &gpu,
-        &scene,
-        kernels::abi::SAMPLER_SEEDS,
-        PermuteMode::White,
-        "glossy seeds",
-    );
+    for (strength, name) in [(0.0, "glossy seeds"), (0.7, "glossy seeds, regularised 0.7")] {
+        compare_same_seeds_with(
+            &gpu,
+            &scene,
+            kernels::abi::SAMPLER_SEEDS,
+            strength,
+            PermuteMode::White,
+            name,
+        );
+    }
 }
 
 /// `scene` with an 8x8 bilinear, repeating normal map of varied tilts
@@ -258,12 +262,25 @@ fn apriori_samplers_agree_with_the_cpu_renderer() {
 /// Same seeds (and `sampler`) on both sides: only float rounding differs,
 /// so at least 95% of pixel-frames agree within 1e-3 (relative).
 fn compare_same_seeds(gpu: &Gpu, scene: &gpu_tracer::SceneGpu, sampler: u32, mode: PermuteMode, name: &str) {
+    compare_same_seeds_with(gpu, scene, sampler, 0.0, mode, name)
+}
+
+/// [`compare_same_seeds`] with path regularisation of `glossy_regularization`.
+fn compare_same_seeds_with(
+    gpu: &Gpu,
+    scene: &gpu_tracer::SceneGpu,
+    sampler: u32,
+    glossy_regularization: f32,
+    mode: PermuteMode,
+    name: &str,
+) {
     use gpu_tracer::{render_cpu, render_gpu, RenderJob, TileChoice, TraceSettings};
     {
         let (w, h, frames) = (24u32, 20u32, 8u32);
         let mut settings = TraceSettings::new(w, h);
         settings.spp = 4;
         settings.sampler = sampler;
+        settings.glossy_regularization = glossy_regularization;
         let job = RenderJob {
             settings,
             frames,

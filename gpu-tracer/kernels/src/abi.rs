@@ -213,7 +213,7 @@ pub const SAMPLER_KRONECKER: u32 = 1 << 10;
 pub const SAMPLER_KIND_MASK: u32 = 0xFF;
 
 /// Per-frame parameters of the trace, G-buffer and accumulate passes
-/// (uniform buffer, 240 bytes).
+/// (uniform buffer, 256 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct TraceParams {
@@ -315,6 +315,17 @@ pub struct TraceParams {
     /// binding 10 holds one unused element). Its table and texels are
     /// binding 10 ([`crate::environment::environment_texel`] has the layout).
     pub environment_map: sampler_core::EnvironmentParams,
+    /// Path regularisation strength ([`crate::regularization`]), finite, in
+    /// `[0, 1]`: a glossy surface's roughness is raised to at least this times
+    /// the roughest lobe that continued the path before it. 0 (the default):
+    /// off, every path unbiased and as it was bit for bit.
+    pub glossy_regularization: f32,
+    /// Reserved, 0 (keeps the structure a multiple of 16 bytes).
+    pub reserved0: u32,
+    /// Reserved, 0.
+    pub reserved1: u32,
+    /// Reserved, 0.
+    pub reserved2: u32,
 }
 
 /// One node of the BVH2 built by obvhs 0.4 (`Bvh2Node`), 48 bytes.
@@ -676,7 +687,7 @@ impl EmitterGpu {
     }
 }
 
-const _: () = assert!(core::mem::size_of::<TraceParams>() == 240);
+const _: () = assert!(core::mem::size_of::<TraceParams>() == 256);
 const _: () = assert!(core::mem::size_of::<TriangleAttrGpu>() == 112);
 const _: () = assert!(core::mem::size_of::<GBufferGpu>() == 64);
 const _: () = assert!(core::mem::size_of::<BvhNodeGpu>() == 48);

@@ -79,6 +79,7 @@ pub mod motion;
 pub mod normal_map;
 pub mod numbers;
 pub mod permute_entry;
+pub mod regularization;
 pub mod reproject_entry;
 pub mod sampler_entry;
 pub mod sampling;

@@ -36,6 +36,7 @@
 
 use crate::abi::{MaterialGpu, MODEL_METALLIC_ROUGHNESS};
 use crate::bsdf::{to_local, BsdfSample, MetallicRoughness};
+use crate::regularization::raised_roughness;
 use crate::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere, Frame};
 use crate::surface::{surface_albedo_filtered, surface_metallic_roughness_filtered};
 use crate::trace_variant::{FULL, SHADING, TEXTURES};
@@ -87,7 +88,7 @@ impl Shading {
         normal: Vec3,
         wo: Vec3,
     ) -> Self {
-        Self::at_variant::<FULL>(material, images, image_count, uv, width, normal, wo)
+        Self::at_variant::<FULL>(material, images, image_count, uv, width, normal, wo, 0.0)
     }
 
     /// [`Shading::at_filtered`] for the trace variant of `FEATURES`
@@ -96,7 +97,10 @@ impl Shading {
     /// Lambertian: the same value, bit for bit, for a material the variant
     /// fits. (One constructor for every variant, so that no `Shading` value
     /// is chosen between branches: rust-gpu would lay such a variable out
-    /// in a way naga refuses.)
+    /// in a way naga refuses.) A metallic-roughness surface's perceptual
+    /// roughness is raised to at least `min_roughness` (path regularisation,
+    /// [`crate::regularization`]); `min_roughness <= 0` (or NaN) leaves it as
+    /// it was, bit for bit.
     #[allow(clippy::too_many_arguments)]
     #[inline]
     pub fn at_variant<const FEATURES: u32>(
@@ -107,6 +111,7 @@ impl Shading {
         width: f32,
         normal: Vec3,
         wo: Vec3,
+        min_roughness: f32,
     ) -> Self {
         let textured = FEATURES & TEXTURES != 0;
         let albedo = if textured {
@@ -123,7 +128,7 @@ impl Shading {
             } else {
                 Vec2::new(material.pbr.x, material.pbr.y)
             };
-            bsdf = MetallicRoughness::new(albedo, mr.x, mr.y);
+            bsdf = MetallicRoughness::new(albedo, mr.x, raised_roughness(mr.y, min_roughness));
             wo_local = to_local(&frame, wo);
         }
         Shading {
@@ -132,6 +137,21 @@ impl Shading {
             bsdf,
             frame,
             wo: wo_local,
+        }
+    }
+
+    /// The roughness, in `[0, 1]`, of the lobe that [`Self::sample`] chooses
+    /// for the pair `u` ([`crate::regularization`]): 1 for Lambertian
+    /// surfaces and for the metallic-roughness model's diffuse lobe, the
+    /// perceptual roughness for its specular lobe.
+    #[inline]
+    #[allow(clippy::manual_clamp)]
+    pub fn continuation_roughness(&self, u: Vec2) -> f32 {
+        if self.glossy && u.x < self.bsdf.specular_probability(self.wo) {
+            // Not `f32::clamp`: it asserts `min <= max`, a panic path in shaders.
+            self.bsdf.roughness.max(0.0).min(1.0)
+        } else {
+            1.0
         }
     }
 
@@ -267,6 +287,44 @@ mod tests {
         assert_eq!(f, albedo.truncate() * (FRAC_1_PI * cos));
         assert_eq!(pdf, cosine_hemisphere_pdf(cos));
         assert!(!Shading::at(&MaterialGpu::default(), &[0], 0, Vec2::ZERO, n, n).reflects());
+    }
+
+    /// Path regularisation: a roughness floor raises a glossy surface's
+    /// roughness (and widens its lobe) but never a rougher one's, leaves
+    /// Lambertian surfaces alone, and the continuing lobe's roughness is the
+    /// surface's for the specular lobe and 1 for the diffuse ones.
+    #[test]
+    fn regularisation_raises_glossy_roughness_only() {
+        let n = Vec3::Z;
+        let wo = Vec3::new(0.3, 0.0, 1.0).normalize();
+        let at = |m: &MaterialGpu, floor: f32| {
+            Shading::at_variant::<FULL>(m, &[0], 0, Vec2::ZERO, 0.0, n, wo, floor)
+        };
+        let metal = MaterialGpu::metallic_roughness(Vec4::new(0.9, 0.9, 0.9, 0.0), 1.0, 0.1);
+        assert_eq!(at(&metal, 0.0).bsdf.roughness, 0.1);
+        assert_eq!(at(&metal, 0.6).bsdf.roughness, 0.6);
+        let rough = MaterialGpu::metallic_roughness(Vec4::new(0.9, 0.9, 0.9, 0.0), 1.0, 0.8);
+        assert_eq!(at(&rough, 0.6).bsdf.roughness, 0.8);
+        // The mirror's reflection of `wo` carries far more density unregularised.
+        let mirror = Vec3::new(-wo.x, -wo.y, wo.z);
+        let (_, sharp) = at(&metal, 0.0).eval_cos(mirror, mirror.z);
+        let (_, wide) = at(&metal, 0.6).eval_cos(mirror, mirror.z);
+        assert!(sharp > 10.0 * wide, "{sharp} {wide}");
+        // Lambertian: untouched, bit for bit.
+        let lambert = MaterialGpu::untextured(Vec4::new(0.5, 0.5, 0.5, 0.0), Vec4::ZERO);
+        let u = Vec2::new(0.3, 0.8);
+        assert_eq!(at(&lambert, 1.0).sample(u), at(&lambert, 0.0).sample(u));
+        assert_eq!(at(&lambert, 1.0).continuation_roughness(u), 1.0);
+        // A metal's lobe is specular for every number: its roughness continues.
+        assert_eq!(at(&metal, 0.0).continuation_roughness(u), 0.1);
+        assert_eq!(at(&metal, 0.6).continuation_roughness(u), 0.6);
+        // A dielectric: specular below its probability, diffuse (1) above.
+        let plastic = MaterialGpu::metallic_roughness(Vec4::new(0.2, 0.4, 0.8, 0.0), 0.0, 0.3);
+        let s = at(&plastic, 0.0);
+        let p = s.bsdf.specular_probability(s.wo);
+        assert!(p > 0.0 && p < 1.0, "{p}");
+        assert_eq!(s.continuation_roughness(Vec2::new(0.5 * p, 0.5)), 0.3);
+        assert_eq!(s.continuation_roughness(Vec2::new(0.5 + 0.5 * p, 0.5)), 1.0);
     }
 
     /// Metallic-roughness: the sample's world direction, weight and density

@@ -41,6 +41,11 @@ pub struct TraceSettings {
     /// finite and `>= 0`; zero (the default): none. See
     /// [`TraceParams::environment`].
     pub environment: glam::Vec3,
+    /// Path regularisation strength, in `[0, 1]` (NaN refused): glossy
+    /// surfaces met after rough ones are made at least this times as rough
+    /// (`kernels::regularization`; biased). 0 (the default): off, unbiased.
+    /// See [`TraceParams::glossy_regularization`].
+    pub glossy_regularization: f32,
 }
 
 /// Largest spp per frame of [`SAMPLER_ZSOBOL`]: `2^ZSOBOL_MAX_LOG2_SPP` = 256.
@@ -68,6 +73,7 @@ impl TraceSettings {
             seed_mode: kernels::abi::SEED_MODE_FIXED,
             sampler: kernels::abi::SAMPLER_SEEDS,
             environment: glam::Vec3::ZERO,
+            glossy_regularization: 0.0,
         }
     }
 }
@@ -118,6 +124,13 @@ impl SceneGpu {
                     expected: "a finite radiance >= 0 in every channel",
                 });
             }
+        }
+        if !(0.0..=1.0).contains(&s.glossy_regularization) {
+            return Err(Error::InvalidSetting {
+                name: "glossy_regularization",
+                value: s.glossy_regularization,
+                expected: "a strength in [0, 1] (0: off)",
+            });
         }
         if self.environment_map.width > 0 && s.environment != glam::Vec3::ZERO {
             return Err(Error::InvalidSetting {
@@ -209,6 +222,10 @@ impl SceneGpu {
             seed_hold_below: 0.0,
             environment: s.environment.extend(self.environment_select_pdf()),
             environment_map: self.environment_map,
+            glossy_regularization: s.glossy_regularization,
+            reserved0: 0,
+            reserved1: 0,
+            reserved2: 0,
         })
     }
 }
@@ -253,6 +270,18 @@ mod tests {
                 ..ok
             },
             TraceSettings {
+                glossy_regularization: f32::NAN,
+                ..ok
+            },
+            TraceSettings {
+                glossy_regularization: -0.1,
+                ..ok
+            },
+            TraceSettings {
+                glossy_regularization: 1.5,
+                ..ok
+            },
+            TraceSettings {
                 sampler: SAMPLER_JITTER_ONLY,
                 ..ok
             },
@@ -290,6 +319,16 @@ mod tests {
         ];
         for s in bad {
             assert!(gpu.trace_params(&s, 0).is_err(), "{s:?}");
+        }
+        for strength in [0.0, 0.5, 1.0] {
+            let s = TraceSettings {
+                glossy_regularization: strength,
+                ..ok
+            };
+            assert_eq!(
+                gpu.trace_params(&s, 0).expect("valid").glossy_regularization,
+                strength
+            );
         }
         for (sampler, spp) in [
             (SAMPLER_SCREEN_SOBOL, 16),

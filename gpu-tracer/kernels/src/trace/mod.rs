@@ -31,6 +31,10 @@
 //! emitter absent from the emitter list (or with `emitter_count == 0`) is
 //! only found by BSDF sampling and counted with weight 1.
 //!
+//! With `TraceParams::glossy_regularization` above 0, glossy surfaces met
+//! after rough ones are made rougher ([`crate::regularization`]: biased, off
+//! by default).
+//!
 //! Path length: `max_depth` counts segments including the camera segment.
 //! Emission hit at vertex `d` (0-based) makes a path of `d + 1` segments;
 //! next-event estimation at vertex `d` makes one of `d + 2`, so it runs only
@@ -60,6 +64,7 @@ use crate::geometry::offset_point;
 use crate::intersect::Ray;
 use crate::lights::sample_emitter_variant;
 use crate::normal_map::shading_normal_variant;
+use crate::regularization::{path_roughness_after, roughness_floor};
 use crate::shading::Shading;
 use crate::surface::{has_textures, surface_emission_filtered, triangle_uv};
 use crate::trace_variant;
@@ -260,6 +265,8 @@ pub(crate) fn trace_sample_with<const FEATURES: u32>(
     // last hit and spread (radians) of the current ray.
     let (mut cone_width, mut cone_spread) = (0.0f32, pixel_spread(params));
 
+    // The roughest lobe that continued the path so far (`crate::regularization`).
+    let mut path_roughness = 0.0f32;
     let mut depth = 0u32;
     while depth < max_depth {
         // f32::MAX, not INFINITY: naga rejects infinite literals in SPIR-V.
@@ -349,6 +356,7 @@ pub(crate) fn trace_sample_with<const FEATURES: u32>(
             footprint,
             shading_normal,
             -ray.dir,
+            roughness_floor(params.glossy_regularization, path_roughness),
         );
         let u_light = numbers.light(params, keys, depth);
         let origin = offset_point(point, normal);
@@ -408,9 +416,13 @@ pub(crate) fn trace_sample_with<const FEATURES: u32>(
         // cosine-weighted Lambertian direction).
         // Directions below the geometric surface (possible with a normal
         // map's tilted frame) end the path rather than leak through it.
-        let sample = shading.sample(numbers.bsdf(params, keys, depth));
+        let u_bsdf = numbers.bsdf(params, keys, depth);
+        let sample = shading.sample(u_bsdf);
         if sample.pdf <= 0.0 || sample.wi.dot(normal) <= 0.0 {
             break;
+        }
+        if params.glossy_regularization > 0.0 {
+            path_roughness = path_roughness_after(path_roughness, shading.continuation_roughness(u_bsdf));
         }
         let wi = sample.wi;
         throughput *= sample.weight;

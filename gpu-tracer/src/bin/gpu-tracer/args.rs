@@ -155,6 +155,14 @@ pub(crate) struct RenderArgs {
     /// Maximum path length in segments.
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=MAX_DEPTH_LIMIT as i64))]
     pub(crate) max_depth: u32,
+    /// Path regularisation for glossy surfaces seen after rough ones, in
+    /// [0, 1] (0: off, the default, unbiased): their roughness is raised to
+    /// at least this times the roughest lobe earlier on the path, so that
+    /// caustics on diffuse surfaces through glossy ones (wall -> metal ->
+    /// light) are found often with small weights instead of rarely with large
+    /// ones. Biased: blurs those caustics and loses some energy.
+    #[arg(long, default_value_t = 0.0, value_parser = parse_strength, allow_hyphen_values = true)]
+    pub(crate) glossy_regularization: f32,
     /// `fixed`: a seed alone defines its random stream (the paper's way);
     /// `advance`: the stream also advances with the frame index.
     #[arg(long, value_enum, default_value_t = SeedModeArg::Fixed)]
@@ -341,7 +349,6 @@ pub(crate) fn parse_environment(s: &str) -> Result<EnvArg, String> {
     Ok(EnvArg::Constant(v))
 }
 
-/// Parses `--tile`: the side of a baked dither tile, 64 or 128.
 /// `--reproject-hold-below`: a finite number of pixels per frame, `>= 0`.
 pub(crate) fn parse_pixels_per_frame(s: &str) -> Result<f32, String> {
     match s.trim().parse::<f32>() {
@@ -350,6 +357,15 @@ pub(crate) fn parse_pixels_per_frame(s: &str) -> Result<f32, String> {
     }
 }
 
+/// `--glossy-regularization`: a strength in `[0, 1]`.
+pub(crate) fn parse_strength(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
+        _ => Err(format!("'{s}' is not a strength in [0, 1] (0: off)")),
+    }
+}
+
+/// Parses `--tile`: the side of a baked dither tile, 64 or 128.
 pub(crate) fn parse_tile(s: &str) -> Result<TileChoice, String> {
     match s {
         "64" => Ok(TileChoice::Tile64),

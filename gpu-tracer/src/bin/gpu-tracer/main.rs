@@ -44,6 +44,7 @@ fn render(args: RenderArgs) -> Result<()> {
     settings.spp = args.spp;
     settings.max_depth = args.max_depth;
     settings.environment = environment;
+    settings.glossy_regularization = args.glossy_regularization;
     settings.seed_mode = match args.seed_mode {
         SeedModeArg::Fixed => SEED_MODE_FIXED,
         SeedModeArg::Advance => SEED_MODE_ADVANCE,
@@ -203,7 +204,7 @@ fn render(args: RenderArgs) -> Result<()> {
         saved += &format!(", {}/frame_*.<aov>.exr", aovs_dir.display());
     }
     println!(
-        "rendered {} frame(s) of {}x{} at {} spp on {} in {:.2} s ({:?} mode, {} sampler, reprojection {}, features {}, filter {}); wrote {}{saved}",
+        "rendered {} frame(s) of {}x{} at {} spp on {} in {:.2} s ({:?} mode, {} sampler, reprojection {}, features {}, filter {}{}); wrote {}{saved}",
         args.frames,
         w,
         h,
@@ -225,6 +226,11 @@ fn render(args: RenderArgs) -> Result<()> {
             "off".to_string()
         },
         args.filter,
+        if args.glossy_regularization > 0.0 {
+            format!(", glossy regularization {}", args.glossy_regularization)
+        } else {
+            String::new()
+        },
         files
             .iter()
             .map(|f| f.display().to_string())
