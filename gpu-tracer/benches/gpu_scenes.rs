@@ -17,8 +17,12 @@
 //! scene runs on the smallest trace kernel that renders it exactly
 //! (`kernels::trace_variant`), and again on the full kernel. Issue 30's goal is
 //! <= 1.5x per path vertex for the glossy and the outdoor scene on
-//! lavapipe. `ROUNDS=N` sets the rounds (default 5; a lavapipe frame takes
-//! seconds); `--test` runs one.
+//! lavapipe. The glossy box runs once more with path regularisation
+//! (`--glossy-regularization 1`: the same kernel, its paths found by other
+//! rays), for what it costs per ray. `ROUNDS=N` sets the rounds (default 5;
+//! a lavapipe frame takes seconds); `--test` runs one; `SCENES=cornell,
+//! cornell-glossy` keeps only the named scenes (the Cornell box always runs:
+//! it is the baseline); `SMALLEST=1` skips the full-kernel rows.
 
 use glam::Vec4;
 use gpu_tracer::cornell::{cornell_box, cornell_glossy};
@@ -42,10 +46,12 @@ fn main() {
         }
     };
     let layout = FrameLayout::new(WIDTH, HEIGHT, 4, 64).expect("layout");
+    // (name, scene, constant sky, path regularisation strength)
     let scenes = [
-        ("cornell", cornell_box(), glam::Vec3::ZERO),
-        ("cornell-glossy", cornell_glossy(), glam::Vec3::ZERO),
-        ("sun-sky", sun_and_sky(), SKY),
+        ("cornell", cornell_box(), glam::Vec3::ZERO, 0.0),
+        ("cornell-glossy", cornell_glossy(), glam::Vec3::ZERO, 0.0),
+        ("glossy-reg-1", cornell_glossy(), glam::Vec3::ZERO, 1.0),
+        ("sun-sky", sun_and_sky(), SKY, 0.0),
         // The textured box (filtered textures, the full kernel), as the
         // study's held-out scene.
         (
@@ -60,8 +66,11 @@ fn main() {
             .expect("the textured fixture")
             .scene,
             glam::Vec3::ZERO,
+            0.0,
         ),
     ];
+    let wanted = std::env::var("SCENES").ok();
+    let smallest_only = std::env::var("SMALLEST").is_ok_and(|v| v == "1");
     let tp = TracePipelines::new(&gpu).expect("trace pipelines");
     let pp = PermutePipelines::new(&gpu).expect("permute pipelines");
     let (tile, tables) = (
@@ -70,11 +79,19 @@ fn main() {
     );
     let mut rows = Vec::new();
     let mut tracers = Vec::new();
-    for (name, scene, sky) in scenes {
+    for (name, scene, sky, regularization) in scenes {
+        if name != "cornell"
+            && wanted
+                .as_deref()
+                .is_some_and(|w| !w.split(',').any(|x| x == name))
+        {
+            continue;
+        }
         let scene = SceneGpu::build(&scene).expect("scene");
         let mut settings = TraceSettings::new(WIDTH, HEIGHT);
         settings.padded_width = layout.padded_width();
         settings.environment = sky;
+        settings.glossy_regularization = regularization;
         let params = scene.trace_params(&settings, 1).expect("params");
         // Rays of one frame, counted on the CPU.
         let seeds = cpu::white_seeds(settings.padded_width, HEIGHT, 1);
@@ -91,7 +108,7 @@ fn main() {
         tracers.push((scene, tracer));
         let t = tracers.len() - 1;
         rows.push((name, rays, t, smallest, Vec::new()));
-        if smallest != TraceVariant::Full {
+        if smallest != TraceVariant::Full && !smallest_only {
             rows.push((name, rays, t, TraceVariant::Full, Vec::new()));
         }
     }

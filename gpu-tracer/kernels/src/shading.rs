@@ -56,6 +56,11 @@ pub struct Shading {
     frame: Frame,
     /// Unit outgoing direction in `frame` (`z >= 0`; read only when `glossy`).
     wo: Vec3,
+    /// [`MetallicRoughness::specular_probability`] of `wo`, in `[0, 1]`: the
+    /// chance that [`Self::sample`] takes the specular lobe (0 for
+    /// Lambertian surfaces; computed once, read by the sample and by
+    /// [`Self::continuation_roughness`]).
+    p_specular: f32,
 }
 
 impl Shading {
@@ -121,7 +126,8 @@ impl Shading {
         };
         let glossy = FEATURES & SHADING != 0 && material.model.x == MODEL_METALLIC_ROUGHNESS;
         let frame = Frame::from_normal(normal);
-        let (mut bsdf, mut wo_local) = (MetallicRoughness::new(albedo, 0.0, 1.0), Vec3::Z);
+        let (mut bsdf, mut wo_local, mut p_specular) =
+            (MetallicRoughness::new(albedo, 0.0, 1.0), Vec3::Z, 0.0);
         if glossy {
             let mr = if textured {
                 surface_metallic_roughness_filtered(material, images, image_count, uv, width)
@@ -130,6 +136,7 @@ impl Shading {
             };
             bsdf = MetallicRoughness::new(albedo, mr.x, raised_roughness(mr.y, min_roughness));
             wo_local = to_local(&frame, wo);
+            p_specular = bsdf.specular_probability(wo_local);
         }
         Shading {
             glossy,
@@ -137,6 +144,7 @@ impl Shading {
             bsdf,
             frame,
             wo: wo_local,
+            p_specular,
         }
     }
 
@@ -147,7 +155,7 @@ impl Shading {
     #[inline]
     #[allow(clippy::manual_clamp)]
     pub fn continuation_roughness(&self, u: Vec2) -> f32 {
-        if self.glossy && u.x < self.bsdf.specular_probability(self.wo) {
+        if self.glossy && u.x < self.p_specular {
             // Not `f32::clamp`: it asserts `min <= max`, a panic path in shaders.
             self.bsdf.roughness.max(0.0).min(1.0)
         } else {
@@ -195,7 +203,7 @@ impl Shading {
     #[inline]
     pub fn sample(&self, u: Vec2) -> BsdfSample {
         if self.glossy {
-            let p = self.bsdf.specular_probability(self.wo);
+            let p = self.p_specular;
             let s = self
                 .bsdf
                 .sample_lobe(self.wo, reuse_lobe_number(u, p), u.x < p, p);
@@ -321,7 +329,8 @@ mod tests {
         // A dielectric: specular below its probability, diffuse (1) above.
         let plastic = MaterialGpu::metallic_roughness(Vec4::new(0.2, 0.4, 0.8, 0.0), 0.0, 0.3);
         let s = at(&plastic, 0.0);
-        let p = s.bsdf.specular_probability(s.wo);
+        let p = s.p_specular;
+        assert_eq!(p, s.bsdf.specular_probability(s.wo));
         assert!(p > 0.0 && p < 1.0, "{p}");
         assert_eq!(s.continuation_roughness(Vec2::new(0.5 * p, 0.5)), 0.3);
         assert_eq!(s.continuation_roughness(Vec2::new(0.5 + 0.5 * p, 0.5)), 1.0);

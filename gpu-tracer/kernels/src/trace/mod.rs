@@ -421,9 +421,9 @@ pub(crate) fn trace_sample_with<const FEATURES: u32>(
         if sample.pdf <= 0.0 || sample.wi.dot(normal) <= 0.0 {
             break;
         }
-        if params.glossy_regularization > 0.0 {
-            path_roughness = path_roughness_after(path_roughness, shading.continuation_roughness(u_bsdf));
-        }
+        // Unconditional (a compare and a select): a branch on the strength
+        // would cost lavapipe more than the update.
+        path_roughness = path_roughness_after(path_roughness, shading.continuation_roughness(u_bsdf));
         let wi = sample.wi;
         throughput *= sample.weight;
         bsdf_pdf = sample.pdf;
