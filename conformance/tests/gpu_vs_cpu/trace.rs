@@ -55,7 +55,8 @@ fn path_traced_frames_agree_statistically_with_the_cpu_renderer() {
 /// statistically with the CPU renderer, and with the same seeds the frames
 /// agree pixel for pixel up to float rounding, so the GPU runs the same
 /// BSDF code on the same numbers; with path regularisation too (the
-/// roughness floor and the continuing lobe's roughness).
+/// roughness floor and the continuing lobe's roughness), and with ZSobol's
+/// jitter (sharp first hits read vertex 0's pairs from ZSobol).
 #[test]
 fn glossy_frames_agree_with_the_cpu_renderer() {
     let Some(gpu) = Gpu::for_test("glossy_frames_agree_with_the_cpu_renderer") else {
@@ -63,15 +64,25 @@ fn glossy_frames_agree_with_the_cpu_renderer() {
     };
     let scene = gpu_tracer::SceneGpu::build(&gpu_tracer::cornell::cornell_glossy()).unwrap();
     compare_trace_statistics(&gpu, &scene, kernels::abi::SAMPLER_SEEDS, "glossy seeds");
-    for (strength, name) in [(0.0, "glossy seeds"), (0.7, "glossy seeds, regularised 0.7")] {
-        compare_same_seeds_with(
-            &gpu,
-            &scene,
-            kernels::abi::SAMPLER_SEEDS,
-            strength,
+    use kernels::abi::{SAMPLER_JITTER_ONLY, SAMPLER_SEEDS, SAMPLER_ZSOBOL};
+    for (sampler, strength, mode, name) in [
+        (SAMPLER_SEEDS, 0.0, PermuteMode::White, "glossy seeds"),
+        (
+            SAMPLER_SEEDS,
+            0.7,
             PermuteMode::White,
-            name,
-        );
+            "glossy seeds, regularised 0.7",
+        ),
+        // Jitter only: at the spheres (sharp first hits) vertex 0's pairs
+        // come from ZSobol too, the rest from the permuted seeds.
+        (
+            SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY,
+            0.0,
+            PermuteMode::Permute,
+            "glossy zsobol-jitter",
+        ),
+    ] {
+        compare_same_seeds_with(&gpu, &scene, sampler, strength, mode, name);
     }
 }
 

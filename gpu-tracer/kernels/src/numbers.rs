@@ -57,7 +57,16 @@
 //!
 //! With [`SAMPLER_JITTER_ONLY`] set, only pair 0 (the position inside the
 //! pixel) comes from the sampler and everything else from the seed stream:
-//! the seed permutation with a stratified jitter.
+//! the seed permutation with a stratified jitter. At a **sharp first hit**
+//! (a glossy surface seen from the camera,
+//! [`crate::shading::Shading::is_sharp`]) vertex 0's light and BSDF pairs
+//! come from the sampler too ([`PathNumbers::set_sharp_first_hit`]): there a
+//! seed's value does not predict its next one (the reflection moves with the
+//! sample), so the permutation gains nothing from the seed while the
+//! sampler's pairs, one net over frames per pixel with ZSobol, are blue in
+//! time (`QUALITY.md`, "Sharp first hits"). Lambertian and rough surfaces
+//! keep the seed's pairs, so scenes without sharp glossy surfaces render as
+//! before, bit for bit.
 
 use crate::abi::{
     TraceParams, MAX_DEPTH_LIMIT, SAMPLER_FOLLOW_HOMES, SAMPLER_JITTER_ONLY, SAMPLER_KIND_MASK,
@@ -327,6 +336,10 @@ pub struct PathNumbers {
     first_bsdf: Vec2,
     /// 1: use [`Self::first_bsdf`]; 0: the sampler's or stream's pair.
     first_bsdf_set: u32,
+    /// 1: the path's first hit is sharp, and with [`APRIORI_JITTER`] vertex
+    /// 0's light and BSDF pairs come from the a-priori sampler too (module
+    /// docs); 0: not (the start).
+    sharp_first_hit: u32,
 }
 
 impl PathNumbers {
@@ -355,6 +368,18 @@ impl PathNumbers {
             apriori: APRIORI_NONE,
             first_bsdf: Vec2::ZERO,
             first_bsdf_set: 0,
+            sharp_first_hit: 0,
+        }
+    }
+
+    /// Records whether the path's first hit is sharp (module docs): call it
+    /// at every vertex with `sharp` = 1 for a sharp surface at vertex 0, 0
+    /// otherwise, before reading that vertex's pairs (a plain store, so that
+    /// no `PathNumbers` value is chosen between branches in a shader).
+    #[inline]
+    pub fn set_sharp_first_hit(&mut self, depth: u32, sharp: u32) {
+        if depth == 0 {
+            self.sharp_first_hit = sharp;
         }
     }
 
@@ -383,7 +408,9 @@ impl PathNumbers {
     /// dimensions `dim`, `dim + 1`.
     #[inline]
     fn pair(&self, params: &TraceParams, keys: &[u32], pair: u32, dim: u32) -> Vec2 {
-        if self.apriori == APRIORI_ALL || (self.apriori == APRIORI_JITTER && pair == PAIR_JITTER) {
+        let first_vertex = pair == pair_light(0) || pair == pair_bsdf(0);
+        let jitter_scope = pair == PAIR_JITTER || (self.sharp_first_hit == 1 && first_vertex);
+        if self.apriori == APRIORI_ALL || (self.apriori == APRIORI_JITTER && jitter_scope) {
             apriori_pair(params, keys, self.sampler_pixel, self.sample, pair)
         } else {
             self.stream_pair(dim)

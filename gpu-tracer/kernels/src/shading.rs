@@ -43,6 +43,11 @@ use crate::trace_variant::{FULL, SHADING, TEXTURES};
 use core::f32::consts::FRAC_1_PI;
 use glam::{Vec2, Vec3};
 
+/// Perceptual roughness below which a metallic-roughness surface is sharp
+/// ([`Shading::is_sharp`]): 0.75, the glossy first hits of the studies
+/// (`conformance::metrics::surfaces`).
+pub const SHARP_ROUGHNESS: f32 = 0.75;
+
 /// The reflectance at one path vertex (see the module docs).
 #[derive(Clone, Copy, Debug)]
 pub struct Shading {
@@ -146,6 +151,14 @@ impl Shading {
             wo: wo_local,
             p_specular,
         }
+    }
+
+    /// Whether the surface is sharp: metallic-roughness with a perceptual
+    /// roughness below [`SHARP_ROUGHNESS`] (its reflection moves with every
+    /// sample; `crate::numbers`, "sharp first hit"). Lambertian surfaces are not.
+    #[inline]
+    pub fn is_sharp(&self) -> bool {
+        self.glossy && self.bsdf.roughness < SHARP_ROUGHNESS
     }
 
     /// The roughness, in `[0, 1]`, of the lobe that [`Self::sample`] chooses

@@ -239,7 +239,7 @@ pub fn trace_sample(
 pub(crate) fn trace_sample_with<const FEATURES: u32>(
     params: &TraceParams,
     keys: &[u32],
-    numbers: PathNumbers,
+    mut numbers: PathNumbers,
     nodes: &[BvhNodeGpu],
     triangles: &[TriangleGpu],
     materials: &[MaterialGpu],
@@ -358,6 +358,7 @@ pub(crate) fn trace_sample_with<const FEATURES: u32>(
             -ray.dir,
             roughness_floor(params.glossy_regularization, path_roughness),
         );
+        numbers.set_sharp_first_hit(depth, if shading.is_sharp() { 1 } else { 0 });
         let u_light = numbers.light(params, keys, depth);
         let origin = offset_point(point, normal);
 

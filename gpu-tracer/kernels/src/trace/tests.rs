@@ -240,6 +240,58 @@ fn jitter_only_takes_pair_zero_from_the_sampler() {
     );
 }
 
+/// At a sharp first hit, the jitter-only scope takes vertex 0's light and
+/// BSDF pairs from the sampler too, and nothing else; without one the
+/// stream's pairs stay; the full scope is not affected.
+#[test]
+fn a_sharp_first_hit_takes_vertex_zeros_pairs_from_the_sampler() {
+    let keys = test_keys();
+    for sampler in [SAMPLER_SCREEN_SOBOL, SAMPLER_ZSOBOL] {
+        let params = half_lit_params(sampler | SAMPLER_JITTER_ONLY, 1, 3);
+        let full = half_lit_params(sampler, 1, 3);
+        let seeds = half_lit_params(SAMPLER_SEEDS, 1, 3);
+        let pixel = UVec2::new(5, 9);
+        let seed = sampler_core::initial_seed(5, 9, 16, 7);
+        let stream = PathNumbers::new(&seeds, pixel, seed, 0);
+        let mut numbers = PathNumbers::new(&params, pixel, seed, 0);
+        // A later vertex cannot mark the first hit.
+        numbers.set_sharp_first_hit(1, 1);
+        assert_eq!(numbers.light(&params, &keys, 0), stream.light(&seeds, &keys, 0));
+        assert_eq!(numbers.bsdf(&params, &keys, 0), stream.bsdf(&seeds, &keys, 0));
+        numbers.set_sharp_first_hit(0, 1);
+        assert_eq!(
+            numbers.light(&params, &keys, 0),
+            apriori_pair(&full, &keys, pixel, 0, pair_light(0))
+        );
+        assert_eq!(
+            numbers.bsdf(&params, &keys, 0),
+            apriori_pair(&full, &keys, pixel, 0, pair_bsdf(0))
+        );
+        assert_ne!(numbers.bsdf(&params, &keys, 0), stream.bsdf(&seeds, &keys, 0));
+        for depth in 1..3 {
+            assert_eq!(
+                numbers.light(&params, &keys, depth),
+                stream.light(&seeds, &keys, depth)
+            );
+            assert_eq!(
+                numbers.bsdf(&params, &keys, depth),
+                stream.bsdf(&seeds, &keys, depth)
+            );
+        }
+        assert_eq!(
+            numbers.roulette(&params, &keys, 3),
+            stream.roulette(&seeds, &keys, 3)
+        );
+        numbers.set_sharp_first_hit(0, 0);
+        assert_eq!(numbers.bsdf(&params, &keys, 0), stream.bsdf(&seeds, &keys, 0));
+        // The full scope reads the sampler either way.
+        let mut all = PathNumbers::new(&full, pixel, seed, 0);
+        let before = all.bsdf(&full, &keys, 2);
+        all.set_sharp_first_hit(0, 1);
+        assert_eq!(all.bsdf(&full, &keys, 2), before);
+    }
+}
+
 /// Degenerate key layouts never panic: a 1x1 key tile (`key_side_log2`
 /// 0) with any frame reads key 0 for every pixel.
 #[test]
