@@ -22,7 +22,9 @@
 //! rays), for what it costs per ray. `ROUNDS=N` sets the rounds (default 5;
 //! a lavapipe frame takes seconds); `--test` runs one; `SCENES=cornell,
 //! cornell-glossy` keeps only the named scenes (the Cornell box always runs:
-//! it is the baseline); `SMALLEST=1` skips the full-kernel rows.
+//! it is the baseline); `SMALLEST=1` skips the full-kernel rows;
+//! `JITTER=zsobol` takes the pixel jitter (and, at sharp first hits, vertex
+//! 0's pairs) from ZSobol, as the render defaults do, instead of the seeds.
 
 use glam::Vec4;
 use gpu_tracer::cornell::{cornell_box, cornell_glossy};
@@ -71,6 +73,11 @@ fn main() {
     ];
     let wanted = std::env::var("SCENES").ok();
     let smallest_only = std::env::var("SMALLEST").is_ok_and(|v| v == "1");
+    let sampler = if std::env::var("JITTER").is_ok_and(|v| v == "zsobol") {
+        kernels::abi::SAMPLER_ZSOBOL | kernels::abi::SAMPLER_JITTER_ONLY
+    } else {
+        kernels::abi::SAMPLER_SEEDS
+    };
     let tp = TracePipelines::new(&gpu).expect("trace pipelines");
     let pp = PermutePipelines::new(&gpu).expect("permute pipelines");
     let (tile, tables) = (
@@ -92,6 +99,7 @@ fn main() {
         settings.padded_width = layout.padded_width();
         settings.environment = sky;
         settings.glossy_regularization = regularization;
+        settings.sampler = sampler;
         let params = scene.trace_params(&settings, 1).expect("params");
         // Rays of one frame, counted on the CPU.
         let seeds = cpu::white_seeds(settings.padded_width, HEIGHT, 1);
@@ -125,7 +133,12 @@ fn main() {
         }
     }
     println!(
-        "gpu_scenes: {WIDTH}x{HEIGHT}, 1 spp, depth 8, seed stream, {rounds} rounds, on {}",
+        "gpu_scenes: {WIDTH}x{HEIGHT}, 1 spp, depth 8, {}, {rounds} rounds, on {}",
+        if sampler == kernels::abi::SAMPLER_SEEDS {
+            "seed stream"
+        } else {
+            "zsobol jitter"
+        },
         gpu.describe()
     );
     println!("timing: {}", common::timing_name(timer.as_ref()));

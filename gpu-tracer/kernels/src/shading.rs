@@ -326,6 +326,10 @@ mod tests {
         assert_eq!(at(&metal, 0.6).bsdf.roughness, 0.6);
         let rough = MaterialGpu::metallic_roughness(Vec4::new(0.9, 0.9, 0.9, 0.0), 1.0, 0.8);
         assert_eq!(at(&rough, 0.6).bsdf.roughness, 0.8);
+        // Sharp: glossy below SHARP_ROUGHNESS, after any floor.
+        assert!(at(&metal, 0.0).is_sharp());
+        assert!(!at(&metal, 0.8).is_sharp());
+        assert!(!at(&rough, 0.0).is_sharp());
         // The mirror's reflection of `wo` carries far more density unregularised.
         let mirror = Vec3::new(-wo.x, -wo.y, wo.z);
         let (_, sharp) = at(&metal, 0.0).eval_cos(mirror, mirror.z);
@@ -336,6 +340,7 @@ mod tests {
         let u = Vec2::new(0.3, 0.8);
         assert_eq!(at(&lambert, 1.0).sample(u), at(&lambert, 0.0).sample(u));
         assert_eq!(at(&lambert, 1.0).continuation_roughness(u), 1.0);
+        assert!(!at(&lambert, 0.0).is_sharp());
         // A metal's lobe is specular for every number: its roughness continues.
         assert_eq!(at(&metal, 0.0).continuation_roughness(u), 0.1);
         assert_eq!(at(&metal, 0.6).continuation_roughness(u), 0.6);

@@ -212,16 +212,7 @@ fn jitter_only_takes_pair_zero_from_the_sampler() {
                 apriori_pair(&full, &keys, pixel, 0, PAIR_JITTER)
             );
             assert_ne!(numbers.jitter(&params, &keys), stream.jitter(&seeds, &keys));
-            for depth in 0..3 {
-                assert_eq!(
-                    numbers.light(&params, &keys, depth),
-                    stream.light(&seeds, &keys, depth)
-                );
-                assert_eq!(
-                    numbers.bsdf(&params, &keys, depth),
-                    stream.bsdf(&seeds, &keys, depth)
-                );
-            }
+            assert_stream_pairs((&numbers, &params), (&stream, &seeds), &keys, 0..3);
         }
         let img = render(&scene, &params, &keys, seed_of);
         assert_ne!(
@@ -238,6 +229,23 @@ fn jitter_only_takes_pair_zero_from_the_sampler() {
         render(&scene, &params, &keys, seed_of),
         render(&scene, &params, &other, seed_of)
     );
+}
+
+/// `numbers` (under its parameters) reads the same light and BSDF pairs as
+/// the seed-stream `stream` at every vertex of `depths`.
+fn assert_stream_pairs(
+    (numbers, params): (&PathNumbers, &TraceParams),
+    (stream, seeds): (&PathNumbers, &TraceParams),
+    keys: &[u32],
+    depths: core::ops::Range<u32>,
+) {
+    for depth in depths {
+        assert_eq!(
+            numbers.light(params, keys, depth),
+            stream.light(seeds, keys, depth)
+        );
+        assert_eq!(numbers.bsdf(params, keys, depth), stream.bsdf(seeds, keys, depth));
+    }
 }
 
 /// At a sharp first hit, the jitter-only scope takes vertex 0's light and
@@ -268,16 +276,7 @@ fn a_sharp_first_hit_takes_vertex_zeros_pairs_from_the_sampler() {
             apriori_pair(&full, &keys, pixel, 0, pair_bsdf(0))
         );
         assert_ne!(numbers.bsdf(&params, &keys, 0), stream.bsdf(&seeds, &keys, 0));
-        for depth in 1..3 {
-            assert_eq!(
-                numbers.light(&params, &keys, depth),
-                stream.light(&seeds, &keys, depth)
-            );
-            assert_eq!(
-                numbers.bsdf(&params, &keys, depth),
-                stream.bsdf(&seeds, &keys, depth)
-            );
-        }
+        assert_stream_pairs((&numbers, &params), (&stream, &seeds), &keys, 1..3);
         assert_eq!(
             numbers.roulette(&params, &keys, 3),
             stream.roulette(&seeds, &keys, 3)
