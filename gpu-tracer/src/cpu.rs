@@ -253,14 +253,7 @@ fn check_params(scene: &SceneGpu, p: &TraceParams) -> Result<()> {
             });
         }
     }
-    if !(0.0..=1.0).contains(&p.glossy_regularization) {
-        return Err(Error::InvalidSetting {
-            name: "glossy_regularization",
-            value: p.glossy_regularization,
-            expected: "a strength in [0, 1] (0: off)",
-        });
-    }
-    Ok(())
+    crate::scene::check_glossy_regularization(p.glossy_regularization)
 }
 
 #[cfg(test)]

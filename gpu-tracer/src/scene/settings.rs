@@ -58,6 +58,22 @@ pub fn screen_sobol_max_spp() -> u32 {
     1 << (sampler_core::defaults::screen_sobol_keys().layout().levels - 1)
 }
 
+/// [`Error::InvalidSetting`] unless `strength` is a path regularisation
+/// strength in `[0, 1]` (NaN refused): the one check of
+/// [`TraceSettings::glossy_regularization`] and of the CPU renderer's
+/// parameters.
+pub(crate) fn check_glossy_regularization(strength: f32) -> Result<()> {
+    if (0.0..=1.0).contains(&strength) {
+        Ok(())
+    } else {
+        Err(Error::InvalidSetting {
+            name: "glossy_regularization",
+            value: strength,
+            expected: "a strength in [0, 1] (0: off)",
+        })
+    }
+}
+
 impl TraceSettings {
     /// Settings for a `width x height` frame with an unpadded seed buffer,
     /// 1 spp, max depth 8, Russian roulette from vertex 3 and
@@ -125,13 +141,7 @@ impl SceneGpu {
                 });
             }
         }
-        if !(0.0..=1.0).contains(&s.glossy_regularization) {
-            return Err(Error::InvalidSetting {
-                name: "glossy_regularization",
-                value: s.glossy_regularization,
-                expected: "a strength in [0, 1] (0: off)",
-            });
-        }
+        check_glossy_regularization(s.glossy_regularization)?;
         if self.environment_map.width > 0 && s.environment != glam::Vec3::ZERO {
             return Err(Error::InvalidSetting {
                 name: "environment",
