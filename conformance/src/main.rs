@@ -118,7 +118,7 @@ enum Command {
         /// it). Default: every row. Keys: white, permute, permute-reproject,
         /// permute-jitter-reproject, feature-permute-reproject, screen-sobol,
         /// spatiotemporal, spatiotemporal-follow, spatiotemporal-kronecker-follow,
-        /// zsobol, temporal-permute-jitter, temporal-permute-jitter-reproject,
+        /// zsobol, zsobol-follow, temporal-permute-jitter, temporal-permute-jitter-reproject,
         /// feature-temporal-permute-jitter-reproject,
         /// temporal-permute-jitter-reproject-fast.
         #[arg(long, value_delimiter = ',')]
@@ -141,6 +141,10 @@ enum Command {
         /// Also write the tables to this file.
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Salt of the white-noise seeds every row starts from (the scatter
+        /// between salts shows how far single runs can be trusted).
+        #[arg(long, default_value_t = 1)]
+        salt: u32,
         /// Do not read or write the reference cache under target/quality-cache.
         #[arg(long)]
         no_cache: bool,
@@ -263,6 +267,7 @@ fn main() -> Result<()> {
             object_speed,
             sway_period,
             history_fetch,
+            salt,
             out,
             no_cache,
         } => {
@@ -271,6 +276,7 @@ fn main() -> Result<()> {
                 max_depth,
                 sway_period,
                 history_fetch,
+                salt,
                 ..MotionConfig::new(size, frames, ref_spp)
             };
             let mut cases: Vec<MotionCase> = speeds

@@ -12,7 +12,10 @@ use crate::motion::{seed_reprojection_motion, write_visibility};
 use crate::scene::{SceneGpu, TraceSettings};
 use crate::timeline::SceneSequence;
 use glam::{UVec2, Vec4};
-use kernels::abi::{GBufferGpu, SAMPLER_FOLLOW_HOMES, SAMPLER_KIND_MASK, SAMPLER_SPATIOTEMPORAL};
+use kernels::abi::{
+    GBufferGpu, SAMPLER_FOLLOW_HOMES, SAMPLER_JITTER_ONLY, SAMPLER_KIND_MASK, SAMPLER_SPATIOTEMPORAL,
+    SAMPLER_ZSOBOL, SEED_MODE_ADVANCE,
+};
 use sampler_core::sequences::spatiotemporal::write_initial_homes;
 use sampler_core::{DitherTile, FeatureThresholds, FrameLayout, RetargetTables, SliceTables};
 use std::fmt;
@@ -249,8 +252,10 @@ impl RenderJob {
     }
 
     /// Checks the job before any work: its layout, and the
-    /// settings its mode needs. [`PermuteMode::Hold`] needs the
-    /// spatiotemporal sampler; [`PermuteMode::Temporal`] needs the
+    /// settings its mode needs. [`PermuteMode::Hold`] needs a sampler
+    /// that draws every decision from per-pixel data a home can carry: the
+    /// spatiotemporal one, or ZSobol without `SAMPLER_JITTER_ONLY`;
+    /// [`PermuteMode::Temporal`] needs the
     /// [`TileChoice::TEMPORAL`] tile (the side of the slices of
     /// `sampler_core::defaults::temporal_target`, which it sorts against)
     /// and a sampler that reads the seeds (not the spatiotemporal one); it
@@ -266,11 +271,14 @@ impl RenderJob {
         }
         let layout = self.layout()?;
         let spatiotemporal = self.settings.sampler & SAMPLER_KIND_MASK == SAMPLER_SPATIOTEMPORAL;
+        let zsobol_everywhere = self.settings.sampler & SAMPLER_KIND_MASK == SAMPLER_ZSOBOL
+            && self.settings.sampler & SAMPLER_JITTER_ONLY == 0;
         let incompatible = |what: &str| Err(RenderError::Incompatible(what.into()));
         match self.mode {
-            PermuteMode::Hold if !spatiotemporal => incompatible(
+            PermuteMode::Hold if !(spatiotemporal || zsobol_everywhere) => incompatible(
                 "the hold mode keeps every pixel's numbers from frame to frame; only the spatiotemporal \
-                 sampler, which advances its own sequence every frame, can use it",
+                 sampler and ZSobol on every decision, which advance their own sequence every frame, can \
+                 use it",
             ),
             PermuteMode::Temporal if self.tile != TileChoice::TEMPORAL => incompatible(
                 "the temporal mode sorts against the 64x64 slices of its default target: it needs the 64 \
@@ -302,16 +310,22 @@ impl RenderJob {
     }
 
     /// The trace settings of this job on `layout`: padded to it, and with
-    /// [`PermuteMode::Hold`] the spatiotemporal sampler told that the seed
-    /// buffer holds homes ([`SAMPLER_FOLLOW_HOMES`]).
+    /// [`PermuteMode::Hold`] the sampler told that the seed buffer holds
+    /// homes ([`SAMPLER_FOLLOW_HOMES`]) and the homes' streams advanced by
+    /// frame ([`SEED_MODE_ADVANCE`]: a home is fixed, so the numbers the
+    /// sampler leaves to the stream, ZSobol's Russian roulette, would
+    /// otherwise repeat every frame; the spatiotemporal sampler reads none).
     fn settings_for(&self, layout: &FrameLayout) -> TraceSettings {
         let mut sampler = self.settings.sampler & !SAMPLER_FOLLOW_HOMES;
+        let mut seed_mode = self.settings.seed_mode;
         if self.mode == PermuteMode::Hold {
             sampler |= SAMPLER_FOLLOW_HOMES;
+            seed_mode = SEED_MODE_ADVANCE;
         }
         TraceSettings {
             padded_width: layout.padded_width(),
             sampler,
+            seed_mode,
             ..self.settings
         }
     }
@@ -621,167 +635,4 @@ pub fn render_sequence_gpu(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::camera_path::{CameraPath, CameraPathKind};
-    use crate::cornell::cornell_box;
-    use crate::timeline::Timeline;
-
-    fn job(sampler: u32, mode: PermuteMode) -> RenderJob {
-        let mut settings = TraceSettings::new(24, 20);
-        settings.sampler = sampler;
-        settings.max_depth = 3;
-        RenderJob {
-            settings,
-            frames: 4,
-            mode,
-            block: 4,
-            tile: TileChoice::Tile64,
-            salt: 0,
-        }
-    }
-
-    /// With nothing moving, the hold mode's homes are the pixels: the same
-    /// image, bit for bit, as the spatiotemporal sampler reading its shifts
-    /// at the pixels (white mode, whose seeds it does not read).
-    #[test]
-    fn a_still_hold_is_the_screen_fixed_sampler() {
-        let scene = SceneGpu::build(&cornell_box()).unwrap();
-        let hold = render_cpu(&scene, &job(SAMPLER_SPATIOTEMPORAL, PermuteMode::Hold), |_, _| {}).unwrap();
-        let white = render_cpu(
-            &scene,
-            &job(SAMPLER_SPATIOTEMPORAL, PermuteMode::White),
-            |_, _| {},
-        )
-        .unwrap();
-        assert_eq!(hold.last, white.last);
-        assert_eq!(hold.mean, white.mean);
-        assert!(hold.mean.iter().any(|c| c.x > 0.0), "the Cornell box renders");
-    }
-
-    /// A camera panning `speed` pixels a frame at the back wall.
-    fn pan_at(speed: f32) -> Timeline {
-        Timeline {
-            camera_path: Some(CameraPath {
-                kind: CameraPathKind::Pan,
-                speed,
-            }),
-            ..Timeline::still()
-        }
-    }
-
-    /// In motion, reprojection moves the homes: the frames after the first
-    /// differ from those of homes left at their pixels, and the first agrees.
-    #[test]
-    fn reprojection_moves_the_homes_in_motion() {
-        let base = cornell_box();
-        let timeline = pan_at(1.5);
-        let job = job(SAMPLER_SPATIOTEMPORAL, PermuteMode::Hold);
-        let mut frames = [Vec::new(), Vec::new()];
-        for (k, reproject) in [false, true].into_iter().enumerate() {
-            let mut sequence = SceneSequence::new(&base, timeline.clone(), 20).unwrap();
-            let options = SequenceOptions {
-                reproject,
-                ..SequenceOptions::default()
-            };
-            render_sequence_cpu(&mut sequence, &job, options, |f| frames[k].push(f.color.to_vec())).unwrap();
-        }
-        assert_eq!(frames[0][0], frames[1][0]);
-        assert_ne!(frames[0][3], frames[1][3]);
-    }
-
-    /// Seeds of surfaces slower than `reproject_hold_below` stay: with the
-    /// threshold above the pan's 1.5 px/frame the frames are those of no
-    /// reprojection, bit for bit; at 0 they are the reprojected ones, and
-    /// below the pan's speed they differ from no reprojection; a NaN,
-    /// infinite or negative threshold is refused.
-    #[test]
-    fn slow_surfaces_keep_their_seeds_under_reprojection() {
-        let base = cornell_box();
-        let timeline = pan_at(1.5);
-        let job = job(kernels::abi::SAMPLER_SEEDS, PermuteMode::Temporal);
-        let render = |reproject: bool, hold_below: f32| {
-            let mut sequence = SceneSequence::new(&base, timeline.clone(), 20).unwrap();
-            let options = SequenceOptions {
-                reproject,
-                reproject_hold_below: hold_below,
-                ..SequenceOptions::default()
-            };
-            let mut frames = Vec::new();
-            render_sequence_cpu(&mut sequence, &job, options, |f| frames.push(f.color.to_vec()))
-                .map(|_| frames)
-        };
-        let still_seeds = render(false, 0.0).unwrap();
-        let followed = render(true, 0.0).unwrap();
-        assert_ne!(followed[3], still_seeds[3]);
-        assert_eq!(render(true, 100.0).unwrap(), still_seeds);
-        // Below the walls' 1.5 px/frame: they follow (the background,
-        // still under a pan, holds).
-        assert_ne!(render(true, 1.0).unwrap()[3], still_seeds[3]);
-        for bad in [f32::NAN, -1.0, f32::INFINITY] {
-            let e = render(true, bad).unwrap_err();
-            assert!(matches!(e, RenderError::BadOption(_)), "{e}");
-        }
-    }
-
-    /// The temporal mode renders on the CPU: its first frame is the
-    /// permutation's (the same white seeds), later ones differ (another
-    /// sorting target); with the feature-aware permutation too, the first
-    /// frame again and later ones its own; it refuses the 128 tile and the
-    /// spatiotemporal sampler before any work.
-    #[test]
-    fn temporal_mode_renders_and_refuses_what_it_cannot_take() {
-        let scene = SceneGpu::build(&cornell_box()).unwrap();
-        let features = SequenceOptions {
-            features: true,
-            ..SequenceOptions::default()
-        };
-        let mut frames = [Vec::new(), Vec::new(), Vec::new()];
-        for (k, (mode, options)) in [
-            (PermuteMode::Permute, SequenceOptions::default()),
-            (PermuteMode::Temporal, SequenceOptions::default()),
-            (PermuteMode::Temporal, features),
-        ]
-        .into_iter()
-        .enumerate()
-        {
-            let mut sequence = SceneSequence::still(&scene, 20);
-            let job = job(kernels::abi::SAMPLER_SEEDS, mode);
-            render_sequence_cpu(&mut sequence, &job, options, |f| frames[k].push(f.color.to_vec())).unwrap();
-        }
-        assert_eq!(frames[0][0], frames[1][0]);
-        assert_eq!(frames[0][0], frames[2][0]);
-        assert_ne!(frames[0][2], frames[1][2]);
-        assert_ne!(frames[1][2], frames[2][2]);
-        let temporal = job(kernels::abi::SAMPLER_SEEDS, PermuteMode::Temporal);
-        let tile128 = RenderJob {
-            tile: TileChoice::Tile128,
-            ..temporal
-        };
-        let spatiotemporal = job(SAMPLER_SPATIOTEMPORAL, PermuteMode::Temporal);
-        for (job, says) in [(tile128, "64 tile"), (spatiotemporal, "spatiotemporal sampler")] {
-            let e = job.validate().unwrap_err();
-            assert!(
-                matches!(e, RenderError::Incompatible(_)) && e.to_string().contains(says),
-                "{e}"
-            );
-        }
-    }
-
-    /// The hold mode with a sampler that reads the seeds is refused before
-    /// any work.
-    #[test]
-    fn hold_needs_the_spatiotemporal_sampler() {
-        let scene = SceneGpu::build(&cornell_box()).unwrap();
-        let mut frames = 0;
-        let e = render_cpu(
-            &scene,
-            &job(kernels::abi::SAMPLER_SEEDS, PermuteMode::Hold),
-            |_, _| frames += 1,
-        )
-        .unwrap_err();
-        assert!(matches!(e, RenderError::Incompatible(_)), "{e}");
-        assert!(e.to_string().contains("spatiotemporal"), "{e}");
-        assert_eq!(frames, 0);
-    }
-}
+mod tests;

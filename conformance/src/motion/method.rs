@@ -31,6 +31,11 @@ pub enum MotionMethod {
     /// White seeds and ZSobol on every 2D decision (`--sampler zsobol`): its
     /// frames digital shifts of one net, each pixel's point fixed on the screen.
     ZSobol,
+    /// ZSobol on every 2D decision with its homes moved along the motion
+    /// (`--mode hold --sampler zsobol` with reprojection): each surface point
+    /// keeps its pixel's point of the net, so a history that follows the
+    /// surface reads one pixel's sequence of frames.
+    ZSobolFollow,
     /// The temporal permutation (`--mode temporal`, the 64 tile) with ZSobol's
     /// jitter (`--sampler zsobol-jitter`), seeds left at their pixels when
     /// things move: the render defaults with `--reproject off`.
@@ -49,7 +54,7 @@ pub enum MotionMethod {
 
 impl MotionMethod {
     /// Every row, white first.
-    pub const ALL: [MotionMethod; 14] = [
+    pub const ALL: [MotionMethod; 15] = [
         MotionMethod::White,
         MotionMethod::Permute,
         MotionMethod::PermuteReproject,
@@ -60,6 +65,7 @@ impl MotionMethod {
         MotionMethod::SpatiotemporalFollow,
         MotionMethod::SpatiotemporalKroneckerFollow,
         MotionMethod::ZSobol,
+        MotionMethod::ZSobolFollow,
         MotionMethod::TemporalPermuteJitter,
         MotionMethod::TemporalPermuteJitterReproject,
         MotionMethod::FeatureTemporalPermuteJitterReproject,
@@ -81,6 +87,7 @@ impl MotionMethod {
             MotionMethod::SpatiotemporalFollow => "spatiotemporal-follow",
             MotionMethod::SpatiotemporalKroneckerFollow => "spatiotemporal-kronecker-follow",
             MotionMethod::ZSobol => "zsobol",
+            MotionMethod::ZSobolFollow => "zsobol-follow",
             MotionMethod::TemporalPermuteJitter => "temporal-permute-jitter",
             MotionMethod::TemporalPermuteJitterReproject => "temporal-permute-jitter-reproject",
             MotionMethod::FeatureTemporalPermuteJitterReproject => {
@@ -128,6 +135,7 @@ impl MotionMethod {
             MotionMethod::SpatiotemporalFollow => "spatiotemporal, shifts follow (hold + reprojection)",
             MotionMethod::SpatiotemporalKroneckerFollow => "spatiotemporal-kronecker, shifts follow",
             MotionMethod::ZSobol => "zsobol",
+            MotionMethod::ZSobolFollow => "zsobol, points follow (hold + reprojection)",
             MotionMethod::TemporalPermuteJitter => "temporal-permute + zsobol jitter, no reprojection",
             MotionMethod::TemporalPermuteJitterReproject => "temporal-permute + zsobol jitter + reprojection",
             MotionMethod::FeatureTemporalPermuteJitterReproject => {
@@ -175,6 +183,10 @@ impl MotionMethod {
             MotionMethod::ZSobol => {
                 settings.sampler = kernels::abi::SAMPLER_ZSOBOL;
                 (PermuteMode::White, false)
+            }
+            MotionMethod::ZSobolFollow => {
+                settings.sampler = kernels::abi::SAMPLER_ZSOBOL;
+                (PermuteMode::Hold, true)
             }
             MotionMethod::TemporalPermuteJitter => {
                 settings.sampler = kernels::abi::SAMPLER_ZSOBOL | kernels::abi::SAMPLER_JITTER_ONLY;

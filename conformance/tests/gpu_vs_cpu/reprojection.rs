@@ -241,3 +241,86 @@ fn slow_surfaces_keep_their_seeds_on_the_gpu() {
     assert_ne!(followed[3], still_seeds[3], "reprojection moved no seed");
     assert!(render(true, 100.0) == still_seeds, "held seeds moved on the GPU");
 }
+
+/// ZSobol's homes on the GPU (`--mode hold --sampler zsobol`, a pan with
+/// reprojection): the frames agree with the CPU's pixel for pixel up to
+/// float rounding (so the GPU moves the homes and reads ZSobol's point at
+/// them as the CPU does), and differ from those of homes left at their
+/// pixels.
+#[test]
+fn zsobol_homes_follow_a_pan_on_the_gpu_as_on_the_cpu() {
+    use gpu_tracer::camera_path::{CameraPath, CameraPathKind};
+    use gpu_tracer::render::{render_sequence_cpu, render_sequence_gpu, FrameView, SequenceOptions};
+    use gpu_tracer::timeline::{SceneSequence, Timeline};
+    use gpu_tracer::{cornell::cornell_box, RenderJob, TileChoice, TraceSettings};
+    let Some(gpu) = Gpu::for_test("zsobol_homes_follow_a_pan_on_the_gpu_as_on_the_cpu") else {
+        return;
+    };
+    let base = cornell_box();
+    let timeline = Timeline {
+        camera_path: Some(CameraPath {
+            kind: CameraPathKind::Pan,
+            speed: 1.5,
+        }),
+        ..Timeline::still()
+    };
+    let mut settings = TraceSettings::new(24, 20);
+    settings.max_depth = 3;
+    settings.sampler = kernels::abi::SAMPLER_ZSOBOL;
+    let job = RenderJob {
+        settings,
+        frames: 4,
+        mode: gpu_tracer::PermuteMode::Hold,
+        block: 4,
+        tile: TileChoice::Tile64,
+        salt: 3,
+    };
+    let options = |reproject: bool| SequenceOptions {
+        reproject,
+        ..SequenceOptions::default()
+    };
+    let gpu_render = |reproject: bool| {
+        let mut sequence = SceneSequence::new(&base, timeline.clone(), 20).unwrap();
+        let mut frames = Vec::new();
+        let mut collect = |f: &FrameView<'_>| frames.push(f.color.to_vec());
+        render_sequence_gpu(
+            &gpu,
+            &mut sequence,
+            &job,
+            options(reproject),
+            |_| {},
+            Some(&mut collect),
+        )
+        .unwrap();
+        frames
+    };
+    let mut sequence = SceneSequence::new(&base, timeline.clone(), 20).unwrap();
+    let mut cpu_frames = Vec::new();
+    render_sequence_cpu(&mut sequence, &job, options(true), |f| {
+        cpu_frames.push(f.color.to_vec())
+    })
+    .unwrap();
+    let followed = gpu_render(true);
+    assert_eq!(followed.len(), 4);
+    let (mut close, mut total) = (0usize, 0usize);
+    for (a, b) in cpu_frames.iter().zip(&followed) {
+        for (p, q) in a.iter().zip(b) {
+            total += 1;
+            if (*p - *q).abs().max_element() <= 1e-3 * (1.0 + p.abs().max_element()) {
+                close += 1;
+            }
+        }
+    }
+    let frac = close as f64 / total as f64;
+    eprintln!(
+        "zsobol homes: {:.2}% of {total} pixel-frames equal within 1e-3",
+        100.0 * frac
+    );
+    assert_eq!(total, 24 * 20 * 4);
+    assert!(frac > 0.95, "only {:.2}% of pixel-frames agree", 100.0 * frac);
+    assert_ne!(
+        followed[3],
+        gpu_render(false)[3],
+        "the homes did not move on the GPU"
+    );
+}

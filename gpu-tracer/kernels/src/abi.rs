@@ -191,13 +191,16 @@ pub const SPATIOTEMPORAL_TILE_LOG2: u32 = 6;
 /// jitter along rows and columns (QUALITY.md, "Permutation with a-priori
 /// jitter").
 pub const SAMPLER_JITTER_ONLY: u32 = 1 << 8;
-/// Flag of [`TraceParams::sampler`], ORed with [`SAMPLER_SPATIOTEMPORAL`]:
-/// the seed buffer (binding 4) holds each pixel's **home**
-/// (`sampler_core::sequences::spatiotemporal::home_of_pixel`), not a seed,
-/// and the pixel reads its shift where the home says instead of at its own
-/// position. The host starts the homes at the pixels and, when things move,
-/// moves them like seeds with the seed reprojection, so the pixels that
-/// follow a surface keep its shift. Ignored with the other samplers.
+/// Flag of [`TraceParams::sampler`], ORed with [`SAMPLER_SPATIOTEMPORAL`] or
+/// [`SAMPLER_ZSOBOL`]: the seed buffer (binding 4) holds each pixel's
+/// **home** (`sampler_core::sequences::spatiotemporal::home_of_pixel`), not a
+/// seed, and the pixel reads its per-pixel sampler data (the spatiotemporal
+/// shift, ZSobol's point) where the home says instead of at its own position.
+/// The host starts the homes at the pixels and, when things move, moves them
+/// like seeds with the seed reprojection, so the pixels that follow a surface
+/// keep its sequence over frames. Numbers still read from the seed stream
+/// (ZSobol's Russian roulette) then come from the home's stream, which the
+/// host advances by frame (`seed_mode` 1). Ignored with the other samplers.
 pub const SAMPLER_FOLLOW_HOMES: u32 = 1 << 9;
 /// Flag of [`TraceParams::sampler`], ORed with [`SAMPLER_SPATIOTEMPORAL`]:
 /// every pixel continues the Kronecker sequence `frac(n g_k)` of

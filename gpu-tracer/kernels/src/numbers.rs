@@ -325,7 +325,8 @@ pub struct PathNumbers {
     pub(crate) pixel: UVec2,
     /// Where the a-priori sampler reads its per-pixel data: [`Self::pixel`],
     /// or the home the seed holds with [`SAMPLER_FOLLOW_HOMES`]
-    /// ([`SAMPLER_SPATIOTEMPORAL`] only; see [`sampler_position`]).
+    /// ([`SAMPLER_SPATIOTEMPORAL`] and [`SAMPLER_ZSOBOL`]; see
+    /// [`sampler_position`]).
     sampler_pixel: UVec2,
     /// Sample index `s` within the frame.
     sample: u32,
@@ -462,12 +463,15 @@ impl PathNumbers {
 
 /// The position the a-priori sampler reads its per-pixel data at for
 /// `pixel` whose seed-buffer entry is `seed`: with [`SAMPLER_SPATIOTEMPORAL`]
-/// and [`SAMPLER_FOLLOW_HOMES`], the position the home `seed` holds names
-/// (`sampler_core::sequences::spatiotemporal::home_texel`); otherwise
+/// or [`SAMPLER_ZSOBOL`] and [`SAMPLER_FOLLOW_HOMES`], the position the home
+/// `seed` holds names (`sampler_core::sequences::spatiotemporal::home_texel`:
+/// the spatiotemporal shift, or ZSobol's point of that pixel); otherwise
 /// `pixel`.
 #[inline]
 pub fn sampler_position(params: &TraceParams, pixel: UVec2, seed: u32) -> UVec2 {
-    if sampler_kind(params) == SAMPLER_SPATIOTEMPORAL && params.sampler & SAMPLER_FOLLOW_HOMES != 0 {
+    let kind = sampler_kind(params);
+    let follows = kind == SAMPLER_SPATIOTEMPORAL || kind == SAMPLER_ZSOBOL;
+    if follows && params.sampler & SAMPLER_FOLLOW_HOMES != 0 {
         home_texel(seed)
     } else {
         pixel

@@ -31,9 +31,10 @@ pub enum PermuteMode {
     Permute,
     /// Nothing between frames: the buffer is written once and kept (moved
     /// along the motion with reprojection). Only for the spatiotemporal
-    /// sampler, whose buffer then holds the pixels' homes
-    /// (`kernels::abi::SAMPLER_FOLLOW_HOMES`), not seeds: it draws every
-    /// number itself and advances its own sequence every frame.
+    /// sampler and ZSobol on every decision, whose buffer then holds the
+    /// pixels' homes (`kernels::abi::SAMPLER_FOLLOW_HOMES`), not seeds: they
+    /// draw their numbers from per-pixel data read at the home and advance
+    /// their own sequence every frame.
     Hold,
     /// The temporally blue permutation (`sampler_core::permute_frame_temporal`):
     /// after frame `t`, the sorting pass ranks against slice `t mod D` of a

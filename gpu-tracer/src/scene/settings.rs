@@ -167,9 +167,11 @@ impl SceneGpu {
                     && (flags == 0
                         || (flags == SAMPLER_JITTER_ONLY && kind != kernels::abi::SAMPLER_SEEDS)
                         || (flags & !(kernels::abi::SAMPLER_FOLLOW_HOMES | kernels::abi::SAMPLER_KRONECKER) == 0
-                            && kind == kernels::abi::SAMPLER_SPATIOTEMPORAL)),
+                            && kind == kernels::abi::SAMPLER_SPATIOTEMPORAL)
+                        || (flags == kernels::abi::SAMPLER_FOLLOW_HOMES && kind == kernels::abi::SAMPLER_ZSOBOL)),
                 "0 (seeds), 1 (screen-sobol), 2 (zsobol) or 3 (spatiotemporal), the last three optionally ORed \
-                 with 256 (jitter only), spatiotemporal also with 512 (homes) and 1024 (Kronecker sequence)",
+                 with 256 (jitter only), zsobol and spatiotemporal also with 512 (homes), spatiotemporal also \
+                 with 1024 (Kronecker sequence)",
             ),
             (
                 "spp",
@@ -295,8 +297,13 @@ mod tests {
                 sampler: SAMPLER_JITTER_ONLY,
                 ..ok
             },
+            // Homes: ZSobol on every decision and the spatiotemporal sampler only.
             TraceSettings {
-                sampler: SAMPLER_ZSOBOL | 1 << 9,
+                sampler: SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY | 1 << 9,
+                ..ok
+            },
+            TraceSettings {
+                sampler: SAMPLER_SCREEN_SOBOL | 1 << 9,
                 ..ok
             },
             TraceSettings {
@@ -345,6 +352,7 @@ mod tests {
             (SAMPLER_ZSOBOL, 256),
             (SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY, 16),
             (SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY, 256),
+            (SAMPLER_ZSOBOL | 1 << 9, 256),
             (kernels::abi::SAMPLER_SPATIOTEMPORAL, 4096),
         ] {
             let p = gpu

@@ -91,6 +91,10 @@ fn bad_input_fails_with_a_clear_message_and_writes_nothing() {
             "only --sampler spatiotemporal",
         ),
         (
+            vec!["--mode", "hold", "--sampler", "zsobol-jitter"],
+            "and --sampler zsobol, which advance",
+        ),
+        (
             vec!["--sampler", "spatiotemporal", "--mode", "permute"],
             "nothing to permute with --sampler spatiotemporal",
         ),

@@ -60,6 +60,7 @@ fn cpu_render_with_each_apriori_sampler() {
         ("zsobol-jitter", "permute"),
         ("spatiotemporal", "white"),
         ("spatiotemporal", "hold"),
+        ("zsobol", "hold"),
     ] {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("out");

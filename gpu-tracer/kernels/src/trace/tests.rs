@@ -306,6 +306,44 @@ fn screen_sobol_with_a_one_texel_tile_does_not_overflow() {
     assert!((0.0..1.0).contains(&a.x) && (0.0..1.0).contains(&a.y));
 }
 
+/// With `SAMPLER_FOLLOW_HOMES` the spatiotemporal sampler and ZSobol read
+/// their per-pixel data at the home the seed-buffer entry names, so a
+/// pixel's jitter is the home pixel's; without the flag, and for the other
+/// samplers, at the pixel itself.
+#[test]
+fn homes_move_the_zsobol_and_spatiotemporal_points() {
+    use crate::abi::{SAMPLER_FOLLOW_HOMES, SAMPLER_SPATIOTEMPORAL};
+    use sampler_core::sequences::spatiotemporal::home_of_pixel;
+    let keys = test_keys();
+    let (pixel, home) = (UVec2::new(5, 9), UVec2::new(12, 3));
+    let seed = home_of_pixel(home.x, home.y);
+    for sampler in [
+        SAMPLER_SEEDS,
+        SAMPLER_SCREEN_SOBOL,
+        SAMPLER_ZSOBOL,
+        SAMPLER_SPATIOTEMPORAL,
+    ] {
+        let plain = half_lit_params(sampler, 1, 6);
+        let homes = TraceParams {
+            sampler: sampler | SAMPLER_FOLLOW_HOMES,
+            ..plain
+        };
+        let follows = sampler == SAMPLER_ZSOBOL || sampler == SAMPLER_SPATIOTEMPORAL;
+        assert_eq!(sampler_position(&plain, pixel, seed), pixel, "sampler {sampler}");
+        let want = if follows { home } else { pixel };
+        assert_eq!(sampler_position(&homes, pixel, seed), want, "sampler {sampler}");
+        if follows {
+            let jitter = PathNumbers::new(&homes, pixel, seed, 0).jitter(&homes, &keys);
+            assert_eq!(jitter, apriori_pair(&plain, &keys, home, 0, PAIR_JITTER));
+        }
+        if sampler == SAMPLER_ZSOBOL {
+            // (The test keys hold no spatiotemporal shift tile worth telling apart.)
+            let jitter = PathNumbers::new(&homes, pixel, seed, 0).jitter(&homes, &keys);
+            assert_ne!(jitter, apriori_pair(&plain, &keys, pixel, 0, PAIR_JITTER));
+        }
+    }
+}
+
 /// The pair layout: jitter 0, then light and BSDF of each vertex.
 #[test]
 fn apriori_pair_layout() {

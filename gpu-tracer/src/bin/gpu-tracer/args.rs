@@ -140,8 +140,9 @@ pub(crate) struct RenderArgs {
     /// default: sort against slice `t mod 64` of the default spatiotemporal
     /// mask, retarget to the next slice: blue in time too; 64 tile; with
     /// `--features on` sorted in groups of one surface and cut at edges) or
-    /// `hold` (default with `--sampler spatiotemporal`, the only sampler it
-    /// takes: each pixel's shift stays with it, and follows the motion with
+    /// `hold` (default with `--sampler spatiotemporal`; takes it and
+    /// `--sampler zsobol`: each pixel's sampler data, the spatiotemporal
+    /// shift or ZSobol's point, stays with it, and follows the motion with
     /// reprojection).
     #[arg(long, value_enum)]
     pub(crate) mode: Option<ModeArg>,
@@ -204,8 +205,8 @@ pub(crate) enum ModeArg {
     Sort,
     /// Sorting + retargeting.
     Permute,
-    /// Nothing between frames; the spatiotemporal sampler's homes follow the
-    /// motion with reprojection.
+    /// Nothing between frames; the spatiotemporal sampler's or ZSobol's homes
+    /// follow the motion with reprojection.
     Hold,
     /// Sorting against the frame's slice of the default spatiotemporal mask
     /// + retargeting to the next slice (blue in time).

@@ -55,10 +55,12 @@ fn render(args: RenderArgs) -> Result<()> {
         args.sampler,
         Some(SamplerArg::Spatiotemporal | SamplerArg::SpatiotemporalKronecker)
     );
+    let holds = spatiotemporal || matches!(args.sampler, Some(SamplerArg::Zsobol));
     match (args.mode, spatiotemporal) {
-        (Some(ModeArg::Hold), false) if args.sampler.is_some() => bail!(
-            "--mode hold keeps every pixel's numbers from frame to frame: only --sampler spatiotemporal, \
-             which advances its own sequence every frame, can use it"
+        (Some(ModeArg::Hold), _) if args.sampler.is_some() && !holds => bail!(
+            "--mode hold keeps every pixel's numbers from frame to frame: only --sampler spatiotemporal \
+             (or spatiotemporal-kronecker) and --sampler zsobol, which advance their own sequence every \
+             frame, can use it"
         ),
         (Some(m @ (ModeArg::Sort | ModeArg::Permute | ModeArg::Temporal)), true) => bail!(
             "--mode {} has nothing to permute with --sampler spatiotemporal, which draws every number \
