@@ -40,7 +40,7 @@
 //! Every frame is compared with a reference of the same pose
 //! ([`crate::study::reference::Reference::get_named`], two halves of `ref_spp / 2` samples),
 //! cached in [`crate::study::reference::default_cache_dir`] under a name holding
-//! [`crate::study::reference::pose_key`] (camera, geometry, settings). The sway repeats its
+//! [`crate::study::reference::pose_key`] (renderer, camera, scene, settings). The sway repeats its
 //! poses, so a sequence renders only its distinct poses.
 //!
 //! # Figures (all relative to white's run of the same sequence: white = 1)

@@ -5,8 +5,11 @@
 //! [`crate::study`] and [`crate::motion`] to correct accumulated errors).
 //! References are cached as raw little-endian `f32` files under
 //! [`default_cache_dir`]; the file name holds everything the image depends on (the
-//! static study's names spell the settings out, the motion study's add a hash of the
-//! pose: [`pose_key`]).
+//! static study's names spell the settings out and add a hash of the renderer and
+//! the scene, [`scene_key`]; the motion study's hash the pose too, [`pose_key`]).
+//! Without the renderer's hash a reference cached before a change to the kernels
+//! would be read back after it, and every figure measured against it would carry
+//! the difference as error.
 
 use super::config::StudyConfig;
 use anyhow::{ensure, Result};
@@ -40,7 +43,8 @@ const CACHE_MAGIC: &[u8; 8] = b"BNREF01\0";
 
 impl Reference {
     /// Renders (or loads from `cache_dir`) the reference for `config`. The file name
-    /// holds every setting the image depends on.
+    /// holds every setting the image depends on, and [`scene_key`]: a reference
+    /// rendered by another renderer or of another scene is never read back.
     ///
     /// # Errors
     /// Rendering errors; cache I/O errors are ignored (the image is then rendered).
@@ -56,12 +60,13 @@ impl Reference {
             String::new()
         };
         let name = format!(
-            "{scene}-ref-{s}x{s}-spp{r}-depth{d}-rr{rr}{regularized}.bin",
+            "{scene}-ref-{s}x{s}-spp{r}-depth{d}-rr{rr}{regularized}-{key:016x}.bin",
             scene = config.scene.name(),
             s = config.size,
             r = config.ref_spp / 2 * 2,
             d = config.max_depth,
-            rr = TraceSettings::new(1, 1).rr_depth
+            rr = TraceSettings::new(1, 1).rr_depth,
+            key = scene_key(scene),
         );
         Reference::get_named(
             scene,
@@ -203,23 +208,98 @@ pub fn default_cache_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/quality-cache")
 }
 
-/// A 64-bit key of everything a reference of `scene` depends on: its triangles
-/// (positions, materials), materials, emitters and camera as posed, and the settings
-/// (`size`, `ref_spp`, `max_depth`, the Russian-roulette depth). FNV-1a over the
-/// `Debug` text of those values (Rust prints `f32` with enough digits to round-trip,
-/// so two poses share a key only if they are bit-identical); stable across runs and
+/// FNV-1a (64 bits) of `bytes`, continuing from `hash`: stable across runs and
 /// platforms, unlike `std`'s hasher.
+fn fnv1a(hash: u64, bytes: &[u8]) -> u64 {
+    bytes
+        .iter()
+        .fold(hash, |h, &b| (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3))
+}
+
+/// FNV-1a's offset basis: the hash of no bytes.
+const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+
+/// A 64-bit fingerprint of the renderer: FNV-1a of the kernels' SPIR-V
+/// (`gpu_tracer::gpu::KERNELS_SPV`). The CPU renderer runs the same kernel
+/// source natively, and the SPIR-V is rebuilt from it with every change to how
+/// paths are traced, so a cached reference whose name holds this key was
+/// rendered by the renderer that renders the frames it is compared with.
+/// (Between an edit of the kernels and `gpu-tracer/build-shaders.sh` the key
+/// lags the CPU renderer; CI checks that the committed SPIR-V is fresh.)
+/// Computed once per process.
+pub fn renderer_key() -> u64 {
+    static KEY: std::sync::OnceLock<u64> = std::sync::OnceLock::new();
+    *KEY.get_or_init(|| fnv1a(FNV_OFFSET, gpu_tracer::gpu::KERNELS_SPV))
+}
+
+/// A 64-bit key of what a reference of `scene` as posed depends on besides its
+/// sample count and path length: the renderer ([`renderer_key`]) and the scene's
+/// buffers (triangles, their attributes, materials, texture images, emitters,
+/// punctual lights, environment and camera). FNV-1a over their bytes (the GPU
+/// structs) or `Debug` text (Rust prints `f32` with enough digits to round-trip),
+/// so two scenes share a key only if they render alike.
+pub fn scene_key(scene: &SceneGpu) -> u64 {
+    let mut h = fnv1a(FNV_OFFSET, &renderer_key().to_le_bytes());
+    h = fnv1a(h, bytemuck::cast_slice(&scene.triangles));
+    h = fnv1a(h, bytemuck::cast_slice(&scene.attrs));
+    h = fnv1a(h, bytemuck::cast_slice(&scene.materials));
+    h = fnv1a(h, bytemuck::cast_slice(&scene.images));
+    h = fnv1a(
+        h,
+        bytemuck::cast_slice(&scene.emitters[..scene.emitter_count as usize]),
+    );
+    h = fnv1a(h, bytemuck::cast_slice(&scene.environment));
+    let text = format!(
+        "{}|{:?}|{:?}|{:?}",
+        scene.image_count, scene.lights, scene.environment_map, scene.camera
+    );
+    fnv1a(h, text.as_bytes())
+}
+
+/// A 64-bit key of everything a reference of `scene` depends on: [`scene_key`]
+/// (renderer, scene as posed) and the settings (`size`, `ref_spp`, `max_depth`,
+/// the Russian-roulette depth).
 pub fn pose_key(scene: &SceneGpu, size: u32, ref_spp: u32, max_depth: u32) -> u64 {
     let text = format!(
-        "{:?}|{:?}|{:?}|{:?}|{size}|{}|{max_depth}|{}",
-        scene.triangles,
-        scene.materials,
-        &scene.emitters[..scene.emitter_count as usize],
-        scene.camera,
+        "{size}|{}|{max_depth}|{}",
         ref_spp / 2 * 2,
         TraceSettings::new(1, 1).rr_depth
     );
-    text.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
-        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
-    })
+    fnv1a(scene_key(scene), text.as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gpu_tracer::cornell::cornell_box;
+
+    /// The keys name the renderer and everything in the scene a reference
+    /// depends on: the same scene gives the same key, a changed material,
+    /// emitter or camera another one, and the settings change the pose key.
+    #[test]
+    fn cache_keys_change_with_the_renderer_scene_and_settings() {
+        let scene = SceneGpu::build(&cornell_box()).unwrap();
+        assert_eq!(renderer_key(), fnv1a(FNV_OFFSET, gpu_tracer::gpu::KERNELS_SPV));
+        assert_ne!(renderer_key(), FNV_OFFSET, "the kernels' SPIR-V is not empty");
+        let key = scene_key(&scene);
+        assert_eq!(key, scene_key(&SceneGpu::build(&cornell_box()).unwrap()));
+        let mut material = scene.clone();
+        material.materials[0].albedo.x *= 0.5;
+        let mut emitter = scene.clone();
+        emitter.emitters[0] = Default::default();
+        let mut camera = scene.clone();
+        camera.camera.origin.x += 1e-3;
+        for (what, other) in [("material", material), ("emitter", emitter), ("camera", camera)] {
+            assert_ne!(scene_key(&other), key, "{what}");
+        }
+        let pose = pose_key(&scene, 64, 128, 8);
+        assert_eq!(pose, pose_key(&scene, 64, 129, 8), "odd spp round down to halves");
+        for other in [
+            pose_key(&scene, 32, 128, 8),
+            pose_key(&scene, 64, 256, 8),
+            pose_key(&scene, 64, 128, 3),
+        ] {
+            assert_ne!(other, pose);
+        }
+    }
 }
