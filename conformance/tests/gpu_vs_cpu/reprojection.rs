@@ -190,22 +190,37 @@ fn motion_kernel_matches_the_cpu() {
     }
 }
 
-/// A panning sequence on the GPU (`render_sequence_gpu`, the temporal
-/// permutation with reprojection): with `reproject_hold_below` above every
-/// surface's speed the frames equal those of no reprojection, bit for bit
-/// (the motion pass wrote zero motion, so the reprojection is the
-/// identity); at 0 they differ from them. The threshold reaches the GPU's
-/// motion pass through `TraceParams::seed_hold_below`.
-#[test]
-fn slow_surfaces_keep_their_seeds_on_the_gpu() {
+/// A 24x20 job of 4 frames at depth 3 (no Russian roulette) with `sampler`,
+/// `mode` and `tile`, salt 3.
+fn pan_job(
+    sampler: u32,
+    mode: gpu_tracer::PermuteMode,
+    tile: gpu_tracer::TileChoice,
+) -> gpu_tracer::RenderJob {
+    let mut settings = gpu_tracer::TraceSettings::new(24, 20);
+    settings.max_depth = 3;
+    settings.sampler = sampler;
+    gpu_tracer::RenderJob {
+        settings,
+        frames: 4,
+        mode,
+        block: 4,
+        tile,
+        salt: 3,
+    }
+}
+
+/// The frames of `job` on the Cornell box with the camera panning 1.5 units
+/// a frame, on `gpu` or, with `None`, on the CPU (`render_sequence_gpu`,
+/// `render_sequence_cpu`).
+fn pan_frames(
+    gpu: Option<&Gpu>,
+    job: &gpu_tracer::RenderJob,
+    options: gpu_tracer::render::SequenceOptions,
+) -> Vec<Vec<glam::Vec4>> {
     use gpu_tracer::camera_path::{CameraPath, CameraPathKind};
-    use gpu_tracer::render::{render_sequence_gpu, FrameView, SequenceOptions};
+    use gpu_tracer::render::{render_sequence_cpu, render_sequence_gpu, FrameView};
     use gpu_tracer::timeline::{SceneSequence, Timeline};
-    use gpu_tracer::{cornell::cornell_box, RenderJob, TileChoice, TraceSettings};
-    let Some(gpu) = Gpu::for_test("slow_surfaces_keep_their_seeds_on_the_gpu") else {
-        return;
-    };
-    let base = cornell_box();
     let timeline = Timeline {
         camera_path: Some(CameraPath {
             kind: CameraPathKind::Pan,
@@ -213,27 +228,42 @@ fn slow_surfaces_keep_their_seeds_on_the_gpu() {
         }),
         ..Timeline::still()
     };
-    let mut settings = TraceSettings::new(24, 20);
-    settings.max_depth = 3;
-    let job = RenderJob {
-        settings,
-        frames: 4,
-        mode: gpu_tracer::PermuteMode::Temporal,
-        block: 4,
-        tile: TileChoice::TEMPORAL,
-        salt: 3,
+    let mut sequence = SceneSequence::new(&gpu_tracer::cornell::cornell_box(), timeline, 20).unwrap();
+    let mut frames = Vec::new();
+    let mut collect = |f: &FrameView<'_>| frames.push(f.color.to_vec());
+    match gpu {
+        Some(gpu) => {
+            render_sequence_gpu(gpu, &mut sequence, job, options, |_| {}, Some(&mut collect)).unwrap()
+        }
+        None => render_sequence_cpu(&mut sequence, job, options, collect).unwrap(),
     };
+    frames
+}
+
+/// A panning sequence on the GPU (the temporal permutation with
+/// reprojection): with `reproject_hold_below` above every surface's speed
+/// the frames equal those of no reprojection, bit for bit (the motion pass
+/// wrote zero motion, so the reprojection is the identity); at 0 they
+/// differ from them. The threshold reaches the GPU's motion pass through
+/// `TraceParams::seed_hold_below`.
+#[test]
+fn slow_surfaces_keep_their_seeds_on_the_gpu() {
+    use gpu_tracer::render::SequenceOptions;
+    let Some(gpu) = Gpu::for_test("slow_surfaces_keep_their_seeds_on_the_gpu") else {
+        return;
+    };
+    let job = pan_job(
+        kernels::abi::SAMPLER_SEEDS,
+        gpu_tracer::PermuteMode::Temporal,
+        gpu_tracer::TileChoice::TEMPORAL,
+    );
     let render = |reproject: bool, hold_below: f32| {
-        let mut sequence = SceneSequence::new(&base, timeline.clone(), 20).unwrap();
         let options = SequenceOptions {
             reproject,
             reproject_hold_below: hold_below,
             ..SequenceOptions::default()
         };
-        let mut frames = Vec::new();
-        let mut collect = |f: &FrameView<'_>| frames.push(f.color.to_vec());
-        render_sequence_gpu(&gpu, &mut sequence, &job, options, |_| {}, Some(&mut collect)).unwrap();
-        frames
+        pan_frames(Some(&gpu), &job, options)
     };
     let still_seeds = render(false, 0.0);
     let followed = render(true, 0.0);
@@ -249,78 +279,29 @@ fn slow_surfaces_keep_their_seeds_on_the_gpu() {
 /// pixels.
 #[test]
 fn zsobol_homes_follow_a_pan_on_the_gpu_as_on_the_cpu() {
-    use gpu_tracer::camera_path::{CameraPath, CameraPathKind};
-    use gpu_tracer::render::{render_sequence_cpu, render_sequence_gpu, FrameView, SequenceOptions};
-    use gpu_tracer::timeline::{SceneSequence, Timeline};
-    use gpu_tracer::{cornell::cornell_box, RenderJob, TileChoice, TraceSettings};
+    use gpu_tracer::render::SequenceOptions;
     let Some(gpu) = Gpu::for_test("zsobol_homes_follow_a_pan_on_the_gpu_as_on_the_cpu") else {
         return;
     };
-    let base = cornell_box();
-    let timeline = Timeline {
-        camera_path: Some(CameraPath {
-            kind: CameraPathKind::Pan,
-            speed: 1.5,
-        }),
-        ..Timeline::still()
-    };
-    let mut settings = TraceSettings::new(24, 20);
-    settings.max_depth = 3;
-    settings.sampler = kernels::abi::SAMPLER_ZSOBOL;
-    let job = RenderJob {
-        settings,
-        frames: 4,
-        mode: gpu_tracer::PermuteMode::Hold,
-        block: 4,
-        tile: TileChoice::Tile64,
-        salt: 3,
-    };
+    let job = pan_job(
+        kernels::abi::SAMPLER_ZSOBOL,
+        gpu_tracer::PermuteMode::Hold,
+        gpu_tracer::TileChoice::Tile64,
+    );
     let options = |reproject: bool| SequenceOptions {
         reproject,
         ..SequenceOptions::default()
     };
-    let gpu_render = |reproject: bool| {
-        let mut sequence = SceneSequence::new(&base, timeline.clone(), 20).unwrap();
-        let mut frames = Vec::new();
-        let mut collect = |f: &FrameView<'_>| frames.push(f.color.to_vec());
-        render_sequence_gpu(
-            &gpu,
-            &mut sequence,
-            &job,
-            options(reproject),
-            |_| {},
-            Some(&mut collect),
-        )
-        .unwrap();
-        frames
-    };
-    let mut sequence = SceneSequence::new(&base, timeline.clone(), 20).unwrap();
-    let mut cpu_frames = Vec::new();
-    render_sequence_cpu(&mut sequence, &job, options(true), |f| {
-        cpu_frames.push(f.color.to_vec())
-    })
-    .unwrap();
-    let followed = gpu_render(true);
+    let cpu_frames = pan_frames(None, &job, options(true));
+    let followed = pan_frames(Some(&gpu), &job, options(true));
     assert_eq!(followed.len(), 4);
-    let (mut close, mut total) = (0usize, 0usize);
-    for (a, b) in cpu_frames.iter().zip(&followed) {
-        for (p, q) in a.iter().zip(b) {
-            total += 1;
-            if (*p - *q).abs().max_element() <= 1e-3 * (1.0 + p.abs().max_element()) {
-                close += 1;
-            }
-        }
-    }
-    let frac = close as f64 / total as f64;
+    let (frac, total) = crate::fraction_close(&cpu_frames, &followed);
     eprintln!(
         "zsobol homes: {:.2}% of {total} pixel-frames equal within 1e-3",
         100.0 * frac
     );
     assert_eq!(total, 24 * 20 * 4);
     assert!(frac > 0.95, "only {:.2}% of pixel-frames agree", 100.0 * frac);
-    assert_ne!(
-        followed[3],
-        gpu_render(false)[3],
-        "the homes did not move on the GPU"
-    );
+    let still_homes = pan_frames(Some(&gpu), &job, options(false));
+    assert_ne!(followed[3], still_homes[3], "the homes did not move on the GPU");
 }

@@ -305,16 +305,7 @@ fn compare_same_seeds_with(
         let mut gpu_frames = Vec::new();
         let mut collect = |_t: u32, c: &[Vec4]| gpu_frames.push(c.to_vec());
         render_gpu(gpu, scene, &job, |_| {}, Some(&mut collect)).unwrap();
-        let (mut close, mut total) = (0usize, 0usize);
-        for (a, b) in cpu_frames.iter().zip(&gpu_frames) {
-            for (p, q) in a.iter().zip(b) {
-                total += 1;
-                if (*p - *q).abs().max_element() <= 1e-3 * (1.0 + p.abs().max_element()) {
-                    close += 1;
-                }
-            }
-        }
-        let frac = close as f64 / total as f64;
+        let (frac, total) = crate::fraction_close(&cpu_frames, &gpu_frames);
         eprintln!(
             "{name}: same seeds, {:.2}% of {total} pixel-frames equal within 1e-3",
             100.0 * frac
