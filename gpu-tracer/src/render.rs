@@ -14,7 +14,7 @@ use crate::timeline::SceneSequence;
 use glam::{UVec2, Vec4};
 use kernels::abi::{
     GBufferGpu, SAMPLER_FOLLOW_HOMES, SAMPLER_JITTER_ONLY, SAMPLER_KIND_MASK, SAMPLER_SPATIOTEMPORAL,
-    SAMPLER_ZSOBOL, SEED_MODE_ADVANCE,
+    SEED_MODE_ADVANCE,
 };
 use sampler_core::sequences::spatiotemporal::write_initial_homes;
 use sampler_core::{DitherTile, FeatureThresholds, FrameLayout, RetargetTables, SliceTables};
@@ -271,11 +271,9 @@ impl RenderJob {
         }
         let layout = self.layout()?;
         let spatiotemporal = self.settings.sampler & SAMPLER_KIND_MASK == SAMPLER_SPATIOTEMPORAL;
-        let zsobol_everywhere = self.settings.sampler & SAMPLER_KIND_MASK == SAMPLER_ZSOBOL
-            && self.settings.sampler & SAMPLER_JITTER_ONLY == 0;
         let incompatible = |what: &str| Err(RenderError::Incompatible(what.into()));
         match self.mode {
-            PermuteMode::Hold if !(spatiotemporal || zsobol_everywhere) => incompatible(
+            PermuteMode::Hold if !hold_takes(self.settings.sampler) => incompatible(
                 "the hold mode keeps every pixel's numbers from frame to frame; only the spatiotemporal \
                  sampler and ZSobol on every decision, which advance their own sequence every frame, can \
                  use it",
@@ -329,6 +327,14 @@ impl RenderJob {
             ..self.settings
         }
     }
+}
+
+/// Whether [`PermuteMode::Hold`] takes `sampler` ([`TraceSettings::sampler`]
+/// flags): one that reads its per-pixel data at a home
+/// (`kernels::abi::sampler_reads_homes`) and draws every decision from it
+/// (not [`SAMPLER_JITTER_ONLY`]).
+pub fn hold_takes(sampler: u32) -> bool {
+    kernels::abi::sampler_reads_homes(sampler) && sampler & SAMPLER_JITTER_ONLY == 0
 }
 
 /// Renders `job` on the CPU (rayon over rows) with the kernels' own

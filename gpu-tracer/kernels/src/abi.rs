@@ -214,6 +214,16 @@ pub const SAMPLER_KRONECKER: u32 = 1 << 10;
 /// rest are flags ([`SAMPLER_JITTER_ONLY`], [`SAMPLER_FOLLOW_HOMES`],
 /// [`SAMPLER_KRONECKER`]).
 pub const SAMPLER_KIND_MASK: u32 = 0xFF;
+/// Whether the sampler named by the kind bits of `sampler` (a
+/// [`TraceParams::sampler`] value) reads its per-pixel data at a home with
+/// [`SAMPLER_FOLLOW_HOMES`]: [`SAMPLER_SPATIOTEMPORAL`] (its shift) and
+/// [`SAMPLER_ZSOBOL`] (its point). The one list of them, for the kernels and
+/// the host's checks alike.
+#[inline]
+pub const fn sampler_reads_homes(sampler: u32) -> bool {
+    let kind = sampler & SAMPLER_KIND_MASK;
+    kind == SAMPLER_SPATIOTEMPORAL || kind == SAMPLER_ZSOBOL
+}
 
 /// Per-frame parameters of the trace, G-buffer and accumulate passes
 /// (uniform buffer, 256 bytes).

@@ -69,9 +69,9 @@
 //! before, bit for bit.
 
 use crate::abi::{
-    TraceParams, MAX_DEPTH_LIMIT, SAMPLER_FOLLOW_HOMES, SAMPLER_JITTER_ONLY, SAMPLER_KIND_MASK,
-    SAMPLER_KRONECKER, SAMPLER_SCREEN_SOBOL, SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL, SEED_MODE_ADVANCE,
-    SPATIOTEMPORAL_TILE_LOG2,
+    sampler_reads_homes, TraceParams, MAX_DEPTH_LIMIT, SAMPLER_FOLLOW_HOMES, SAMPLER_JITTER_ONLY,
+    SAMPLER_KIND_MASK, SAMPLER_KRONECKER, SAMPLER_SCREEN_SOBOL, SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL,
+    SEED_MODE_ADVANCE, SPATIOTEMPORAL_TILE_LOG2,
 };
 use crate::sampler_entry::{screen_sobol_pair, zsobol_pair};
 use glam::{UVec2, Vec2};
@@ -469,9 +469,7 @@ impl PathNumbers {
 /// `pixel`.
 #[inline]
 pub fn sampler_position(params: &TraceParams, pixel: UVec2, seed: u32) -> UVec2 {
-    let kind = sampler_kind(params);
-    let follows = kind == SAMPLER_SPATIOTEMPORAL || kind == SAMPLER_ZSOBOL;
-    if follows && params.sampler & SAMPLER_FOLLOW_HOMES != 0 {
+    if sampler_reads_homes(params.sampler) && params.sampler & SAMPLER_FOLLOW_HOMES != 0 {
         home_texel(seed)
     } else {
         pixel

@@ -4,6 +4,7 @@ use super::*;
 use crate::camera_path::{CameraPath, CameraPathKind};
 use crate::cornell::cornell_box;
 use crate::timeline::Timeline;
+use kernels::abi::SAMPLER_ZSOBOL;
 
 fn job(sampler: u32, mode: PermuteMode) -> RenderJob {
     let mut settings = TraceSettings::new(24, 20);

@@ -168,7 +168,7 @@ impl SceneGpu {
                         || (flags == SAMPLER_JITTER_ONLY && kind != kernels::abi::SAMPLER_SEEDS)
                         || (flags & !(kernels::abi::SAMPLER_FOLLOW_HOMES | kernels::abi::SAMPLER_KRONECKER) == 0
                             && kind == kernels::abi::SAMPLER_SPATIOTEMPORAL)
-                        || (flags == kernels::abi::SAMPLER_FOLLOW_HOMES && kind == kernels::abi::SAMPLER_ZSOBOL)),
+                        || (flags == kernels::abi::SAMPLER_FOLLOW_HOMES && kernels::abi::sampler_reads_homes(kind))),
                 "0 (seeds), 1 (screen-sobol), 2 (zsobol) or 3 (spatiotemporal), the last three optionally ORed \
                  with 256 (jitter only), zsobol and spatiotemporal also with 512 (homes), spatiotemporal also \
                  with 1024 (Kronecker sequence)",

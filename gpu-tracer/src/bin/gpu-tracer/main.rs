@@ -55,13 +55,14 @@ fn render(args: RenderArgs) -> Result<()> {
         args.sampler,
         Some(SamplerArg::Spatiotemporal | SamplerArg::SpatiotemporalKronecker)
     );
-    let holds = spatiotemporal || matches!(args.sampler, Some(SamplerArg::Zsobol));
     match (args.mode, spatiotemporal) {
-        (Some(ModeArg::Hold), _) if args.sampler.is_some() && !holds => bail!(
-            "--mode hold keeps every pixel's numbers from frame to frame: only --sampler spatiotemporal \
+        (Some(ModeArg::Hold), _) if named_sampler.is_some_and(|s| !gpu_tracer::render::hold_takes(s)) => {
+            bail!(
+                "--mode hold keeps every pixel's numbers from frame to frame: only --sampler spatiotemporal \
              (or spatiotemporal-kronecker) and --sampler zsobol, which advance their own sequence every \
              frame, can use it"
-        ),
+            )
+        }
         (Some(m @ (ModeArg::Sort | ModeArg::Permute | ModeArg::Temporal)), true) => bail!(
             "--mode {} has nothing to permute with --sampler spatiotemporal, which draws every number \
              itself: use --mode hold (its default) or white",
