@@ -90,6 +90,11 @@ enum Command {
         /// cornell-untextured tells what the texture's modulation alone does).
         #[arg(long)]
         modulate_by: Option<String>,
+        /// TAA clamps its history to the current frame's 3x3 colour box (`on`, what a
+        /// renderer runs); `off` measures what the clamp costs each row (a diagnostic:
+        /// the filter's own bias and every ratio change with it).
+        #[arg(long, default_value = "on", value_parser = ["on", "off"])]
+        taa_clamp: String,
         /// Also write the tables to this file.
         #[arg(long)]
         out: Option<PathBuf>,
@@ -207,6 +212,7 @@ fn main() -> Result<()> {
             scene,
             glossy_regularization,
             modulate_by,
+            taa_clamp,
             out,
             no_cache,
         } => {
@@ -237,6 +243,7 @@ fn main() -> Result<()> {
                 scene,
                 modulate_by,
                 glossy_regularization,
+                taa_clamp: taa_clamp == "on",
                 ..StudyConfig::new(size, 1, frames, ref_spp)
             };
             let cache = default_cache_dir();

@@ -56,6 +56,13 @@ fn reprojection_keeps_the_static_quality_at_2_px_per_frame() {
         s.centre_speed
     );
     assert!(s.followed > 0.8 && s.stayed < 0.2, "{s:?}");
+    // A still camera keeps every home; an orbit breaks some neighbours apart.
+    assert!(
+        (still.stats.homes_in_order - 1.0).abs() < 1e-9,
+        "{:?}",
+        still.stats
+    );
+    assert!(s.homes_in_order > 0.0 && s.homes_in_order < 1.0, "{s:?}");
     let interior = Figure::Blur(Some(Region::Interior));
     for figure in [Figure::Blur(None), interior] {
         let v = moving

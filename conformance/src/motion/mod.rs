@@ -68,8 +68,9 @@
 //!
 //! # Diagnostics ([`SequenceStats`])
 //! Measured image-centre speed, the fractions of pixels whose seed followed its point,
-//! was recycled (`sampler_core::ReprojectStats`) or stayed in its pixel, history resets,
-//! and the regions' shares of the image.
+//! was recycled (`sampler_core::ReprojectStats`) or stayed in its pixel, the share of
+//! neighbours whose homes (carried from frame 0, as `--mode hold` carries them) are still
+//! neighbours, history resets, and the regions' shares of the image.
 
 pub mod case;
 pub mod config;

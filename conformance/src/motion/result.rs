@@ -29,6 +29,11 @@ pub struct SequenceStats {
     /// Mean fraction of pixels that keep the seed of their own pixel after the
     /// reprojection (the reprojection is the identity there).
     pub stayed: f64,
+    /// Mean over frames `1..` of the fraction of horizontal neighbours whose homes,
+    /// carried from frame 0 by every frame's reprojection (what `--mode hold` reads
+    /// ZSobol's and the spatiotemporal sampler's points at), are still neighbours in
+    /// the same order: 1 for a still camera or a whole-pixel pan.
+    pub homes_in_order: f64,
     /// Mean fraction of pixels whose history is reset (frames `1..`).
     pub history_resets: f64,
     /// Mean share of the image of each region ([`Region::ALL`] order).

@@ -93,6 +93,9 @@ impl MotionSequence {
         let identity: Vec<u32> = (0..layout.seed_count() as u32).collect();
         let mut claims = vec![0u32; identity.len()];
         let mut reprojected = vec![0u32; identity.len()];
+        // Homes carried from frame 0 by every frame's reprojection (`--mode hold`).
+        let mut homes = identity.clone();
+        let mut homes_next = vec![0u32; identity.len()];
         let mut stats = SequenceStats::default();
         let mut frames = Vec::with_capacity(config.frames as usize);
         for t in 0..config.frames {
@@ -167,6 +170,9 @@ impl MotionSequence {
                 stats.followed += s.followed as f64 / n as f64 / k;
                 stats.recycled += s.recycled as f64 / n as f64 / k;
                 stats.stayed += stayed as f64 / n as f64 / k;
+                sampler_core::reproject_frame(&layout, &motion, &homes, &mut claims, &mut homes_next)?;
+                std::mem::swap(&mut homes, &mut homes_next);
+                stats.homes_in_order += homes_in_order(&homes, size, pw) / k;
                 let resets = (0..n).filter(|&i| !has_source(i, motion[i], size)).count();
                 let moving: f64 = (0..n)
                     .filter(|&i| has_source(i, motion[i], size))
@@ -416,4 +422,17 @@ pub fn run_study(
         results.push(result);
     }
     Ok(results)
+}
+
+/// Fraction of horizontally adjacent pixel pairs of the `size`-square image (seed
+/// buffer rows `padded_width` long) whose homes are still adjacent in the same order
+/// (`home(x + 1) = home(x) + 1`): where a sampler that reads its points at the homes
+/// (ZSobol's Morton order) keeps its arrangement.
+fn homes_in_order(homes: &[u32], size: u32, padded_width: usize) -> f64 {
+    let size = size as usize;
+    let kept = (0..size)
+        .flat_map(|y| (0..size - 1).map(move |x| y * padded_width + x))
+        .filter(|&i| homes[i + 1] == homes[i].wrapping_add(1))
+        .count();
+    kept as f64 / (size * (size - 1)) as f64
 }

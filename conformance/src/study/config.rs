@@ -3,6 +3,7 @@
 
 use super::scene::StudyScene;
 use anyhow::Result;
+use gpu_tracer::filter::FilterSettings;
 use gpu_tracer::scene::TraceSettings;
 use gpu_tracer::TileChoice;
 use kernels::abi::SEED_MODE_FIXED;
@@ -53,6 +54,11 @@ pub struct StudyConfig {
     /// off). Above 0 the study also measures the bias against the unbiased
     /// reference ([`super::regularization`]).
     pub glossy_regularization: f32,
+    /// Whether the studies' TAA clamps its history to the current frame's 3x3 colour
+    /// box (`gpu_tracer::filter::FilterSettings::clamp`; on by default, what a
+    /// renderer runs). Off, every chain with TAA (and its bias, the reference through
+    /// the same chain) measures what the clamp costs a row.
+    pub taa_clamp: bool,
 }
 
 impl StudyConfig {
@@ -72,6 +78,16 @@ impl StudyConfig {
             scene: StudyScene::Cornell,
             modulate_by: None,
             glossy_regularization: 0.0,
+            taa_clamp: true,
+        }
+    }
+
+    /// The settings of the studies' filter chains: the defaults, with
+    /// [`StudyConfig::taa_clamp`].
+    pub(crate) fn filter_settings(&self) -> FilterSettings {
+        FilterSettings {
+            clamp: self.taa_clamp,
+            ..FilterSettings::default()
         }
     }
 

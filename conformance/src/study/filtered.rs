@@ -54,13 +54,18 @@ pub(crate) struct FilteredMeter {
 }
 
 impl FilteredMeter {
-    /// Filters for `width x height` frames with the default settings;
+    /// Filters for `width x height` frames with `settings`;
     /// `targets`: per chain of [`STUDY_FILTERS`], the filtered reference's
     /// luma, to also record the noise part.
-    pub(crate) fn new(width: u32, height: u32, targets: Option<Vec<Vec<f32>>>) -> Result<Self> {
+    pub(crate) fn new(
+        width: u32,
+        height: u32,
+        settings: FilterSettings,
+        targets: Option<Vec<Vec<f32>>>,
+    ) -> Result<Self> {
         let filters = STUDY_FILTERS
             .iter()
-            .map(|&c| FrameFilter::new(c, FilterSettings::default(), width, height))
+            .map(|&c| FrameFilter::new(c, settings, width, height))
             .collect::<Result<Vec<_>, _>>()?;
         let errors = STUDY_FILTERS
             .iter()
@@ -159,5 +164,40 @@ mod tests {
         assert_eq!(pooled_sum(&e.regions, Some(Region::Edge), 0), Some(7.0));
         assert_eq!(pooled_sum(&e.regions, None, 2), None);
         assert_eq!(pooled_sum(&e.noise, None, 0), None);
+    }
+
+    /// The meter's settings reach its filters: TAA's clamp changes what a noisy
+    /// still sequence leaves behind, and the unclamped history is the EMA.
+    #[test]
+    fn the_meters_settings_reach_its_filters() {
+        let (w, h) = (8u32, 8u32);
+        let n = (w * h) as usize;
+        let gbuffer = vec![GBufferGpu::default(); n];
+        let still = vec![Vec2::ZERO; n];
+        let regions = vec![Region::Interior; n];
+        let reference = vec![0.5f32; n];
+        let taa_error = |clamp: bool| {
+            let settings = FilterSettings {
+                clamp,
+                ..FilterSettings::default()
+            };
+            let mut meter = FilteredMeter::new(w, h, settings, None).unwrap();
+            for t in 0..16u32 {
+                // A flat frame flickering between 0 and 1 (mean 0.5): the clamp's
+                // box is the current value, the EMA's history stays near 0.5.
+                let color = vec![Vec4::splat((t & 1) as f32); n];
+                meter
+                    .frame(&color, &gbuffer, &still, &reference, &regions)
+                    .unwrap();
+            }
+            let errors = meter.finish();
+            let taa = errors.iter().find(|e| e.chain == FilterChain::Taa).unwrap();
+            pooled_sum(&taa.regions, None, 15).unwrap()
+        };
+        let (clamped, unclamped) = (taa_error(true), taa_error(false));
+        assert!(
+            unclamped < 0.1 * clamped,
+            "unclamped {unclamped}, clamped {clamped}"
+        );
     }
 }

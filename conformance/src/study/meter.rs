@@ -57,7 +57,7 @@ impl Study {
             return Ok((Vec::new(), None));
         }
         let size = self.config.size;
-        let mut meter = FilteredMeter::new(size, size, None)?;
+        let mut meter = FilteredMeter::new(size, size, self.config.filter_settings(), None)?;
         let color: Vec<Vec4> = self.reference.rgb.iter().map(|c| c.extend(1.0)).collect();
         let still = vec![Vec2::ZERO; color.len()];
         for _ in 0..self.config.frames {
@@ -272,6 +272,7 @@ impl<'a> Meter<'a> {
                     FilteredMeter::new(
                         study.config.size,
                         study.config.size,
+                        study.config.filter_settings(),
                         filter_targets.map(<[Vec<f32>]>::to_vec),
                     )?,
                     vec![Vec2::ZERO; n],

@@ -217,7 +217,7 @@ impl StudyResult {
             .collect();
         let cell = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
         let mut s = format!(
-            "{8} {0}x{0}, {1} spp, depth {2}, {3} frames, reference {4} spp, block {5}, tile {6}, salt {7}; \
+            "{8} {0}x{0}, {1} spp, depth {2}, {3} frames, reference {4} spp, block {5}, tile {6}, salt {7}{9}; \
              white = 1, pooled over frames {from}..\n\n",
             c.size,
             c.spp,
@@ -227,7 +227,8 @@ impl StudyResult {
             c.block,
             c.tile.side(),
             c.salt,
-            c.scene.name()
+            c.scene.name(),
+            if c.taa_clamp { "" } else { ", TAA without its clamp" }
         );
         let modulated = c.modulate_by.is_some();
         s += "| method | LF @8 | LF mean 8.. | LF demodulated mean 8..";
