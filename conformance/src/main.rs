@@ -6,7 +6,7 @@
 //! printed as markdown tables (whole image, per region, feature diagnostics; with
 //! `--modulate-by`, the insets' LF with the error multiplied by another scene's albedo).
 //!
-//! `conformance motion [--size N --frames N --ref-spp N --methods a,b,... --speeds A,B
+//! `conformance motion [--size N --frames N --ref-spp N --methods a,b,... --speeds A,B --pan-speeds P,Q
 //! --object-speed C --history-fetch nearest|bilinear]`: the study in motion (issue 13,
 //! `conformance::motion`), printed as markdown tables.
 
@@ -131,6 +131,9 @@ enum Command {
         /// Orbit speeds at the image centre, pixels per frame.
         #[arg(long, value_delimiter = ',', default_values_t = [0.5f32, 2.0])]
         speeds: Vec<f32>,
+        /// Camera pan speeds at the image centre, pixels per frame (none by default).
+        #[arg(long, value_delimiter = ',')]
+        pan_speeds: Vec<f32>,
         /// Speed of the moving block's centre, pixels per frame (0: no object sequence).
         #[arg(long, default_value_t = 1.0)]
         object_speed: f32,
@@ -271,6 +274,7 @@ fn main() -> Result<()> {
             max_depth,
             methods,
             speeds,
+            pan_speeds,
             object_speed,
             sway_period,
             history_fetch,
@@ -289,6 +293,11 @@ fn main() -> Result<()> {
             let mut cases: Vec<MotionCase> = speeds
                 .iter()
                 .map(|&px_per_frame| MotionCase::Orbit { px_per_frame })
+                .chain(
+                    pan_speeds
+                        .iter()
+                        .map(|&px_per_frame| MotionCase::Pan { px_per_frame }),
+                )
                 .collect();
             if object_speed != 0.0 {
                 cases.push(MotionCase::Object {

@@ -6,9 +6,9 @@
 //! Heaviside steps shared by every pixel (the a-priori samplers' test: an error
 //! pattern that is blue where the points are). It prints, over frames 16..64,
 //! the blurred (Gaussian sigma 1) RMS error against white noise's (white = 1),
-//! the share of pixels recycled a frame, and the share of horizontal neighbours
-//! whose homes are still neighbours (`home(x + 1) = home(x) + (1, 0)`, what
-//! ZSobol's Morton order needs), for:
+//! the share of pixels recycled a frame, and the share of neighbours whose homes
+//! are still neighbours (`home(x + 1, y) = home(x, y) + (1, 0)`, and the same
+//! vertically: what ZSobol's Morton order needs), for:
 //!
 //! - **screen**: home = pixel (the point stays on the screen);
 //! - **follow**: homes moved by [`reproject_frame`] (what the hold mode does);
@@ -209,9 +209,11 @@ fn run(motion: Motion, homes_rule: Homes, steps: &[Step]) -> Figures {
             for x in 0..SIDE - 1 {
                 let i = (y * SIDE + x) as usize;
                 kept += u32::from(homes[i + 1] == homes[i].wrapping_add(1));
+                let j = (x * SIDE + y) as usize;
+                kept += u32::from(homes[j + SIDE as usize] == homes[j].wrapping_add(1 << 16));
             }
         }
-        figures.ordered += f64::from(kept) / f64::from(SIDE * (SIDE - 1));
+        figures.ordered += f64::from(kept) / f64::from(2 * SIDE * (SIDE - 1));
     }
     let frames = f64::from(FRAMES - SKIP);
     figures.recycled /= frames;

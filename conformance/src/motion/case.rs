@@ -37,6 +37,14 @@
 //! points nearer than the target the other way; the study reports the measured speed
 //! at the image centre and over the image.
 
+//! # Camera pan ([`MotionCase::Pan`])
+//!
+//! The camera slides along its right axis by `s(t) * step`, eye and target together
+//! (no turn), where `step = v * 2 depth tan(phi) / H` moves the point seen at the image
+//! centre (depth: its depth along the view axis) `v` pixels a frame. Every point moves
+//! horizontally by `v * depth_centre / depth` pixels: the back wall slower, the blocks'
+//! fronts faster (parallax), with no rotation of the picture.
+//!
 //! # Object motion ([`MotionCase::Object`])
 //!
 //! The short block (object 6) rises and sinks: its height above the floor is
@@ -66,6 +74,12 @@ pub enum MotionCase {
         /// Speed of the image centre's point in pixels per frame.
         px_per_frame: f32,
     },
+    /// The camera slides sideways, eye and target together; `px_per_frame` at the
+    /// image centre.
+    Pan {
+        /// Speed of the image centre's point in pixels per frame.
+        px_per_frame: f32,
+    },
     /// The short block rises and sinks; `px_per_frame` at its centre.
     Object {
         /// Speed of the block's centre in pixels per frame.
@@ -79,6 +93,7 @@ impl MotionCase {
         match self {
             MotionCase::Still => "still".into(),
             MotionCase::Orbit { px_per_frame } => format!("orbit {px_per_frame} px/frame"),
+            MotionCase::Pan { px_per_frame } => format!("pan {px_per_frame} px/frame"),
             MotionCase::Object { px_per_frame } => format!("block {px_per_frame} px/frame"),
         }
     }
@@ -244,6 +259,46 @@ pub fn timeline(
                 degrees * (period / 4) as f32
             )
         }
+        MotionCase::Pan { px_per_frame } => {
+            let built = SceneGpu::build(scene)?;
+            let (_, depth) = centre_hit(&built, size)?;
+            let basis = scene.camera.basis()?;
+            let step = px_per_frame * 2.0 * depth * basis.tan_half_fov_y / size as f32;
+            let look = Quat::from_mat3(&Mat3::from_cols(basis.right, basis.up, -basis.forward));
+            let origin = scene.camera.origin;
+            let (times, values) = keys(frames, |t| {
+                (origin + basis.right * (sway_steps(t, period) as f32 * step)).extend(0.0)
+            });
+            timeline.rig = Some(Rig {
+                nodes: vec![Node {
+                    name: "camera".into(),
+                    parent: None,
+                    rest: Trs {
+                        translation: origin,
+                        rotation: look,
+                        ..Trs::default()
+                    },
+                }],
+                channels: vec![Channel {
+                    node: 0,
+                    property: Property::Translation,
+                    interpolation: Interpolation::Step,
+                    times,
+                    values,
+                }],
+                instances: Vec::new(),
+                local: Vec::new(),
+                local_normals: Vec::new(),
+                camera: Some(RigCamera {
+                    node: 0,
+                    fov_y_degrees: scene.camera.fov_y_degrees,
+                }),
+            });
+            format!(
+                "camera pan {step:.3} units/frame along its right axis, sway period {period} frames (+-{:.1} units)",
+                step * (period / 4) as f32
+            )
+        }
         MotionCase::Object { px_per_frame } => {
             let (lift, range) = block_lift(scene, size, px_per_frame)?;
             let (times, values) = keys(frames, |t| {
@@ -318,6 +373,32 @@ mod tests {
             .unwrap();
         let raster = kernels::camera::project_point(&params, p).unwrap();
         assert!(((raster.x - 128.0).abs() - 2.0).abs() < 0.01, "{raster}");
+    }
+
+    #[test]
+    fn the_pan_moves_the_centre_by_its_speed_without_turning() {
+        let scene = cornell_box();
+        let (timeline, _) = timeline(MotionCase::Pan { px_per_frame: 2.0 }, &scene, 256, 4, None).unwrap();
+        let mut seq = SceneSequence::new(&scene, timeline, 256).unwrap();
+        let built = SceneGpu::build(&scene).unwrap();
+        let (p, _) = centre_hit(&built, 256).unwrap();
+        let f0 = seq.scene().camera;
+        assert!((f0.origin - built.camera.origin).length() < 1e-3);
+        assert!((f0.forward - built.camera.forward).length() < 1e-5);
+        seq.advance().unwrap();
+        let f1 = seq.scene().camera;
+        assert!(
+            (f1.forward - built.camera.forward).length() < 1e-5,
+            "the pan turned"
+        );
+        assert!((f1.origin - f0.origin).dot(built.camera.forward).abs() < 1e-3);
+        let params = seq
+            .scene()
+            .trace_params(&TraceSettings::new(256, 256), 1)
+            .unwrap();
+        let raster = kernels::camera::project_point(&params, p).unwrap();
+        assert!(((raster.x - 128.0).abs() - 2.0).abs() < 0.01, "{raster}");
+        assert!((raster.y - 128.0).abs() < 0.01, "{raster}");
     }
 
     #[test]

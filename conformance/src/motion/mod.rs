@@ -19,7 +19,8 @@
 //! reference, insets, the filtered error) and [`crate::metrics`].
 //!
 //! Sequences ([`case`]): the camera swaying on an orbit at about 0.5 and
-//! 2 px/frame at the image centre, the short block rising and sinking, and the still
+//! 2 px/frame at the image centre, on request the camera sliding sideways (a pan, no
+//! turn; `conformance motion --pan-speeds`), the short block rising and sinking, and the still
 //! camera (the static figures every moving figure is compared with, measured by the
 //! same code). Every method renders through `gpu_tracer::render::render_sequence_cpu`
 //! (per frame: G-buffer, reprojection, trace, sort + retarget), 1 spp, starting from

@@ -29,7 +29,7 @@ pub struct SequenceStats {
     /// Mean fraction of pixels that keep the seed of their own pixel after the
     /// reprojection (the reprojection is the identity there).
     pub stayed: f64,
-    /// Mean over frames `1..` of the fraction of horizontal neighbours whose homes,
+    /// Mean over frames `1..` of the fraction of neighbours (horizontal and vertical) whose homes,
     /// carried from frame 0 by every frame's reprojection (what `--mode hold` reads
     /// ZSobol's and the spatiotemporal sampler's points at), are still neighbours in
     /// the same order: 1 for a still camera or a whole-pixel pan.

@@ -424,15 +424,20 @@ pub fn run_study(
     Ok(results)
 }
 
-/// Fraction of horizontally adjacent pixel pairs of the `size`-square image (seed
-/// buffer rows `padded_width` long) whose homes are still adjacent in the same order
-/// (`home(x + 1) = home(x) + 1`): where a sampler that reads its points at the homes
-/// (ZSobol's Morton order) keeps its arrangement.
+/// Fraction of horizontally and vertically adjacent pixel pairs of the `size`-square
+/// image (seed buffer rows `padded_width` long, homes as buffer indices) whose homes
+/// are still adjacent in the same order (`home(x + 1, y) = home(x, y) + 1`,
+/// `home(x, y + 1) = home(x, y) + padded_width`): where a sampler that reads its
+/// points at the homes (ZSobol's Morton order) keeps its arrangement.
 fn homes_in_order(homes: &[u32], size: u32, padded_width: usize) -> f64 {
     let size = size as usize;
-    let kept = (0..size)
-        .flat_map(|y| (0..size - 1).map(move |x| y * padded_width + x))
-        .filter(|&i| homes[i + 1] == homes[i].wrapping_add(1))
-        .count();
-    kept as f64 / (size * (size - 1)) as f64
+    let pairs = (0..size).flat_map(|a| (0..size - 1).map(move |b| (a, b)));
+    let kept = pairs
+        .map(|(a, b)| {
+            let (h, v) = (a * padded_width + b, b * padded_width + a);
+            usize::from(homes[h + 1] == homes[h].wrapping_add(1))
+                + usize::from(homes[v + padded_width] == homes[v].wrapping_add(padded_width as u32))
+        })
+        .sum::<usize>();
+    kept as f64 / (2 * size * (size - 1)) as f64
 }
