@@ -56,7 +56,7 @@
 use anyhow::{bail, Context, Result};
 use glam::{Mat3, Quat, Vec2, Vec3, Vec4};
 use gpu_tracer::animation::{Channel, Interpolation, MeshInstance, Node, Property, Rig, RigCamera, Trs};
-use gpu_tracer::scene::{Scene, SceneGpu, TraceSettings};
+use gpu_tracer::scene::{CameraBasis, Scene, SceneGpu, TraceSettings};
 use gpu_tracer::timeline::Timeline;
 
 /// Object id of the Cornell box's short block (`gpu_tracer::cornell`).
@@ -180,6 +180,40 @@ fn keys(frames: u32, value: impl Fn(u32) -> Vec4) -> (Vec<f32>, Vec<Vec4>) {
     (0..frames).map(|t| (t as f32 / FPS, value(t))).unzip()
 }
 
+/// The rotation of a camera node that looks along `basis.forward` with `basis.up` up
+/// (a camera node looks along its local -Z with +Y up).
+fn look_rotation(basis: &CameraBasis) -> Quat {
+    Quat::from_mat3(&Mat3::from_cols(basis.right, basis.up, -basis.forward))
+}
+
+/// A rig of `nodes` whose node 0 follows the step keys `(times, values)` of
+/// `property`, and whose camera is node `camera_node` with the scene's field of view.
+fn camera_rig(
+    nodes: Vec<Node>,
+    property: Property,
+    (times, values): (Vec<f32>, Vec<Vec4>),
+    camera_node: usize,
+    fov_y_degrees: f32,
+) -> Rig {
+    Rig {
+        nodes,
+        channels: vec![Channel {
+            node: 0,
+            property,
+            interpolation: Interpolation::Step,
+            times,
+            values,
+        }],
+        instances: Vec::new(),
+        local: Vec::new(),
+        local_normals: Vec::new(),
+        camera: Some(RigCamera {
+            node: camera_node,
+            fov_y_degrees,
+        }),
+    }
+}
+
 /// The timeline of `case` for `frames` frames of `size x size` images of `scene` (the
 /// Cornell box) with a sway of `period` frames (a multiple of 4; `None`:
 /// [`sway_period`]), and a description of the motion for reports (degrees per frame or
@@ -212,7 +246,7 @@ pub fn timeline(
             let basis = cam.basis()?;
             // Pivot at the target (turned about world up), camera node at the eye's
             // offset looking along its local -Z with +Y up.
-            let look = Quat::from_mat3(&Mat3::from_cols(basis.right, basis.up, -basis.forward));
+            let look = look_rotation(&basis);
             let nodes = vec![
                 Node {
                     name: "pivot".into(),
@@ -233,27 +267,11 @@ pub fn timeline(
                 },
             ];
             let axis = cam.up.normalize();
-            let (times, values) = keys(frames, |t| {
+            let turns = keys(frames, |t| {
                 let angle = (sway_steps(t, period) as f32 * degrees).to_radians();
                 Vec4::from(Quat::from_axis_angle(axis, angle))
             });
-            timeline.rig = Some(Rig {
-                nodes,
-                channels: vec![Channel {
-                    node: 0,
-                    property: Property::Rotation,
-                    interpolation: Interpolation::Step,
-                    times,
-                    values,
-                }],
-                instances: Vec::new(),
-                local: Vec::new(),
-                local_normals: Vec::new(),
-                camera: Some(RigCamera {
-                    node: 1,
-                    fov_y_degrees: cam.fov_y_degrees,
-                }),
-            });
+            timeline.rig = Some(camera_rig(nodes, Property::Rotation, turns, 1, cam.fov_y_degrees));
             format!(
                 "camera orbit {degrees:.3} deg/frame about the target, sway period {period} frames (+-{:.2} deg)",
                 degrees * (period / 4) as f32
@@ -264,36 +282,21 @@ pub fn timeline(
             let (_, depth) = centre_hit(&built, size)?;
             let basis = scene.camera.basis()?;
             let step = px_per_frame * 2.0 * depth * basis.tan_half_fov_y / size as f32;
-            let look = Quat::from_mat3(&Mat3::from_cols(basis.right, basis.up, -basis.forward));
             let origin = scene.camera.origin;
-            let (times, values) = keys(frames, |t| {
+            let slides = keys(frames, |t| {
                 (origin + basis.right * (sway_steps(t, period) as f32 * step)).extend(0.0)
             });
-            timeline.rig = Some(Rig {
-                nodes: vec![Node {
-                    name: "camera".into(),
-                    parent: None,
-                    rest: Trs {
-                        translation: origin,
-                        rotation: look,
-                        ..Trs::default()
-                    },
-                }],
-                channels: vec![Channel {
-                    node: 0,
-                    property: Property::Translation,
-                    interpolation: Interpolation::Step,
-                    times,
-                    values,
-                }],
-                instances: Vec::new(),
-                local: Vec::new(),
-                local_normals: Vec::new(),
-                camera: Some(RigCamera {
-                    node: 0,
-                    fov_y_degrees: scene.camera.fov_y_degrees,
-                }),
-            });
+            let camera = Node {
+                name: "camera".into(),
+                parent: None,
+                rest: Trs {
+                    translation: origin,
+                    rotation: look_rotation(&basis),
+                    ..Trs::default()
+                },
+            };
+            let fov = scene.camera.fov_y_degrees;
+            timeline.rig = Some(camera_rig(vec![camera], Property::Translation, slides, 0, fov));
             format!(
                 "camera pan {step:.3} units/frame along its right axis, sway period {period} frames (+-{:.1} units)",
                 step * (period / 4) as f32
@@ -353,13 +356,12 @@ mod tests {
         assert_eq!(sway_period(96), 24);
     }
 
-    #[test]
-    fn orbit_speed_matches_the_formula_and_the_cornell_figures() {
+    /// Frame 0 of `case` at 256x256 has the scene's camera; returns the built scene's
+    /// camera, frame 1's camera and where frame 1 sees the point frame 0 saw at the
+    /// image centre.
+    fn centre_after_one_frame(case: MotionCase) -> (CameraBasis, CameraBasis, Vec2) {
         let scene = cornell_box();
-        let deg = orbit_degrees_per_frame(&scene, 256, 2.0).unwrap();
-        assert!((deg - 1.195).abs() < 0.003, "{deg}");
-        // Frame 1 of the orbit: the centre's point moves 2 px.
-        let (timeline, _) = timeline(MotionCase::Orbit { px_per_frame: 2.0 }, &scene, 256, 4, None).unwrap();
+        let (timeline, _) = timeline(case, &scene, 256, 4, None).unwrap();
         let mut seq = SceneSequence::new(&scene, timeline, 256).unwrap();
         let built = SceneGpu::build(&scene).unwrap();
         let (p, _) = centre_hit(&built, 256).unwrap();
@@ -372,31 +374,23 @@ mod tests {
             .trace_params(&TraceSettings::new(256, 256), 1)
             .unwrap();
         let raster = kernels::camera::project_point(&params, p).unwrap();
+        (built.camera, seq.scene().camera, raster)
+    }
+
+    #[test]
+    fn orbit_speed_matches_the_formula_and_the_cornell_figures() {
+        let deg = orbit_degrees_per_frame(&cornell_box(), 256, 2.0).unwrap();
+        assert!((deg - 1.195).abs() < 0.003, "{deg}");
+        // Frame 1 of the orbit: the centre's point moves 2 px.
+        let (_, _, raster) = centre_after_one_frame(MotionCase::Orbit { px_per_frame: 2.0 });
         assert!(((raster.x - 128.0).abs() - 2.0).abs() < 0.01, "{raster}");
     }
 
     #[test]
     fn the_pan_moves_the_centre_by_its_speed_without_turning() {
-        let scene = cornell_box();
-        let (timeline, _) = timeline(MotionCase::Pan { px_per_frame: 2.0 }, &scene, 256, 4, None).unwrap();
-        let mut seq = SceneSequence::new(&scene, timeline, 256).unwrap();
-        let built = SceneGpu::build(&scene).unwrap();
-        let (p, _) = centre_hit(&built, 256).unwrap();
-        let f0 = seq.scene().camera;
-        assert!((f0.origin - built.camera.origin).length() < 1e-3);
-        assert!((f0.forward - built.camera.forward).length() < 1e-5);
-        seq.advance().unwrap();
-        let f1 = seq.scene().camera;
-        assert!(
-            (f1.forward - built.camera.forward).length() < 1e-5,
-            "the pan turned"
-        );
-        assert!((f1.origin - f0.origin).dot(built.camera.forward).abs() < 1e-3);
-        let params = seq
-            .scene()
-            .trace_params(&TraceSettings::new(256, 256), 1)
-            .unwrap();
-        let raster = kernels::camera::project_point(&params, p).unwrap();
+        let (f0, f1, raster) = centre_after_one_frame(MotionCase::Pan { px_per_frame: 2.0 });
+        assert!((f1.forward - f0.forward).length() < 1e-5, "the pan turned");
+        assert!((f1.origin - f0.origin).dot(f0.forward).abs() < 1e-3);
         assert!(((raster.x - 128.0).abs() - 2.0).abs() < 0.01, "{raster}");
         assert!((raster.y - 128.0).abs() < 0.01, "{raster}");
     }
