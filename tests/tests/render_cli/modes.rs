@@ -347,6 +347,7 @@ fn filters_write_filtered_frames_beside_raw_ones() {
     for bad in [
         &["--filter", "blur"][..],
         &["--filter", "taa", "--taa-alpha", "0"],
+        &["--filter", "atrous", "--taa-clamp", "off"],
     ] {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("out");
@@ -371,6 +372,65 @@ fn filters_write_filtered_frames_beside_raw_ones() {
         );
         assert!(!out.exists(), "{bad:?} created the output directory");
     }
+}
+
+/// `--taa-clamp off` runs the history without its clamp: with a still camera the
+/// filtered frame is then the exponential history (alpha 0.1) of the raw frames,
+/// where the clamped one departs from it.
+#[test]
+fn taa_without_its_clamp_is_the_exponential_history() {
+    let exe = tracer();
+    let frames = 8;
+    let render = |clamp: &str| {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let o = run(
+            &exe,
+            &[
+                "render",
+                "--scene",
+                "cornell",
+                "--width",
+                "48",
+                "--height",
+                "40",
+                "--frames",
+                "8",
+                "--device",
+                "cpu",
+                "--filter",
+                "taa",
+                "--taa-clamp",
+                clamp,
+                "--save-frames",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+        );
+        assert!(o.status.success(), "--taa-clamp {clamp}: {}", text(&o));
+        let read = |name: String| image::open(out.join(name)).unwrap().into_rgb32f().into_raw();
+        let mut history = read(format!("frames/frame_{:05}.exr", 0));
+        for t in 1..frames {
+            for (h, c) in history.iter_mut().zip(read(format!("frames/frame_{t:05}.exr"))) {
+                *h += 0.1 * (c - *h);
+            }
+        }
+        let filtered = read("last_filtered.exr".into());
+        let far = history
+            .iter()
+            .zip(&filtered)
+            .filter(|(h, f)| (*h - *f).abs() > 1e-3 * (1.0 + h.abs()))
+            .count();
+        (far, history.len())
+    };
+    let (off, n) = render("off");
+    assert_eq!(
+        off, 0,
+        "{off} of {n} values away from the exponential history without the clamp"
+    );
+    let (on, _) = render("on");
+    println!("values away from the exponential history: clamp on {on} of {n}, off {off}");
+    assert!(on > n / 100, "the clamp changed only {on} of {n} values");
 }
 
 /// `--sampler spatiotemporal` defaults to the hold mode, and with a moving

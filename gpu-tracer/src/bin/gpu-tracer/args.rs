@@ -113,6 +113,13 @@ pub(crate) struct RenderArgs {
     /// Weight of the current frame in the `taa` history, in (0, 1].
     #[arg(long, default_value_t = 0.1)]
     pub(crate) taa_alpha: f32,
+    /// Whether `taa` clamps its history to the current frame's 3x3 colour
+    /// box: `on` (the default, a TAA's guard against ghosting) or `off` (a
+    /// plain reprojected exponential history, as SVGF's temporal pass
+    /// accumulates; QUALITY.md, "Without TAA's clamp", says which sampler
+    /// keeps least error behind it).
+    #[arg(long, value_enum, default_value = "on")]
+    pub(crate) taa_clamp: OnOff,
     /// Write every frame to `<out>/frames/frame_NNNNN.exr` (linear) and
     /// `.png` (tone-mapped).
     #[arg(long)]

@@ -86,10 +86,14 @@ fn render(args: RenderArgs) -> Result<()> {
         .trace_params(&settings, 0)
         .with_context(|| format!("--sampler {sampler_name} cannot render these settings"))?;
     let filtering = args.filter != FilterChain::None;
+    if args.taa_clamp == OnOff::Off && !matches!(args.filter, FilterChain::Taa | FilterChain::TaaAtrous) {
+        bail!("--taa-clamp applies to the history: add --filter taa or --filter taa+atrous");
+    }
     let mut filter = SequenceFilter::new(
         args.filter,
         FilterSettings {
             alpha: args.taa_alpha,
+            clamp: args.taa_clamp == OnOff::On,
             ..FilterSettings::default()
         },
         args.width,
