@@ -297,35 +297,40 @@ fn roughness(path: &Path) -> f32 {
     sum / (img.height() * (img.width() - 1)) as f32
 }
 
+/// Renders `frames` frames of the 48x40 Cornell box on the CPU with
+/// `--save-frames` and `extra` arguments into a new temporary directory;
+/// returns the output, the directory (removed when dropped) and the output path.
+fn render_small_box(
+    exe: &std::path::PathBuf,
+    frames: &str,
+    extra: &[&str],
+) -> (std::process::Output, tempfile::TempDir, std::path::PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let mut args = vec![
+        "render",
+        "--scene",
+        "cornell",
+        "--width",
+        "48",
+        "--height",
+        "40",
+        "--frames",
+        frames,
+        "--device",
+        "cpu",
+        "--save-frames",
+    ];
+    args.extend_from_slice(extra);
+    args.extend_from_slice(&["--out", out.to_str().unwrap()]);
+    (run(exe, &args), dir, out)
+}
+
 #[test]
 fn filters_write_filtered_frames_beside_raw_ones() {
     let exe = tracer();
     for filter in ["taa", "gauss", "atrous", "taa+atrous"] {
-        let dir = tempfile::tempdir().unwrap();
-        let out = dir.path().join("out");
-        let o = run(
-            &exe,
-            &[
-                "render",
-                "--scene",
-                "cornell",
-                "--width",
-                "48",
-                "--height",
-                "40",
-                "--frames",
-                "6",
-                "--mode",
-                "permute",
-                "--device",
-                "cpu",
-                "--filter",
-                filter,
-                "--save-frames",
-                "--out",
-                out.to_str().unwrap(),
-            ],
-        );
+        let (o, _dir, out) = render_small_box(&exe, "6", &["--mode", "permute", "--filter", filter]);
         assert!(o.status.success(), "--filter {filter}: {}", text(&o));
         for t in 0..6 {
             for ext in ["exr", "png"] {
@@ -382,31 +387,7 @@ fn taa_without_its_clamp_is_the_exponential_history() {
     let exe = tracer();
     let frames = 8;
     let render = |clamp: &str| {
-        let dir = tempfile::tempdir().unwrap();
-        let out = dir.path().join("out");
-        let o = run(
-            &exe,
-            &[
-                "render",
-                "--scene",
-                "cornell",
-                "--width",
-                "48",
-                "--height",
-                "40",
-                "--frames",
-                "8",
-                "--device",
-                "cpu",
-                "--filter",
-                "taa",
-                "--taa-clamp",
-                clamp,
-                "--save-frames",
-                "--out",
-                out.to_str().unwrap(),
-            ],
-        );
+        let (o, _dir, out) = render_small_box(&exe, "8", &["--filter", "taa", "--taa-clamp", clamp]);
         assert!(o.status.success(), "--taa-clamp {clamp}: {}", text(&o));
         let read = |name: String| image::open(out.join(name)).unwrap().into_rgb32f().into_raw();
         let mut history = read(format!("frames/frame_{:05}.exr", 0));
