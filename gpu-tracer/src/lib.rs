@@ -39,7 +39,8 @@
 //! - [`motion`]: the motion vectors of the seed reprojection on the CPU.
 //! - [`method_choice`]: the permutation mode and sampler a render takes
 //!   when its caller names none ([`method_choice::choose_method`]: the
-//!   temporal permutation with ZSobol's pixel jitter).
+//!   temporal permutation with ZSobol's pixel jitter, or behind a history
+//!   without TAA's clamp the spatiotemporal sampler).
 //! - [`render`]: the temporal render loop on the CPU or the GPU
 //!   ([`render_sequence_cpu`], [`render_sequence_gpu`]), with the G-buffer
 //!   and motion vectors of `kernels::gbuffer` when asked.

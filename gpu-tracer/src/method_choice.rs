@@ -59,6 +59,22 @@ pub fn default_reproject_hold_below(mode: PermuteMode) -> f32 {
     }
 }
 
+/// What the frames are accumulated by, as far as the choice of defaults goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum History {
+    /// Raw frames, or a history clamped to the current frame's neighbourhood
+    /// (TAA as renderers run it): the defaults are the temporal permutation
+    /// with ZSobol's jitter.
+    Clamped,
+    /// A history that keeps its past without clamping it (SVGF's temporal
+    /// accumulation, a running mean): the defaults are [`PermuteMode::Hold`]
+    /// with [`DEFAULT_HOLD_SAMPLER`]. Behind such a history a permutation's
+    /// error stays in place from frame to frame and reads worse than white
+    /// noise in flat regions, where the spatiotemporal sampler's sequences
+    /// converge (QUALITY.md, "Without TAA's clamp").
+    Unclamped,
+}
+
 /// A render's mode and sampler, named or chosen.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MethodChoice {
@@ -124,14 +140,23 @@ pub fn default_sampler(mode: PermuteMode, settings: &TraceSettings) -> (u32, Opt
 /// The mode and sampler of a render whose caller named `mode` and `sampler`
 /// or left them out (`None`): a named one is kept as it is (whether the two
 /// go together is [`crate::RenderJob::validate`]'s to say), a missing one is
-/// [`default_mode`] or [`default_sampler`] of the other.
+/// [`default_mode`] or [`default_sampler`] of the other. With neither named,
+/// behind a [`History::Unclamped`] history (and no tile named), the mode is
+/// [`PermuteMode::Hold`] and so the sampler [`DEFAULT_HOLD_SAMPLER`].
 pub fn choose_method(
     mode: Option<PermuteMode>,
     sampler: Option<u32>,
     tile: Option<TileChoice>,
+    history: History,
     settings: &TraceSettings,
 ) -> MethodChoice {
-    let mode = mode.unwrap_or_else(|| default_mode(sampler, tile));
+    let unclamped_default =
+        mode.is_none() && sampler.is_none() && tile.is_none() && history == History::Unclamped;
+    let mode = match mode {
+        Some(m) => m,
+        None if unclamped_default => PermuteMode::Hold,
+        None => default_mode(sampler, tile),
+    };
     let (sampler, fallback) = match sampler {
         Some(s) => (s, None),
         None => default_sampler(mode, settings),
@@ -156,7 +181,7 @@ mod tests {
 
     #[test]
     fn nothing_named_is_the_temporal_permutation_with_zsobols_jitter() {
-        let c = choose_method(None, None, None, &frame(512, 512, 1));
+        let c = choose_method(None, None, None, History::Clamped, &frame(512, 512, 1));
         assert_eq!(c.mode, PermuteMode::Temporal);
         assert_eq!(c.sampler, SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY);
         assert_eq!(c.fallback, None);
@@ -165,23 +190,29 @@ mod tests {
     #[test]
     fn a_named_mode_or_sampler_is_kept_and_the_other_follows_it() {
         let f = frame(256, 256, 4);
-        let white = choose_method(Some(PermuteMode::White), None, None, &f);
+        let white = choose_method(Some(PermuteMode::White), None, None, History::Clamped, &f);
         assert_eq!((white.mode, white.sampler), (PermuteMode::White, SAMPLER_SEEDS));
-        let walk = choose_method(Some(PermuteMode::Permute), None, None, &f);
+        let walk = choose_method(Some(PermuteMode::Permute), None, None, History::Clamped, &f);
         assert_eq!(
             (walk.mode, walk.sampler),
             (PermuteMode::Permute, DEFAULT_PERMUTE_SAMPLER)
         );
-        let hold = choose_method(Some(PermuteMode::Hold), None, None, &f);
+        let hold = choose_method(Some(PermuteMode::Hold), None, None, History::Clamped, &f);
         assert_eq!(hold.sampler, DEFAULT_HOLD_SAMPLER);
-        let seeds = choose_method(None, Some(SAMPLER_SEEDS), None, &f);
+        let seeds = choose_method(None, Some(SAMPLER_SEEDS), None, History::Clamped, &f);
         assert_eq!(
             (seeds.mode, seeds.sampler),
             (PermuteMode::Temporal, SAMPLER_SEEDS)
         );
-        let st = choose_method(None, Some(SAMPLER_SPATIOTEMPORAL), None, &f);
+        let st = choose_method(None, Some(SAMPLER_SPATIOTEMPORAL), None, History::Clamped, &f);
         assert_eq!(st.mode, PermuteMode::Hold);
-        let sobol = choose_method(Some(PermuteMode::Sort), Some(SAMPLER_SCREEN_SOBOL), None, &f);
+        let sobol = choose_method(
+            Some(PermuteMode::Sort),
+            Some(SAMPLER_SCREEN_SOBOL),
+            None,
+            History::Clamped,
+            &f,
+        );
         assert_eq!(
             (sobol.mode, sobol.sampler),
             (PermuteMode::Sort, SAMPLER_SCREEN_SOBOL)
@@ -192,10 +223,29 @@ mod tests {
     fn a_sampler_that_draws_every_decision_renders_with_white_seeds() {
         let f = frame(64, 64, 1);
         for s in [SAMPLER_SCREEN_SOBOL, SAMPLER_ZSOBOL] {
-            assert_eq!(choose_method(None, Some(s), None, &f).mode, PermuteMode::White);
-            let jitter = choose_method(None, Some(s | SAMPLER_JITTER_ONLY), None, &f);
+            assert_eq!(
+                choose_method(None, Some(s), None, History::Clamped, &f).mode,
+                PermuteMode::White
+            );
+            let jitter = choose_method(None, Some(s | SAMPLER_JITTER_ONLY), None, History::Clamped, &f);
             assert_eq!(jitter.mode, PermuteMode::Temporal);
         }
+    }
+
+    #[test]
+    fn an_unclamped_history_takes_the_spatiotemporal_sampler_unless_something_is_named() {
+        let f = frame(256, 256, 1);
+        let c = choose_method(None, None, None, History::Unclamped, &f);
+        assert_eq!((c.mode, c.sampler), (PermuteMode::Hold, DEFAULT_HOLD_SAMPLER));
+        let named = choose_method(Some(PermuteMode::Temporal), None, None, History::Unclamped, &f);
+        assert_eq!(
+            (named.mode, named.sampler),
+            (PermuteMode::Temporal, DEFAULT_PERMUTE_SAMPLER)
+        );
+        let seeds = choose_method(None, Some(SAMPLER_SEEDS), None, History::Unclamped, &f);
+        assert_eq!(seeds.mode, PermuteMode::Temporal);
+        let walk = choose_method(None, None, Some(TileChoice::Tile128), History::Unclamped, &f);
+        assert_eq!(walk.mode, PermuteMode::Permute);
     }
 
     #[test]
@@ -209,9 +259,21 @@ mod tests {
 
     #[test]
     fn the_128_tile_takes_the_walk_because_the_temporal_target_is_64() {
-        let c = choose_method(None, None, Some(TileChoice::Tile128), &frame(64, 64, 1));
+        let c = choose_method(
+            None,
+            None,
+            Some(TileChoice::Tile128),
+            History::Clamped,
+            &frame(64, 64, 1),
+        );
         assert_eq!(c.mode, PermuteMode::Permute);
-        let c = choose_method(None, None, Some(TileChoice::Tile64), &frame(64, 64, 1));
+        let c = choose_method(
+            None,
+            None,
+            Some(TileChoice::Tile64),
+            History::Clamped,
+            &frame(64, 64, 1),
+        );
         assert_eq!(c.mode, PermuteMode::Temporal);
     }
 
@@ -222,11 +284,17 @@ mod tests {
             frame(4097, 8, 1),
             frame(8, 4097, 1),
         ] {
-            let c = choose_method(None, None, None, &f);
+            let c = choose_method(None, None, None, History::Clamped, &f);
             assert_eq!(c.sampler, SAMPLER_SEEDS, "{f:?}");
             assert!(c.fallback.is_some_and(|why| why.contains("zsobol")), "{f:?}");
         }
-        let edge = choose_method(None, None, None, &frame(4096, 4096, ZSOBOL_MAX_SPP));
+        let edge = choose_method(
+            None,
+            None,
+            None,
+            History::Clamped,
+            &frame(4096, 4096, ZSOBOL_MAX_SPP),
+        );
         assert_eq!((edge.sampler, edge.fallback), (DEFAULT_PERMUTE_SAMPLER, None));
     }
 }

@@ -455,12 +455,13 @@ fn spatiotemporal_defaults_to_hold_and_follows_a_pan() {
 /// What `render` takes when `--mode` or `--sampler` is left out: the
 /// temporal permutation with ZSobol's jitter; the walk with `--tile 128`;
 /// white noise stays white noise; past ZSobol's limits the seed stream, with
-/// a note; `--mode hold` alone takes the Kronecker spatiotemporal sampler; a
-/// sampler that draws every decision takes white seeds.
+/// a note; `--mode hold` alone takes the Kronecker spatiotemporal sampler, and
+/// so does a history without TAA's clamp when nothing is named; a sampler that
+/// draws every decision takes white seeds.
 #[test]
 fn render_defaults_to_the_temporal_permutation_with_zsobols_jitter() {
     let exe = tracer();
-    let cases: [(&[&str], &str, bool); 7] = [
+    let cases: [(&[&str], &str, bool); 9] = [
         (&[], "(Temporal mode, zsobol-jitter sampler", false),
         (&["--tile", "128"], "(Permute mode, zsobol-jitter sampler", false),
         (&["--mode", "white"], "(White mode, seeds sampler", false),
@@ -476,6 +477,16 @@ fn render_defaults_to_the_temporal_permutation_with_zsobols_jitter() {
             false,
         ),
         (&["--sampler", "zsobol"], "(White mode, zsobol sampler", false),
+        (
+            &["--filter", "taa", "--taa-clamp", "off"],
+            "(Hold mode, spatiotemporal-kronecker sampler",
+            false,
+        ),
+        (
+            &["--filter", "taa", "--taa-clamp", "off", "--mode", "temporal"],
+            "(Temporal mode, zsobol-jitter sampler",
+            false,
+        ),
     ];
     for (extra, summary, note) in cases {
         let dir = tempfile::tempdir().unwrap();

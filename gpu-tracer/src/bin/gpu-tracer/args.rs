@@ -116,8 +116,10 @@ pub(crate) struct RenderArgs {
     /// Whether `taa` clamps its history to the current frame's 3x3 colour
     /// box: `on` (the default, a TAA's guard against ghosting) or `off` (a
     /// plain reprojected exponential history, as SVGF's temporal pass
-    /// accumulates; QUALITY.md, "Without TAA's clamp", says which sampler
-    /// keeps least error behind it).
+    /// accumulates). With `off` and neither `--mode`, `--sampler` nor
+    /// `--tile` named, the render takes `--mode hold --sampler
+    /// spatiotemporal-kronecker`, which keeps least error behind such a
+    /// history (QUALITY.md, "Without TAA's clamp").
     #[arg(long, value_enum, default_value = "on")]
     pub(crate) taa_clamp: OnOff,
     /// Write every frame to `<out>/frames/frame_NNNNN.exr` (linear) and
@@ -147,7 +149,8 @@ pub(crate) struct RenderArgs {
     /// default: sort against slice `t mod 64` of the default spatiotemporal
     /// mask, retarget to the next slice: blue in time too; 64 tile; with
     /// `--features on` sorted in groups of one surface and cut at edges) or
-    /// `hold` (default with `--sampler spatiotemporal`; takes it and
+    /// `hold` (default with `--sampler spatiotemporal` and with
+    /// `--taa-clamp off`; takes it and
     /// `--sampler zsobol`: each pixel's sampler data, the spatiotemporal
     /// shift or ZSobol's point, stays with it, and follows the motion with
     /// reprojection).
@@ -190,7 +193,8 @@ pub(crate) struct RenderArgs {
     /// seeds: with `--mode permute`, silhouettes get a stratified jitter too.
     /// Default: `zsobol-jitter` with the modes that permute seeds (`seeds`
     /// past 256 spp or 4096 pixels a side, with a note), `seeds` with
-    /// `--mode white`, `spatiotemporal-kronecker` with `--mode hold`.
+    /// `--mode white`, `spatiotemporal-kronecker` with `--mode hold` (so with
+    /// `--taa-clamp off` too).
     #[arg(long, value_enum)]
     pub(crate) sampler: Option<SamplerArg>,
     /// Output directory (created if missing).

@@ -17,7 +17,7 @@ use clap::{Parser, ValueEnum};
 use device::open_device;
 use gpu_tracer::feature_keys::FeatureKey;
 use gpu_tracer::filter::{FilterChain, FilterSettings, SequenceFilter};
-use gpu_tracer::method_choice::{choose_method, default_reproject_hold_below};
+use gpu_tracer::method_choice::{choose_method, default_reproject_hold_below, History};
 use gpu_tracer::{
     render_sequence_cpu, render_sequence_gpu, FrameView, PermuteMode, RenderJob, SequenceOptions, TileChoice,
     TraceSettings,
@@ -72,7 +72,17 @@ fn render(args: RenderArgs) -> Result<()> {
         ),
         _ => {}
     }
-    let choice = choose_method(args.mode.map(ModeArg::mode), named_sampler, tile_arg, &settings);
+    let history = match args.taa_clamp {
+        OnOff::On => History::Clamped,
+        OnOff::Off => History::Unclamped,
+    };
+    let choice = choose_method(
+        args.mode.map(ModeArg::mode),
+        named_sampler,
+        tile_arg,
+        history,
+        &settings,
+    );
     settings.sampler = choice.sampler;
     let sampler_name = SamplerArg::from_flags(choice.sampler)
         .map(SamplerArg::name)
