@@ -40,6 +40,17 @@ pub const DEFAULT_HOLD_SAMPLER: u32 = SAMPLER_SPATIOTEMPORAL | SAMPLER_KRONECKER
 /// and 6 per pixel beat 3 and 9.
 pub const DEFAULT_REPROJECT_HOLD_BELOW: f32 = 6.0;
 
+/// Share of a frame's pixels that must move rigidly
+/// (`kernels::motion::moves_rigidly`) for every seed to follow its surface
+/// in that frame, whatever its speed (`SequenceOptions::reproject_follow_share`)
+/// in [`PermuteMode::Temporal`]. A camera pan moves 66-86% of the Cornell
+/// box rigidly at 2 px/frame, an orbit about 27%, a moving block 6%; below a
+/// pixel a frame nothing counts. Measured for the defaults (QUALITY.md, "Pans
+/// follow"): with it the default is within 0.9% of the better of
+/// reprojection on and off on every sequence, where the speed rule alone
+/// missed a pan at 2 px/frame by 2.7%.
+pub const DEFAULT_REPROJECT_FOLLOW_SHARE: f32 = 0.5;
+
 /// [`DEFAULT_REPROJECT_HOLD_BELOW`] for the walk's modes
 /// ([`PermuteMode::Permute`], [`PermuteMode::Sort`]): 4 px/frame, inside the
 /// walk's own crossover (QUALITY.md, "Seeds in motion": leaving its seeds
@@ -73,6 +84,17 @@ pub enum History {
     /// noise in flat regions, where the spatiotemporal sampler's sequences
     /// converge (QUALITY.md, "Without TAA's clamp").
     Unclamped,
+}
+
+/// The frame-wide follow rule per mode: [`DEFAULT_REPROJECT_FOLLOW_SHARE`]
+/// for [`PermuteMode::Temporal`], 0 (off) for the others: the walk's modes
+/// were not measured with it, and [`PermuteMode::Hold`] follows every
+/// surface anyway.
+pub fn default_reproject_follow_share(mode: PermuteMode) -> f32 {
+    match mode {
+        PermuteMode::Temporal => DEFAULT_REPROJECT_FOLLOW_SHARE,
+        PermuteMode::Sort | PermuteMode::Permute | PermuteMode::Hold | PermuteMode::White => 0.0,
+    }
 }
 
 /// A render's mode and sampler, named or chosen.
@@ -255,6 +277,15 @@ mod tests {
         assert_eq!(default_reproject_hold_below(PermuteMode::Sort), 4.0);
         assert_eq!(default_reproject_hold_below(PermuteMode::Hold), 0.0);
         assert_eq!(default_reproject_hold_below(PermuteMode::White), 0.0);
+        assert_eq!(default_reproject_follow_share(PermuteMode::Temporal), 0.5);
+        for m in [
+            PermuteMode::Permute,
+            PermuteMode::Sort,
+            PermuteMode::Hold,
+            PermuteMode::White,
+        ] {
+            assert_eq!(default_reproject_follow_share(m), 0.0, "{m:?}");
+        }
     }
 
     #[test]

@@ -7,7 +7,7 @@
 
 use glam::{UVec2, Vec2};
 use kernels::abi::GBufferGpu;
-use kernels::motion::{reprojection_motion_pixel, seed_motion, visibility};
+use kernels::motion::{frame_follows, moves_rigidly, reprojection_motion_pixel, seed_motion, visibility};
 
 pub use kernels::motion::DISOCCLUSION_DEPTH_TOLERANCE;
 
@@ -50,9 +50,12 @@ pub fn reprojection_motion(
 
 /// [`reprojection_motion`] as the seed reprojection takes it: zero where the
 /// pixel's surface moved less than `hold_below` pixels since the previous
-/// frame (`kernels::motion::seed_motion`, the code the GPU's motion pass
-/// runs), so that its seed stays. `hold_below` in pixels per frame, finite
-/// and `>= 0`; 0 gives [`reprojection_motion`] exactly.
+/// frame, so that its seed stays, unless at least `follow_share` of the
+/// frame's pixels move rigidly (`kernels::motion::{moves_rigidly,
+/// frame_follows, seed_motion}`, the code the GPU's rigid-count and motion
+/// passes run). `hold_below` in pixels per frame, finite and `>= 0`; 0 gives
+/// [`reprojection_motion`] exactly. `follow_share` in `[0, 1]`; 0: the
+/// frame-wide rule is off.
 ///
 /// # Panics
 /// If `current` or `previous` is not `width * height` long.
@@ -62,10 +65,32 @@ pub fn seed_reprojection_motion(
     width: u32,
     height: u32,
     hold_below: f32,
+    follow_share: f32,
 ) -> Vec<[f32; 2]> {
+    let follows_all = follow_share > 0.0 && {
+        let rigid = rigid_pixels(current, width, height);
+        frame_follows(rigid, width.wrapping_mul(height), follow_share)
+    };
     motion_per_pixel(current, previous, width, height, |g, m| {
-        seed_motion(g, m, hold_below)
+        seed_motion(g, m, hold_below, follows_all)
     })
+}
+
+/// How many pixels of the frame move rigidly
+/// (`kernels::motion::moves_rigidly`; what the GPU's rigid-count pass sums).
+///
+/// # Panics
+/// If `gbuffer` is not `width * height` long.
+pub fn rigid_pixels(gbuffer: &[GBufferGpu], width: u32, height: u32) -> u32 {
+    assert_eq!(
+        gbuffer.len(),
+        width as usize * height as usize,
+        "G-buffer must be width * height"
+    );
+    (0..height)
+        .flat_map(|y| (0..width).map(move |x| (x, y)))
+        .filter(|&(x, y)| moves_rigidly(gbuffer, x, y, width, height))
+        .count() as u32
 }
 
 /// One pass over the pixels: `finish(texel, reprojection_motion_pixel(..))`.
@@ -156,15 +181,41 @@ mod tests {
         ];
         let vis = vis(&previous);
         let plain = reprojection_motion(&current, &vis, 3, 1);
-        assert_eq!(seed_reprojection_motion(&current, &vis, 3, 1, 0.0), plain);
-        assert_eq!(seed_reprojection_motion(&current, &vis, 3, 1, 0.5), plain);
-        let held = seed_reprojection_motion(&current, &vis, 3, 1, 2.0);
+        assert_eq!(seed_reprojection_motion(&current, &vis, 3, 1, 0.0, 0.0), plain);
+        assert_eq!(seed_reprojection_motion(&current, &vis, 3, 1, 0.5, 0.0), plain);
+        let held = seed_reprojection_motion(&current, &vis, 3, 1, 2.0, 0.0);
         assert_eq!(held, vec![[0.0, 0.0], [0.0, 0.0], plain[2]]);
         assert_eq!(plain[2], [-2.5, 0.0]);
         // No previous position (NaN motion): never held.
         let mut nan = current;
         nan[0].motion.x = f32::NAN;
-        let m = seed_reprojection_motion(&nan, &vis, 3, 1, 100.0);
+        let m = seed_reprojection_motion(&nan, &vis, 3, 1, 100.0, 0.0);
         assert_eq!(m[0], kernels::motion::DISOCCLUDED.to_array());
+    }
+
+    /// A frame that slides rigidly (every surface 2 px/frame, the same
+    /// everywhere) follows as a whole once its rigid pixels reach the share;
+    /// one pixel's motion bent by more than `RIGID_WITHIN` takes it and its
+    /// four neighbours out of the count.
+    #[test]
+    fn a_rigidly_sliding_frame_follows_as_a_whole_past_its_share() {
+        let (w, h) = (6, 5);
+        let mut current: Vec<_> = (0..w * h).map(|_| texel(1, 10.0, [-2.0, 0.0], 10.0)).collect();
+        let vis = vis(&current);
+        let plain = reprojection_motion(&current, &vis, w, h);
+        // Rigid: the 4 x 3 pixels off the border, 12 of 30.
+        assert_eq!(rigid_pixels(&current, w, h), 12);
+        let held = seed_reprojection_motion(&current, &vis, w, h, 6.0, 0.0);
+        assert!(held.iter().all(|m| *m == [0.0, 0.0]), "{held:?}");
+        assert_eq!(seed_reprojection_motion(&current, &vis, w, h, 6.0, 0.4), plain);
+        let not_enough = seed_reprojection_motion(&current, &vis, w, h, 6.0, 0.41);
+        assert_eq!(not_enough, held);
+        // Bend one interior pixel's motion: it and its 4 neighbours (all
+        // interior) stop counting.
+        current[2 * w as usize + 2].motion.y = 0.06;
+        assert_eq!(rigid_pixels(&current, w, h), 7);
+        // Too slow to count, however uniform.
+        let slow: Vec<_> = (0..w * h).map(|_| texel(1, 10.0, [-0.9, 0.0], 10.0)).collect();
+        assert_eq!(rigid_pixels(&slow, w, h), 0);
     }
 }

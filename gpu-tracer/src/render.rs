@@ -97,6 +97,13 @@ pub struct SequenceOptions {
     /// default here): every seed follows its surface. The command line's
     /// default is [`crate::method_choice::DEFAULT_REPROJECT_HOLD_BELOW`].
     pub reproject_hold_below: f32,
+    /// With [`Self::reproject`]: every seed follows its surface, whatever
+    /// [`Self::reproject_hold_below`] says, in a frame where at least this
+    /// share of the pixels moves rigidly (`kernels::motion::moves_rigidly`:
+    /// at least a pixel a frame, as its four neighbours within 0.05; a camera
+    /// pan). In `[0, 1]`; 0 (the default here): off. The command line's
+    /// default is [`crate::method_choice::DEFAULT_REPROJECT_FOLLOW_SHARE`].
+    pub reproject_follow_share: f32,
     /// Feature-aware permutation (`sampler_core::permute_frame_features`
     /// with `FeatureThresholds::DEFAULT`): sort keys with the albedo divided
     /// out, blocks sorted in groups of one surface, retarget moves cut at
@@ -115,13 +122,20 @@ impl SequenceOptions {
     /// Checks the options' ranges.
     ///
     /// # Errors
-    /// [`RenderError::BadOption`] when [`Self::reproject_hold_below`] is NaN,
+    /// [`RenderError::BadOption`] when [`Self::reproject_follow_share`] is
+    /// outside `[0, 1]` or NaN, or [`Self::reproject_hold_below`] is NaN,
     /// infinite or negative.
     pub fn validate(&self) -> Result<(), RenderError> {
         let below = self.reproject_hold_below;
         if !(below.is_finite() && below >= 0.0) {
             return Err(RenderError::BadOption(format!(
                 "reproject_hold_below must be finite and >= 0 pixels per frame, not {below}"
+            )));
+        }
+        let share = self.reproject_follow_share;
+        if !(0.0..=1.0).contains(&share) {
+            return Err(RenderError::BadOption(format!(
+                "reproject_follow_share must be in [0, 1], not {share}"
             )));
         }
         Ok(())
@@ -408,7 +422,8 @@ pub fn render_sequence_cpu(
         }
         if reproject && t > 0 {
             let (w, h, below) = (layout.width(), layout.height(), options.reproject_hold_below);
-            let motion = seed_reprojection_motion(&gbuf, &previous_vis, w, h, below);
+            let share = options.reproject_follow_share;
+            let motion = seed_reprojection_motion(&gbuf, &previous_vis, w, h, below, share);
             // Seeds, or with the hold mode the homes: moved alike.
             sampler_core::reproject_frame(&layout, &motion, &seeds, &mut claims, &mut next)?;
             std::mem::swap(&mut seeds, &mut next);
@@ -590,6 +605,7 @@ pub fn render_sequence_gpu(
         }
         let mut params = sequence.scene().trace_params(&settings, t)?;
         params.seed_hold_below = options.reproject_hold_below;
+        params.seed_follow_share = options.reproject_follow_share;
         tracer.set_params(gpu, &params);
         let salt_or_frame = if job.mode == PermuteMode::White {
             sampler_core::frame_salt(job.salt, t + 1)

@@ -40,15 +40,17 @@ pub enum MotionMethod {
     /// jitter (`--sampler zsobol-jitter`), seeds left at their pixels when
     /// things move: the render defaults with `--reproject off`.
     TemporalPermuteJitter,
-    /// [`MotionMethod::TemporalPermuteJitter`] with the seeds reprojected
-    /// (the render defaults when something moves).
+    /// [`MotionMethod::TemporalPermuteJitter`] with every seed reprojected.
     TemporalPermuteJitterReproject,
     /// [`MotionMethod::TemporalPermuteJitterReproject`] with the
     /// feature-aware permutation (`--mode temporal --features on`).
     FeatureTemporalPermuteJitterReproject,
     /// [`MotionMethod::TemporalPermuteJitterReproject`] with the seeds of
     /// pixels slower than `gpu_tracer::method_choice::DEFAULT_REPROJECT_HOLD_BELOW`
-    /// left at their pixels (`SequenceOptions::reproject_hold_below`).
+    /// left at their pixels (`SequenceOptions::reproject_hold_below`), except
+    /// in frames that move rigidly
+    /// (`gpu_tracer::method_choice::DEFAULT_REPROJECT_FOLLOW_SHARE`): the
+    /// render defaults when something moves.
     TemporalPermuteJitterReprojectFast,
 }
 
@@ -142,7 +144,7 @@ impl MotionMethod {
                 "feature-aware temporal-permute + zsobol jitter + reprojection"
             }
             MotionMethod::TemporalPermuteJitterReprojectFast => {
-                "temporal-permute + zsobol jitter + reprojection of fast surfaces (the default)"
+                "temporal-permute + zsobol jitter + reprojection of fast surfaces and rigid frames (the default)"
             }
         }
     }
@@ -212,15 +214,19 @@ impl MotionMethod {
             tile,
             salt: config.salt,
         };
-        let hold_below = if self == MotionMethod::TemporalPermuteJitterReprojectFast {
-            gpu_tracer::method_choice::DEFAULT_REPROJECT_HOLD_BELOW
+        let (hold_below, follow_share) = if self == MotionMethod::TemporalPermuteJitterReprojectFast {
+            (
+                gpu_tracer::method_choice::DEFAULT_REPROJECT_HOLD_BELOW,
+                gpu_tracer::method_choice::DEFAULT_REPROJECT_FOLLOW_SHARE,
+            )
         } else {
-            0.0
+            (0.0, 0.0)
         };
         let options = SequenceOptions {
             gbuffer: false,
             reproject,
             reproject_hold_below: hold_below,
+            reproject_follow_share: follow_share,
             features,
             ..SequenceOptions::default()
         };

@@ -139,6 +139,7 @@ impl Study {
                     gbuffer: false,
                     reproject: false,
                     reproject_hold_below: 0.0,
+                    reproject_follow_share: 0.0,
                     features: true,
                     feature_key: match method {
                         Method::FeaturePermuteRawKey => FeatureKey::Raw,

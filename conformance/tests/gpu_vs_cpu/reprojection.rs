@@ -92,8 +92,10 @@ fn reprojection_kernels_match_the_cpu_bit_for_bit() {
 
 /// The motion pass (`entry::motion_cs`) against the CPU's
 /// `gpu_tracer::motion::seed_reprojection_motion` on the same G-buffers,
-/// with every seed following and with slow pixels holding theirs: the same
-/// vectors bit for bit, `DISOCCLUDED` where the CPU marks a disocclusion.
+/// with every seed following, with slow pixels holding theirs, and with the
+/// frame-wide rule of a frame that slides rigidly (the rigid-count pass's
+/// atomic sum against `rigid_pixels`): the same vectors bit for bit,
+/// `DISOCCLUDED` where the CPU marks a disocclusion.
 #[test]
 fn motion_kernel_matches_the_cpu() {
     use glam::{UVec2, UVec4, Vec2};
@@ -154,13 +156,37 @@ fn motion_kernel_matches_the_cpu() {
     tracer.enable_motion(&gpu, &pipelines, &motion);
     let mut vis = vec![UVec2::ZERO; n];
     write_visibility(&previous, &mut vis);
-    let plain = reprojection_motion(&current, &vis, w, h);
-    // 0: every seed follows; 2.5 px/frame: the slow half of the pixels hold.
-    for hold_below in [0.0f32, 2.5] {
+    // The same frame sliding rigidly: every pixel a hit moving (-1.25, 0.5)
+    // px/frame, so the pixels off the border move rigidly (35 x 21 of 37 x 23).
+    let sliding: Vec<GBufferGpu> = current
+        .iter()
+        .map(|g| {
+            let mut g = *g;
+            g.motion.x = -1.25;
+            g.motion.y = 0.5;
+            g.ids = UVec4::new(g.ids.x % 4, 0, 0, GBUFFER_HIT | GBUFFER_PREV_IN_FRONT);
+            g
+        })
+        .collect();
+    assert_eq!(gpu_tracer::motion::rigid_pixels(&current, w, h), 0);
+    assert_eq!(gpu_tracer::motion::rigid_pixels(&sliding, w, h), 35 * 21);
+    // (hold below, follow share, frame): every seed follows; the slow half of
+    // the pixels hold; the same with a share no random frame reaches; a
+    // sliding frame past its share (every seed follows whatever the speed)
+    // and short of it (every seed holds).
+    let cases = [
+        (0.0f32, 0.0f32, &current),
+        (2.5, 0.0, &current),
+        (2.5, 0.3, &current),
+        (100.0, 0.85, &sliding),
+        (100.0, 0.87, &sliding),
+    ];
+    for (hold_below, share, frame) in cases {
         let mut p = params;
         p.seed_hold_below = hold_below;
+        p.seed_follow_share = share;
         tracer.set_params(&gpu, &p);
-        for g in [&previous, &current] {
+        for g in [&previous, frame] {
             gpu.queue
                 .write_buffer(&tracer.gbuffer, 0, bytemuck::cast_slice(g));
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
@@ -168,24 +194,32 @@ fn motion_kernel_matches_the_cpu() {
             gpu.queue.submit([encoder.finish()]);
         }
         let got: Vec<Vec2> = gpu.read(&motion, n).unwrap();
-        let expected = seed_reprojection_motion(&current, &vis, w, h, hold_below);
+        let expected = seed_reprojection_motion(frame, &vis, w, h, hold_below, share);
+        let case = format!("hold below {hold_below}, share {share}");
         for (i, (g, e)) in got.iter().zip(&expected).enumerate() {
             assert!(
                 g.x.to_bits() == e[0].to_bits() && g.y.to_bits() == e[1].to_bits(),
-                "hold below {hold_below}: pixel {i}: GPU {g:?}, CPU {e:?}"
+                "{case}: pixel {i}: GPU {g:?}, CPU {e:?}"
             );
         }
+        let plain = reprojection_motion(frame, &vis, w, h);
         let changed = expected.iter().zip(&plain).filter(|(e, p)| e != p).count();
-        if hold_below == 0.0 {
-            assert_eq!(expected, plain);
-            let gone = kernels::motion::DISOCCLUDED.to_array();
-            let disoccluded = expected.iter().filter(|m| **m == gone).count();
-            assert!(
-                disoccluded > n / 10 && disoccluded < n * 9 / 10,
-                "{disoccluded} of {n} NaN"
-            );
-        } else {
-            assert!(changed > n / 10 && changed < n * 9 / 10, "{changed} of {n} held");
+        match (hold_below, share) {
+            (0.0, _) => {
+                assert_eq!(expected, plain);
+                let gone = kernels::motion::DISOCCLUDED.to_array();
+                let disoccluded = expected.iter().filter(|m| **m == gone).count();
+                assert!(
+                    disoccluded > n / 10 && disoccluded < n * 9 / 10,
+                    "{disoccluded} of {n} NaN"
+                );
+            }
+            (_, 0.85) => assert_eq!(changed, 0, "{case}: the sliding frame did not follow"),
+            (_, 0.87) => assert!(expected.iter().all(|m| *m == [0.0, 0.0]), "{case}"),
+            _ => assert!(
+                changed > n / 10 && changed < n * 9 / 10,
+                "{case}: {changed} of {n} held"
+            ),
         }
     }
 }

@@ -39,6 +39,10 @@
 //! | | 2 | storage, read | previous frame's visibility `[UVec2]` (`crate::motion::visibility`), `width * height` |
 //! | | 3 | storage, write | this frame's visibility `[UVec2]`, `width * height` |
 //! | | 4 | storage, write | reprojection motion `[Vec2]` (pixels; `crate::motion::DISOCCLUDED` where disoccluded), `width * height` |
+//! | | 5 | storage, read | rigid pixels `[u32]`, one element: [`RIGID_COUNT_ENTRY`]'s count |
+//! | [`RIGID_COUNT_ENTRY`] | 0 | uniform | [`TraceParams`] |
+//! | | 1 | storage, read | G-buffer `[GBufferGpu]` of this frame |
+//! | | 2 | storage, read-write | rigid pixels `[u32]`, one element (atomic; the host clears it) |
 //! | [`FEATURES_ENTRY`] | 0 | uniform | [`TraceParams`] |
 //! | | 1 | storage, read | G-buffer `[GBufferGpu]` of this frame |
 //! | | 2 | storage, read | frame colour `[Vec4]` |
@@ -82,6 +86,10 @@ pub const GBUFFER_UNTEXTURED_ENTRY: &str = "entry::gbuffer_untextured_cs";
 /// seed reprojection's motion vectors from the G-buffer
 /// (`crate::motion::reprojection_motion_pixel`).
 pub const MOTION_ENTRY: &str = "entry::motion_cs";
+/// Name of the rigid-count entry point (one invocation per visible pixel):
+/// counts the pixels that move rigidly (`crate::motion::moves_rigidly`) for
+/// the motion pass's frame-wide rule.
+pub const RIGID_COUNT_ENTRY: &str = "entry::rigid_count_cs";
 /// Name of the feature entry point (one invocation per visible pixel): the
 /// feature-aware permutation's inputs from the G-buffer and the colour
 /// (`crate::surface_features`).
@@ -333,8 +341,13 @@ pub struct TraceParams {
     /// the roughest lobe that continued the path before it. 0 (the default):
     /// off, every path unbiased and as it was bit for bit.
     pub glossy_regularization: f32,
-    /// Reserved, 0 (keeps the structure a multiple of 16 bytes).
-    pub reserved0: u32,
+    /// Share of the frame's pixels, in `[0, 1]`, that must move rigidly
+    /// (`crate::motion::moves_rigidly`, counted by [`RIGID_COUNT_ENTRY`])
+    /// for every seed to follow its surface whatever
+    /// [`Self::seed_hold_below`] says (`crate::motion::frame_follows`);
+    /// 0: never, and the motion pass does not read the count. Read by the
+    /// motion pass only.
+    pub seed_follow_share: f32,
     /// Reserved, 0.
     pub reserved1: u32,
     /// Reserved, 0.

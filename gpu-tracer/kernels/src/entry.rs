@@ -7,12 +7,14 @@ use crate::abi::{
 };
 use crate::accumulate::accumulate_pixel;
 use crate::gbuffer::gbuffer_pixel_variant;
-use crate::motion::{reprojection_motion_pixel, seed_motion, visibility};
+use crate::motion::{frame_follows, moves_rigidly, reprojection_motion_pixel, seed_motion, visibility};
 use crate::surface_features::{demodulated_intensity, surface_feature};
 use crate::trace::trace_pixel_variant;
 use crate::trace_variant;
 use glam::{UVec2, UVec3, Vec2, Vec4};
 use sampler_core::SurfaceFeature;
+use spirv_std::arch::atomic_i_add;
+use spirv_std::memory::{Scope, Semantics};
 use spirv_std::spirv;
 
 /// Defines a trace entry point: one invocation per visible pixel `(id.x,
@@ -156,12 +158,41 @@ gbuffer_entry!(
     trace_variant::UNTEXTURED
 );
 
+/// [`RIGID_COUNT_ENTRY`](crate::abi::RIGID_COUNT_ENTRY): one invocation
+/// per visible pixel; adds 1 to `count[0]` (cleared by the host before the
+/// pass) when the pixel moves rigidly (`moves_rigidly`), for the motion
+/// pass's frame-wide rule (`frame_follows`). Runs only when
+/// [`TraceParams::seed_follow_share`] is not 0. Invocations outside the
+/// frame do nothing.
+#[spirv(compute(threads(8, 8)))]
+pub fn rigid_count_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &TraceParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] gbuffer: &[GBufferGpu],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] count: &mut [u32],
+) {
+    if id.x >= params.width || id.y >= params.height {
+        return;
+    }
+    if moves_rigidly(gbuffer, id.x, id.y, params.width, params.height) {
+        // SAFETY: an atomic on element 0 of a one-element storage buffer.
+        // Queue-family scope and no ordering, as the reprojection's claims:
+        // the sum is read only by the next dispatch, after a barrier, and an
+        // integer sum does not depend on the order of the additions.
+        unsafe {
+            atomic_i_add::<u32, { Scope::QueueFamily as u32 }, { Semantics::NONE.bits() }>(&mut count[0], 1);
+        }
+    }
+}
+
 /// [`MOTION_ENTRY`](crate::abi::MOTION_ENTRY): one invocation per visible
 /// pixel; writes the pixel's visibility for the next frame and its
 /// reprojection motion against the previous frame's visibility
 /// (`reprojection_motion_pixel`), zero where the surface moved less than
-/// [`TraceParams::seed_hold_below`] (`seed_motion`). Invocations outside the
-/// frame do nothing.
+/// [`TraceParams::seed_hold_below`] unless the frame follows as a whole
+/// (`seed_motion`, `frame_follows` of `rigid[0]`, the count of
+/// [`rigid_count_cs`]; not read when [`TraceParams::seed_follow_share`] is
+/// 0). Invocations outside the frame do nothing.
 #[spirv(compute(threads(8, 8)))]
 pub fn motion_cs(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -170,6 +201,7 @@ pub fn motion_cs(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] previous: &[UVec2],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] current: &mut [UVec2],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] motion: &mut [Vec2],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] rigid: &[u32],
 ) {
     if id.x >= params.width || id.y >= params.height {
         return;
@@ -178,7 +210,9 @@ pub fn motion_cs(
     let g = gbuffer[i];
     current[i] = visibility(&g);
     let m = reprojection_motion_pixel(&g, id.x, id.y, params.width, params.height, previous);
-    motion[i] = seed_motion(&g, m, params.seed_hold_below);
+    let share = params.seed_follow_share;
+    let follows_all = share > 0.0 && frame_follows(rigid[0], params.width.wrapping_mul(params.height), share);
+    motion[i] = seed_motion(&g, m, params.seed_hold_below, follows_all);
 }
 
 /// [`FEATURES_ENTRY`](crate::abi::FEATURES_ENTRY): one invocation per

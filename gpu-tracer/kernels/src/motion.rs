@@ -3,7 +3,9 @@
 //! `sampler_core::reproject_frame` and the GPU reprojection passes take.
 //! The CPU renderer (`gpu_tracer::motion`) and the motion entry point
 //! ([`crate::entry::motion_cs`]) both call [`reprojection_motion_pixel`] and
-//! [`seed_motion`].
+//! [`seed_motion`], and count the pixels that move rigidly
+//! ([`moves_rigidly`], [`crate::entry::rigid_count_cs`]) for
+//! [`frame_follows`].
 
 use crate::abi::{GBufferGpu, GBUFFER_HIT, GBUFFER_NO_HIT, GBUFFER_PREV_IN_FRONT};
 use glam::{UVec2, Vec2};
@@ -75,12 +77,87 @@ pub fn reprojection_motion_pixel(
     }
 }
 
+/// Largest difference, in pixels per frame, between a pixel's G-buffer
+/// motion and each of its four neighbours' for the pixel to move
+/// *rigidly* ([`moves_rigidly`]). 0.05: a seam where neighbours' rounded
+/// motions part (the seams that cost followed seeds their order, QUALITY.md
+/// "Why followed points lose their blue noise") then crosses a pixel at
+/// most once in 20 frames. A camera pan moves a wall facing it by exactly
+/// the same amount everywhere; an orbit's perspective bends the field.
+pub const RIGID_WITHIN: f32 = 0.05;
+
+/// Slowest G-buffer motion, in pixels per frame, that counts as moving
+/// rigidly ([`moves_rigidly`]). Below a pixel a frame a followed seed jumps
+/// a whole pixel where the drift crosses a rounding boundary and stays put
+/// elsewhere, which costs the sorting pass's prediction more than holding
+/// it (QUALITY.md, "Which default for reprojection").
+pub const RIGID_MIN_SPEED: f32 = 1.0;
+
+/// Whether pixel `(x, y)` of a `width x height` frame whose G-buffer is
+/// `gbuffer` (`width * height`, row-major) moves rigidly: its surface moved
+/// at least [`RIGID_MIN_SPEED`] pixels since the previous frame, and its
+/// four neighbours are inside the frame, show a surface, and moved within
+/// [`RIGID_WITHIN`] pixels of it (G-buffer motion `motion.xy`, disoccluded
+/// or not). Pixels without a hit, at the frame's border, or with a NaN
+/// motion do not. [`seed_motion`]'s frame-wide rule counts these pixels.
+#[inline]
+pub fn moves_rigidly(gbuffer: &[GBufferGpu], x: u32, y: u32, width: u32, height: u32) -> bool {
+    if x == 0 || y == 0 || x.wrapping_add(1) >= width || y.wrapping_add(1) >= height {
+        return false;
+    }
+    // Plain functions, not closures: a closure that captures the slice
+    // becomes a struct holding a pointer, which naga rejects.
+    let g = texel_at(gbuffer, x, y, width);
+    let m = Vec2::new(g.motion.x, g.motion.y);
+    // False for a NaN motion.
+    let fast = m.length_squared() >= RIGID_MIN_SPEED * RIGID_MIN_SPEED;
+    if g.ids.w & GBUFFER_HIT == 0 || !fast {
+        return false;
+    }
+    let (l, r, u, d) = (
+        x.wrapping_sub(1),
+        x.wrapping_add(1),
+        y.wrapping_sub(1),
+        y.wrapping_add(1),
+    );
+    moves_with(texel_at(gbuffer, l, y, width), m)
+        && moves_with(texel_at(gbuffer, r, y, width), m)
+        && moves_with(texel_at(gbuffer, x, u, width), m)
+        && moves_with(texel_at(gbuffer, x, d, width), m)
+}
+
+/// The texel of pixel `(x, y)` of a row-major G-buffer `width` wide.
+#[inline]
+fn texel_at(gbuffer: &[GBufferGpu], x: u32, y: u32, width: u32) -> GBufferGpu {
+    gbuffer[y.wrapping_mul(width).wrapping_add(x) as usize]
+}
+
+/// Whether texel `q` shows a surface whose motion is within [`RIGID_WITHIN`]
+/// of `m` (false for NaN).
+#[inline]
+fn moves_with(q: GBufferGpu, m: Vec2) -> bool {
+    let d = Vec2::new(q.motion.x, q.motion.y) - m;
+    q.ids.w & GBUFFER_HIT != 0 && d.length_squared() <= RIGID_WITHIN * RIGID_WITHIN
+}
+
+/// Whether every seed of a frame follows its surface whatever its speed:
+/// when `rigid` pixels ([`moves_rigidly`]) make at least `share` of the
+/// frame's `pixels`. `share` in `[0, 1]`; 0: never (the rule is off).
+/// A camera pan moves most of the picture rigidly and there following
+/// every seed measures better; an orbit's or a moving object's seams make
+/// holding slow surfaces' seeds better (QUALITY.md, "Pans follow").
+#[inline]
+pub fn frame_follows(rigid: u32, pixels: u32, share: f32) -> bool {
+    share > 0.0 && rigid as f32 >= share * pixels as f32
+}
+
 /// The motion the seed reprojection takes for a pixel with G-buffer texel
 /// `g` and reprojection motion `motion` ([`reprojection_motion_pixel`]):
 /// zero, so that the pixel keeps the seed it had, when its surface moved
 /// less than `hold_below` pixels since the previous frame (the length of the
 /// G-buffer's backward motion `g.motion.xy`, disoccluded or not; the
-/// background's is the camera's rotation); `motion` otherwise.
+/// background's is the camera's rotation) and the frame does not follow as
+/// a whole (`follows_all`, from [`frame_follows`]); `motion` otherwise.
 ///
 /// `hold_below` is in pixels per frame, finite and `>= 0`; 0 gives `motion`
 /// unchanged for every pixel (every seed follows its surface). A NaN
@@ -90,9 +167,9 @@ pub fn reprojection_motion_pixel(
 /// moving seeds by rounded whole pixels scrambles the ranks it set
 /// (`QUALITY.md`, "Which default for reprojection").
 #[inline]
-pub fn seed_motion(g: &GBufferGpu, motion: Vec2, hold_below: f32) -> Vec2 {
+pub fn seed_motion(g: &GBufferGpu, motion: Vec2, hold_below: f32, follows_all: bool) -> Vec2 {
     let raw = Vec2::new(g.motion.x, g.motion.y);
-    if raw.length_squared() < hold_below * hold_below {
+    if !follows_all && raw.length_squared() < hold_below * hold_below {
         Vec2::ZERO
     } else {
         motion

@@ -7,7 +7,7 @@ use crate::scene::{SceneGpu, TraceVariant};
 use glam::{UVec2, Vec4};
 use kernels::abi::{
     GBufferGpu, TraceParams, ACCUMULATE_ENTRY, FEATURES_ENTRY, GBUFFER_ENTRY, GBUFFER_UNTEXTURED_ENTRY,
-    MOTION_ENTRY, TRACE_BASIC_ENTRY, TRACE_ENTRY, TRACE_UNTEXTURED_ENTRY, TRACE_WORKGROUP,
+    MOTION_ENTRY, RIGID_COUNT_ENTRY, TRACE_BASIC_ENTRY, TRACE_ENTRY, TRACE_UNTEXTURED_ENTRY, TRACE_WORKGROUP,
 };
 
 /// The trace, G-buffer and accumulate pipelines, created once per device.
@@ -27,6 +27,7 @@ pub struct TracePipelines {
     gbuffer: LazyPipeline,
     gbuffer_untextured: LazyPipeline,
     motion: wgpu::ComputePipeline,
+    rigid_count: wgpu::ComputePipeline,
     features: wgpu::ComputePipeline,
     accumulate: wgpu::ComputePipeline,
 }
@@ -54,6 +55,7 @@ impl TracePipelines {
             gbuffer: gpu.lazy_pipeline(GBUFFER_ENTRY, &gbuffer_layout),
             gbuffer_untextured: gpu.lazy_pipeline(GBUFFER_UNTEXTURED_ENTRY, &gbuffer_layout),
             motion: gpu.pipeline(MOTION_ENTRY)?,
+            rigid_count: gpu.pipeline(RIGID_COUNT_ENTRY)?,
             features: gpu.pipeline(FEATURES_ENTRY)?,
             accumulate: gpu.pipeline(ACCUMULATE_ENTRY)?,
         })
@@ -172,10 +174,13 @@ pub struct Tracer {
 
 /// The motion pass's ping-pong visibility buffers (`width * height`
 /// `UVec2`, `kernels::motion::visibility`) and a bind group per direction:
-/// frame `t` reads `visibility[(t + 1) % 2]` and writes `visibility[t % 2]`.
+/// frame `t` reads `visibility[(t + 1) % 2]` and writes `visibility[t % 2]`;
+/// and the rigid-count pass's counter (one `u32`) with its bind group.
 #[derive(Debug)]
 struct MotionPass {
     bind_groups: [wgpu::BindGroup; 2],
+    rigid: wgpu::Buffer,
+    rigid_bg: wgpu::BindGroup,
     /// Which bind group the next [`Tracer::encode_motion`] uses.
     next: usize,
 }
@@ -288,14 +293,25 @@ impl Tracer {
             gpu.storage_zeroed::<UVec2>("visibility (even frames)", n),
             gpu.storage_zeroed::<UVec2>("visibility (odd frames)", n),
         ];
+        let rigid = gpu.storage_zeroed::<u32>("rigid pixels", 1);
         let bind = |read: usize, write: usize| {
             gpu.bind(
                 &pipelines.motion,
-                &[&self.params, &self.gbuffer, &vis[read], &vis[write], motion],
+                &[
+                    &self.params,
+                    &self.gbuffer,
+                    &vis[read],
+                    &vis[write],
+                    motion,
+                    &rigid,
+                ],
             )
         };
+        let rigid_bg = gpu.bind(&pipelines.rigid_count, &[&self.params, &self.gbuffer, &rigid]);
         self.motion = Some(MotionPass {
             bind_groups: [bind(1, 0), bind(0, 1)],
+            rigid_bg,
+            rigid,
             next: 0,
         });
     }
@@ -305,8 +321,12 @@ impl Tracer {
     /// previous one's visibility, with disoccluded pixels
     /// `kernels::motion::DISOCCLUDED`
     /// (`kernels::motion::reprojection_motion_pixel`), and this frame's
-    /// visibility for the next. Call once per frame; the first call's motion
-    /// is meaningless (no previous frame).
+    /// visibility for the next. Before it, the counter cleared and the
+    /// rigid-count pass, whose sum the motion pass reads when
+    /// `TraceParams::seed_follow_share` is not 0 (the pass runs either way;
+    /// it reads five G-buffer texels a pixel). Call once per frame; the
+    /// first call's motion is meaningless (no previous frame). `timer` times
+    /// the motion pass alone.
     ///
     /// # Panics
     /// Without [`enable_motion`](Self::enable_motion) first.
@@ -320,6 +340,8 @@ impl Tracer {
         let i = pass.next;
         pass.next = 1 - i;
         let pass = self.motion.as_ref().expect("checked above");
+        encoder.clear_buffer(&pass.rigid, 0, None);
+        self.encode(encoder, &pipelines.rigid_count, &pass.rigid_bg, None);
         self.encode(encoder, &pipelines.motion, &pass.bind_groups[i], timer);
     }
 

@@ -235,7 +235,7 @@ impl SceneGpu {
             environment: s.environment.extend(self.environment_select_pdf()),
             environment_map: self.environment_map,
             glossy_regularization: s.glossy_regularization,
-            reserved0: 0,
+            seed_follow_share: 0.0,
             reserved1: 0,
             reserved2: 0,
         })

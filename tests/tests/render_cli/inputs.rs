@@ -106,6 +106,14 @@ fn bad_input_fails_with_a_clear_message_and_writes_nothing() {
         (vec!["--reproject-hold-below", "-1"], "not a finite speed >= 0"),
         (vec!["--reproject-hold-below", "nan"], "not a finite speed >= 0"),
         (
+            vec!["--reproject-follow-share", "1.5"],
+            "not a share of the frame in [0, 1]",
+        ),
+        (
+            vec!["--reproject-follow-share", "nan"],
+            "not a share of the frame in [0, 1]",
+        ),
+        (
             vec!["--glossy-regularization", "-0.1"],
             "not a strength in [0, 1]",
         ),
@@ -333,9 +341,9 @@ fn camera_path_motion_and_emitterless_warning() {
     );
     assert!(o.status.success(), "{}", text(&o));
     // A moving camera on the CPU reprojects seeds by default, those of
-    // surfaces from 6 px/frame on.
+    // surfaces from 6 px/frame on, and every seed in frames half rigid.
     assert!(
-        text(&o).contains("reprojection on from 6 px/frame"),
+        text(&o).contains("reprojection on from 6 px/frame, everywhere in frames 0.5 rigid"),
         "{}",
         text(&o)
     );

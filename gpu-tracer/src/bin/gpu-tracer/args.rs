@@ -89,6 +89,13 @@ pub(crate) struct RenderArgs {
     /// in `--mode temporal`, 4 in `--mode permute|sort`, 0 in `--mode hold`.
     #[arg(long, value_parser = parse_pixels_per_frame, allow_hyphen_values = true)]
     pub(crate) reproject_hold_below: Option<f32>,
+    /// With reprojection: in a frame where at least this share of the pixels
+    /// moves rigidly (at least 1 px/frame, as their four neighbours within
+    /// 0.05 px/frame: a camera pan), every seed follows its surface whatever
+    /// `--reproject-hold-below` says. In [0, 1]; 0: off. Default 0.5 in
+    /// `--mode temporal`, 0 in the other modes.
+    #[arg(long, value_parser = parse_share, allow_hyphen_values = true)]
+    pub(crate) reproject_follow_share: Option<f32>,
     /// Feature-aware permutation in `--mode permute` and `--mode temporal`: sort keys with the
     /// albedo divided out, each block sorted in groups of one surface, and
     /// no retarget move across an edge (object id, normal, depth from the
@@ -366,6 +373,14 @@ pub(crate) fn parse_pixels_per_frame(s: &str) -> Result<f32, String> {
     match s.trim().parse::<f32>() {
         Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
         _ => Err(format!("'{s}' is not a finite speed >= 0 (pixels per frame)")),
+    }
+}
+
+/// `--reproject-follow-share`: a share of the frame's pixels in `[0, 1]`.
+pub(crate) fn parse_share(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
+        _ => Err(format!("'{s}' is not a share of the frame in [0, 1] (0: off)")),
     }
 }
 

@@ -17,7 +17,9 @@ use clap::{Parser, ValueEnum};
 use device::open_device;
 use gpu_tracer::feature_keys::FeatureKey;
 use gpu_tracer::filter::{FilterChain, FilterSettings, SequenceFilter};
-use gpu_tracer::method_choice::{choose_method, default_reproject_hold_below, History};
+use gpu_tracer::method_choice::{
+    choose_method, default_reproject_follow_share, default_reproject_hold_below, History,
+};
 use gpu_tracer::{
     render_sequence_cpu, render_sequence_gpu, FrameView, PermuteMode, RenderJob, SequenceOptions, TileChoice,
     TraceSettings,
@@ -148,6 +150,9 @@ fn render(args: RenderArgs) -> Result<()> {
         reproject_hold_below: args
             .reproject_hold_below
             .unwrap_or_else(|| default_reproject_hold_below(job.mode)),
+        reproject_follow_share: args
+            .reproject_follow_share
+            .unwrap_or_else(|| default_reproject_follow_share(job.mode)),
         features,
         feature_key: match args.feature_key {
             FeatureKeyArg::Demodulated => FeatureKey::Demodulated,
@@ -232,6 +237,11 @@ fn render(args: RenderArgs) -> Result<()> {
         sampler_name,
         if !reproject {
             "off".to_string()
+        } else if options.reproject_hold_below > 0.0 && options.reproject_follow_share > 0.0 {
+            format!(
+                "on from {} px/frame, everywhere in frames {} rigid",
+                options.reproject_hold_below, options.reproject_follow_share
+            )
         } else if options.reproject_hold_below > 0.0 {
             format!("on from {} px/frame", options.reproject_hold_below)
         } else {
