@@ -326,7 +326,7 @@ impl Tracer {
     /// `TraceParams::seed_follow_share` is not 0 (the pass runs either way;
     /// it reads five G-buffer texels a pixel). Call once per frame; the
     /// first call's motion is meaningless (no previous frame). `timer` times
-    /// the motion pass alone.
+    /// both passes together.
     ///
     /// # Panics
     /// Without [`enable_motion`](Self::enable_motion) first.
@@ -339,10 +339,25 @@ impl Tracer {
         let pass = self.motion.as_mut().expect("enable_motion before encode_motion");
         let i = pass.next;
         pass.next = 1 - i;
-        let pass = self.motion.as_ref().expect("checked above");
-        encoder.clear_buffer(&pass.rigid, 0, None);
-        self.encode(encoder, &pipelines.rigid_count, &pass.rigid_bg, None);
-        self.encode(encoder, &pipelines.motion, &pass.bind_groups[i], timer);
+        let motion = self.motion.as_ref().expect("checked above");
+        encoder.clear_buffer(&motion.rigid, 0, None);
+        // One compute pass, so that `timer` times both dispatches; wgpu
+        // orders the motion dispatch's read of the count after the count's
+        // atomic writes (one usage scope per dispatch).
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("rigid count + motion"),
+            timestamp_writes: timer.map(|(t, span)| t.writes(span)),
+        });
+        let (gx, gy) = (
+            groups(self.width, TRACE_WORKGROUP.0),
+            groups(self.height, TRACE_WORKGROUP.1),
+        );
+        pass.set_pipeline(&pipelines.rigid_count);
+        pass.set_bind_group(0, &motion.rigid_bg, &[]);
+        pass.dispatch_workgroups(gx, gy, 1);
+        pass.set_pipeline(&pipelines.motion);
+        pass.set_bind_group(0, &motion.bind_groups[i], &[]);
+        pass.dispatch_workgroups(gx, gy, 1);
     }
 
     #[allow(clippy::too_many_arguments)]
