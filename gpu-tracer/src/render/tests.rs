@@ -106,31 +106,43 @@ fn reprojection_moves_the_homes_in_motion() {
 /// threshold above the pan's 1.5 px/frame the frames are those of no
 /// reprojection, bit for bit; at 0 they are the reprojected ones, and
 /// below the pan's speed they differ from no reprojection; a NaN,
-/// infinite or negative threshold is refused.
+/// infinite or negative threshold is refused. A frame-wide follow share no
+/// frame reaches (every pixel rigid, the border included) changes nothing;
+/// a share outside `[0, 1]` is refused.
 #[test]
 fn slow_surfaces_keep_their_seeds_under_reprojection() {
     let base = cornell_box();
     let timeline = pan_at(1.5);
     let job = job(kernels::abi::SAMPLER_SEEDS, PermuteMode::Temporal);
-    let render = |reproject: bool, hold_below: f32| {
+    let render = |reproject: bool, hold_below: f32, follow_share: f32| {
         let mut sequence = SceneSequence::new(&base, timeline.clone(), 20).unwrap();
         let options = SequenceOptions {
             reproject,
             reproject_hold_below: hold_below,
+            reproject_follow_share: follow_share,
             ..SequenceOptions::default()
         };
         let mut frames = Vec::new();
         render_sequence_cpu(&mut sequence, &job, options, |f| frames.push(f.color.to_vec())).map(|_| frames)
     };
-    let still_seeds = render(false, 0.0).unwrap();
-    let followed = render(true, 0.0).unwrap();
+    let still_seeds = render(false, 0.0, 0.0).unwrap();
+    let followed = render(true, 0.0, 0.0).unwrap();
     assert_ne!(followed[3], still_seeds[3]);
-    assert_eq!(render(true, 100.0).unwrap(), still_seeds);
+    assert_eq!(render(true, 100.0, 0.0).unwrap(), still_seeds);
+    assert!(render(true, 100.0, 1.0).unwrap() == still_seeds, "a share of 1 moved seeds");
+    // The back wall slides rigidly at 1.5 px/frame: past a small share the
+    // seeds follow in those frames, whatever the speed threshold.
+    let rigid = render(true, 100.0, 0.05).unwrap();
+    assert!(rigid[3] != still_seeds[3], "no seed followed past the share");
     // Below the walls' 1.5 px/frame: they follow (the background,
     // still under a pan, holds).
-    assert_ne!(render(true, 1.0).unwrap()[3], still_seeds[3]);
+    assert_ne!(render(true, 1.0, 0.0).unwrap()[3], still_seeds[3]);
     for bad in [f32::NAN, -1.0, f32::INFINITY] {
-        let e = render(true, bad).unwrap_err();
+        let e = render(true, bad, 0.0).unwrap_err();
+        assert!(matches!(e, RenderError::BadOption(_)), "{e}");
+    }
+    for bad in [f32::NAN, -0.1, 1.5] {
+        let e = render(true, 6.0, bad).unwrap_err();
         assert!(matches!(e, RenderError::BadOption(_)), "{e}");
     }
 }
