@@ -43,12 +43,14 @@ pub const DEFAULT_REPROJECT_HOLD_BELOW: f32 = 6.0;
 /// Share of a frame's pixels that must move rigidly
 /// (`kernels::motion::moves_rigidly`) for every seed to follow its surface
 /// in that frame, whatever its speed (`SequenceOptions::reproject_follow_share`)
-/// in [`PermuteMode::Temporal`]. A camera pan moves 66-86% of the Cornell
-/// box rigidly at 2 px/frame, an orbit about 27%, a moving block 6%; below a
-/// pixel a frame nothing counts. Measured for the defaults (QUALITY.md, "Pans
-/// follow"): with it the default is within 0.9% of the better of
-/// reprojection on and off on every sequence, where the speed rule alone
-/// missed a pan at 2 px/frame by 2.7%.
+/// in [`PermuteMode::Temporal`]. At 128x128 a camera pan moves 66-86% of
+/// the Cornell box rigidly at 2 px/frame, an orbit about 27%, a moving block
+/// 6%; below a pixel a frame nothing counts. Measured for the defaults
+/// (QUALITY.md, "Pans follow"): with it the default is within 0.9% of the
+/// better of reprojection on and off on the pans, orbits and block it was
+/// chosen on, where the speed rule alone missed a pan at 2 px/frame by 2.7%;
+/// a held-out pan at 4 px/frame still misses by 3.6% (its rigid share is
+/// about 0.3: parallax parts neighbours' motion on the receding walls).
 pub const DEFAULT_REPROJECT_FOLLOW_SHARE: f32 = 0.5;
 
 /// [`DEFAULT_REPROJECT_HOLD_BELOW`] for the walk's modes
