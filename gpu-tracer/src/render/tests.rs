@@ -129,7 +129,10 @@ fn slow_surfaces_keep_their_seeds_under_reprojection() {
     let followed = render(true, 0.0, 0.0).unwrap();
     assert_ne!(followed[3], still_seeds[3]);
     assert_eq!(render(true, 100.0, 0.0).unwrap(), still_seeds);
-    assert!(render(true, 100.0, 1.0).unwrap() == still_seeds, "a share of 1 moved seeds");
+    assert!(
+        render(true, 100.0, 1.0).unwrap() == still_seeds,
+        "a share of 1 moved seeds"
+    );
     // The back wall slides rigidly at 1.5 px/frame: past a small share the
     // seeds follow in those frames, whatever the speed threshold.
     let rigid = render(true, 100.0, 0.05).unwrap();
