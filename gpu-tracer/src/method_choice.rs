@@ -118,11 +118,14 @@ pub struct MethodChoice {
 /// `SAMPLER_JITTER_ONLY`: the seeds would drive Russian roulette alone, as
 /// the study's rows of those samplers have it), the walk's
 /// [`PermuteMode::Permute`] when a tile other than the temporal target's
-/// 64x64 one is asked for, else [`PermuteMode::Temporal`].
-pub fn default_mode(sampler: Option<u32>, tile: Option<TileChoice>) -> PermuteMode {
+/// 64x64 one is asked for, [`PermuteMode::Hold`] (so the spatiotemporal
+/// sampler) behind a [`History::Unclamped`] history when neither a sampler
+/// nor a tile is named, else [`PermuteMode::Temporal`].
+pub fn default_mode(sampler: Option<u32>, tile: Option<TileChoice>, history: History) -> PermuteMode {
     let kind = sampler.map(|s| s & SAMPLER_KIND_MASK);
     let jitter_only = sampler.is_some_and(|s| s & SAMPLER_JITTER_ONLY != 0);
-    if kind == Some(SAMPLER_SPATIOTEMPORAL) {
+    let unclamped_default = sampler.is_none() && tile.is_none() && history == History::Unclamped;
+    if kind == Some(SAMPLER_SPATIOTEMPORAL) || unclamped_default {
         PermuteMode::Hold
     } else if matches!(kind, Some(SAMPLER_SCREEN_SOBOL | SAMPLER_ZSOBOL)) && !jitter_only {
         PermuteMode::White
@@ -164,9 +167,8 @@ pub fn default_sampler(mode: PermuteMode, settings: &TraceSettings) -> (u32, Opt
 /// The mode and sampler of a render whose caller named `mode` and `sampler`
 /// or left them out (`None`): a named one is kept as it is (whether the two
 /// go together is [`crate::RenderJob::validate`]'s to say), a missing one is
-/// [`default_mode`] or [`default_sampler`] of the other. With neither named,
-/// behind a [`History::Unclamped`] history (and no tile named), the mode is
-/// [`PermuteMode::Hold`] and so the sampler [`DEFAULT_HOLD_SAMPLER`].
+/// [`default_mode`] (which takes `history`) or [`default_sampler`] of the
+/// other.
 pub fn choose_method(
     mode: Option<PermuteMode>,
     sampler: Option<u32>,
@@ -174,13 +176,7 @@ pub fn choose_method(
     history: History,
     settings: &TraceSettings,
 ) -> MethodChoice {
-    let unclamped_default =
-        mode.is_none() && sampler.is_none() && tile.is_none() && history == History::Unclamped;
-    let mode = match mode {
-        Some(m) => m,
-        None if unclamped_default => PermuteMode::Hold,
-        None => default_mode(sampler, tile),
-    };
+    let mode = mode.unwrap_or_else(|| default_mode(sampler, tile, history));
     let (sampler, fallback) = match sampler {
         Some(s) => (s, None),
         None => default_sampler(mode, settings),
