@@ -170,6 +170,10 @@ pub struct Tracer {
     features_bg: Option<wgpu::BindGroup>,
     /// Which trace kernel [`Tracer::encode_trace`] runs.
     variant: TraceVariant,
+    /// Whether [`Tracer::encode_motion`] runs the rigid-count pass: the
+    /// parameters last set have a `seed_follow_share` above 0 (at 0 the
+    /// motion pass does not read the count).
+    count_rigid: bool,
 }
 
 /// The motion pass's ping-pong visibility buffers (`width * height`
@@ -247,6 +251,7 @@ impl Tracer {
             motion: None,
             features_bg: None,
             variant,
+            count_rigid: params.seed_follow_share > 0.0,
         })
     }
 
@@ -321,12 +326,12 @@ impl Tracer {
     /// previous one's visibility, with disoccluded pixels
     /// `kernels::motion::DISOCCLUDED`
     /// (`kernels::motion::reprojection_motion_pixel`), and this frame's
-    /// visibility for the next. Before it, the counter cleared and the
-    /// rigid-count pass, whose sum the motion pass reads when
-    /// `TraceParams::seed_follow_share` is not 0 (the pass runs either way;
-    /// it reads five G-buffer texels a pixel). Call once per frame; the
-    /// first call's motion is meaningless (no previous frame). `timer` times
-    /// both passes together.
+    /// visibility for the next. Before it, when the parameters last set
+    /// have a `TraceParams::seed_follow_share` above 0, the counter cleared
+    /// and the rigid-count pass (five G-buffer texels a pixel), whose sum
+    /// the motion pass then reads. Call once per frame; the first call's
+    /// motion is meaningless (no previous frame). `timer` times both passes
+    /// together.
     ///
     /// # Panics
     /// Without [`enable_motion`](Self::enable_motion) first.
@@ -340,7 +345,9 @@ impl Tracer {
         let i = pass.next;
         pass.next = 1 - i;
         let motion = self.motion.as_ref().expect("checked above");
-        encoder.clear_buffer(&motion.rigid, 0, None);
+        if self.count_rigid {
+            encoder.clear_buffer(&motion.rigid, 0, None);
+        }
         // One compute pass, so that `timer` times both dispatches; wgpu
         // orders the motion dispatch's read of the count after the count's
         // atomic writes (one usage scope per dispatch).
@@ -352,9 +359,11 @@ impl Tracer {
             groups(self.width, TRACE_WORKGROUP.0),
             groups(self.height, TRACE_WORKGROUP.1),
         );
-        pass.set_pipeline(&pipelines.rigid_count);
-        pass.set_bind_group(0, &motion.rigid_bg, &[]);
-        pass.dispatch_workgroups(gx, gy, 1);
+        if self.count_rigid {
+            pass.set_pipeline(&pipelines.rigid_count);
+            pass.set_bind_group(0, &motion.rigid_bg, &[]);
+            pass.dispatch_workgroups(gx, gy, 1);
+        }
         pass.set_pipeline(&pipelines.motion);
         pass.set_bind_group(0, &motion.bind_groups[i], &[]);
         pass.dispatch_workgroups(gx, gy, 1);
@@ -486,7 +495,8 @@ impl Tracer {
     /// and with the spatiotemporal sampler the frame's point table
     /// (`crate::sampler_data::with_frame_points`: `point_samples` is set
     /// here, whatever `params` says).
-    pub fn set_params(&self, gpu: &Gpu, params: &TraceParams) {
+    pub fn set_params(&mut self, gpu: &Gpu, params: &TraceParams) {
+        self.count_rigid = params.seed_follow_share > 0.0;
         let (params, table) = crate::sampler_data::with_frame_points(params);
         write_frame_points(gpu, &self.keys, &table);
         gpu.queue
