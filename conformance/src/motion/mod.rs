@@ -71,7 +71,9 @@
 //! Measured image-centre speed, the fractions of pixels whose seed followed its point,
 //! was recycled (`sampler_core::ReprojectStats`) or stayed in its pixel, the share of
 //! neighbours whose homes (carried from frame 0, as `--mode hold` carries them) are still
-//! neighbours, history resets, and the regions' shares of the image.
+//! neighbours, the share of pixels that move rigidly and of frames in which every seed
+//! follows under the default follow share (the render defaults' frame-wide rule), history
+//! resets, and the regions' shares of the image.
 
 pub mod case;
 pub mod config;

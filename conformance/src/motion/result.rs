@@ -34,6 +34,13 @@ pub struct SequenceStats {
     /// ZSobol's and the spatiotemporal sampler's points at), are still neighbours in
     /// the same order: 1 for a still camera or a whole-pixel pan.
     pub homes_in_order: f64,
+    /// Mean over frames `1..` of the fraction of pixels that move rigidly
+    /// (`gpu_tracer::motion::rigid_pixels`: the count the frame-wide follow rule reads).
+    pub rigid_share: f64,
+    /// Fraction of frames `1..` in which every seed follows its surface under the
+    /// default follow share (`kernels::motion::frame_follows` with
+    /// `gpu_tracer::method_choice::DEFAULT_REPROJECT_FOLLOW_SHARE`).
+    pub frames_following: f64,
     /// Mean fraction of pixels whose history is reset (frames `1..`).
     pub history_resets: f64,
     /// Mean share of the image of each region ([`Region::ALL`] order).

@@ -18,11 +18,13 @@ use glam::{UVec2, Vec2};
 use gpu_tracer::cornell::cornell_box;
 use gpu_tracer::cpu;
 use gpu_tracer::filter::{FilterChain, FilterSettings, FrameFilter};
-use gpu_tracer::motion::{reprojection_motion, write_visibility};
+use gpu_tracer::method_choice::DEFAULT_REPROJECT_FOLLOW_SHARE;
+use gpu_tracer::motion::{reprojection_motion, rigid_pixels, write_visibility};
 use gpu_tracer::render::{render_sequence_cpu, FrameView};
 use gpu_tracer::scene::Scene;
 use gpu_tracer::timeline::{SceneSequence, Timeline};
 use kernels::abi::GBufferGpu;
+use kernels::motion::frame_follows;
 use sampler_core::{FrameLayout, Intensity};
 use std::collections::HashMap;
 use std::path::Path;
@@ -173,6 +175,11 @@ impl MotionSequence {
                 sampler_core::reproject_frame(&layout, &motion, &homes, &mut claims, &mut homes_next)?;
                 std::mem::swap(&mut homes, &mut homes_next);
                 stats.homes_in_order += homes_in_order(&homes, size, pw) / k;
+                let rigid = rigid_pixels(&gbuf, size, size);
+                stats.rigid_share += rigid as f64 / n as f64 / k;
+                if frame_follows(rigid, n as u32, DEFAULT_REPROJECT_FOLLOW_SHARE) {
+                    stats.frames_following += 1.0 / k;
+                }
                 let resets = (0..n).filter(|&i| !has_source(i, motion[i], size)).count();
                 let moving: f64 = (0..n)
                     .filter(|&i| has_source(i, motion[i], size))

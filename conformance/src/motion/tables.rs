@@ -111,12 +111,12 @@ pub fn markdown(results: &[CaseResult]) -> String {
         }
     }
     s += "\nSequences (fractions of the image, mean over frames 1..):\n\n";
-    s += "| sequence | motion | centre px/frame | mean px/frame | seeds followed | recycled | stayed in pixel | homes in order | history resets \
-          | emitter / edges / interior | poses |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+    s += "| sequence | motion | centre px/frame | mean px/frame | seeds followed | recycled | stayed in pixel | homes in order | moving rigidly | frames following \
+          | history resets | emitter / edges / interior | poses |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in results {
         let st = &r.stats;
         s += &format!(
-            "| {} | {} | {:.2} | {:.2} | {:.3} | {:.4} | {:.3} | {:.3} | {:.4} | {:.3} / {:.3} / {:.3} | {} |\n",
+            "| {} | {} | {:.2} | {:.2} | {:.3} | {:.4} | {:.3} | {:.3} | {:.3} | {:.3} | {:.4} | {:.3} / {:.3} / {:.3} | {} |\n",
             r.case.name(),
             r.description,
             st.centre_speed,
@@ -125,6 +125,8 @@ pub fn markdown(results: &[CaseResult]) -> String {
             st.recycled,
             st.stayed,
             st.homes_in_order,
+            st.rigid_share,
+            st.frames_following,
             st.history_resets,
             st.region_share[0],
             st.region_share[1],
