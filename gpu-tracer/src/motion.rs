@@ -218,4 +218,26 @@ mod tests {
         let slow: Vec<_> = (0..w * h).map(|_| texel(1, 10.0, [-0.9, 0.0], 10.0)).collect();
         assert_eq!(rigid_pixels(&slow, w, h), 0);
     }
+
+    /// The tolerance grows with the speed (`RIGID_WITHIN_PER_SPEED`): the
+    /// same bend that takes a 2 px/frame pixel out of the count leaves a
+    /// 4 px/frame one in it, and a bend past 0.1 px/frame takes it out.
+    #[test]
+    fn the_rigid_tolerance_grows_with_the_speed() {
+        let (w, h) = (6, 5);
+        let frame = |speed: f32, bend: f32| {
+            let mut f: Vec<_> = (0..w * h).map(|_| texel(1, 10.0, [-speed, 0.0], 10.0)).collect();
+            f[2 * w as usize + 2].motion.y = bend;
+            f
+        };
+        assert_eq!(rigid_pixels(&frame(2.0, 0.0625), w, h), 7);
+        assert_eq!(rigid_pixels(&frame(4.0, 0.0625), w, h), 12);
+        assert_eq!(rigid_pixels(&frame(4.0, 0.125), w, h), 7);
+        // Up to 2 px/frame the floor holds: 0.05 counts at 1.5 px/frame.
+        assert_eq!(rigid_pixels(&frame(1.5, 0.05), w, h), 12);
+        assert_eq!(rigid_pixels(&frame(1.5, 0.0625), w, h), 7);
+        // Proportional: 8 px/frame tolerates 0.2 px/frame but not 0.25.
+        assert_eq!(rigid_pixels(&frame(8.0, 0.1875), w, h), 12);
+        assert_eq!(rigid_pixels(&frame(8.0, 0.25), w, h), 7);
+    }
 }

@@ -168,18 +168,33 @@ fn motion_kernel_matches_the_cpu() {
             g
         })
         .collect();
+    // The same at about 4 px/frame with parallax: each row 0.0625 px/frame
+    // faster than the one above it, within the tolerance at that speed
+    // (`kernels::motion::RIGID_WITHIN_PER_SPEED`), past the 0.05 floor.
+    let parallax: Vec<GBufferGpu> = sliding
+        .iter()
+        .enumerate()
+        .map(|(i, g)| {
+            let mut g = *g;
+            g.motion.x = -(4.0 + 0.0625 * (i as u32 / w) as f32);
+            g
+        })
+        .collect();
     assert_eq!(gpu_tracer::motion::rigid_pixels(&current, w, h), 0);
     assert_eq!(gpu_tracer::motion::rigid_pixels(&sliding, w, h), 35 * 21);
+    assert_eq!(gpu_tracer::motion::rigid_pixels(&parallax, w, h), 35 * 21);
     // (hold below, follow share, frame): every seed follows; the slow half of
     // the pixels hold; the same with a share no random frame reaches; a
     // sliding frame past its share (every seed follows whatever the speed)
-    // and short of it (every seed holds).
+    // and short of it (every seed holds); the frame with parallax the same.
     let cases = [
         (0.0f32, 0.0f32, &current),
         (2.5, 0.0, &current),
         (2.5, 0.3, &current),
         (100.0, 0.85, &sliding),
         (100.0, 0.87, &sliding),
+        (100.0, 0.85, &parallax),
+        (100.0, 0.87, &parallax),
     ];
     for (hold_below, share, frame) in cases {
         let mut p = params;

@@ -79,12 +79,27 @@ pub fn reprojection_motion_pixel(
 
 /// Largest difference, in pixels per frame, between a pixel's G-buffer
 /// motion and each of its four neighbours' for the pixel to move
-/// *rigidly* ([`moves_rigidly`]). 0.05: a seam where neighbours' rounded
+/// *rigidly* ([`moves_rigidly`]), whatever its speed: the floor of the
+/// tolerance, which grows with the speed above 2 px/frame
+/// ([`RIGID_WITHIN_PER_SPEED`]). 0.05: a seam where neighbours' rounded
 /// motions part (the seams that cost followed seeds their order, QUALITY.md
 /// "Why followed points lose their blue noise") then crosses a pixel at
 /// most once in 20 frames. A camera pan moves a wall facing it by exactly
 /// the same amount everywhere; an orbit's perspective bends the field.
 pub const RIGID_WITHIN: f32 = 0.05;
+
+/// Tolerance of [`moves_rigidly`] per pixel per frame of the pixel's own
+/// speed: neighbours move rigidly with a pixel moving at `v` px/frame when
+/// their motions differ from its by at most `max(RIGID_WITHIN,
+/// RIGID_WITHIN_PER_SPEED * v)` (0.05 px/frame up to 2 px/frame, 0.1 at 4).
+/// A camera's motion scales every pixel's motion alike (a pan's motion is
+/// its speed over the depth), so a tolerance that scales with the speed
+/// classifies the same picture's motion the same at every speed: a pan
+/// whose floor and walls recede counts as rigid at 4 px/frame as at 2,
+/// where an absolute 0.05 counted the back wall alone and held every seed
+/// (QUALITY.md, "Pans follow at every speed"). 0.025 keeps the rule
+/// measured at 2 px/frame unchanged there.
+pub const RIGID_WITHIN_PER_SPEED: f32 = 0.025;
 
 /// Slowest G-buffer motion, in pixels per frame, that counts as moving
 /// rigidly ([`moves_rigidly`]). Below a pixel a frame a followed seed jumps
@@ -97,8 +112,9 @@ pub const RIGID_MIN_SPEED: f32 = 1.0;
 /// `gbuffer` (`width * height`, row-major) moves rigidly: its surface moved
 /// at least [`RIGID_MIN_SPEED`] pixels since the previous frame, and its
 /// four neighbours are inside the frame, show a surface, and moved within
-/// [`RIGID_WITHIN`] pixels of it (G-buffer motion `motion.xy`, disoccluded
-/// or not). Pixels without a hit, at the frame's border, or with a NaN
+/// `max(RIGID_WITHIN, RIGID_WITHIN_PER_SPEED * speed)` pixels of it
+/// ([`RIGID_WITHIN_PER_SPEED`]; G-buffer motion `motion.xy`, disoccluded or
+/// not). Pixels without a hit, at the frame's border, or with a NaN
 /// motion do not. [`seed_motion`]'s frame-wide rule counts these pixels.
 #[inline]
 pub fn moves_rigidly(gbuffer: &[GBufferGpu], x: u32, y: u32, width: u32, height: u32) -> bool {
@@ -114,16 +130,19 @@ pub fn moves_rigidly(gbuffer: &[GBufferGpu], x: u32, y: u32, width: u32, height:
     if g.ids.w & GBUFFER_HIT == 0 || !fast {
         return false;
     }
+    // Squared tolerance: the larger of the floor and the share of the speed.
+    let within = (RIGID_WITHIN * RIGID_WITHIN)
+        .max(RIGID_WITHIN_PER_SPEED * RIGID_WITHIN_PER_SPEED * m.length_squared());
     let (l, r, u, d) = (
         x.wrapping_sub(1),
         x.wrapping_add(1),
         y.wrapping_sub(1),
         y.wrapping_add(1),
     );
-    moves_with(texel_at(gbuffer, l, y, width), m)
-        && moves_with(texel_at(gbuffer, r, y, width), m)
-        && moves_with(texel_at(gbuffer, x, u, width), m)
-        && moves_with(texel_at(gbuffer, x, d, width), m)
+    moves_with(texel_at(gbuffer, l, y, width), m, within)
+        && moves_with(texel_at(gbuffer, r, y, width), m, within)
+        && moves_with(texel_at(gbuffer, x, u, width), m, within)
+        && moves_with(texel_at(gbuffer, x, d, width), m, within)
 }
 
 /// The texel of pixel `(x, y)` of a row-major G-buffer `width` wide.
@@ -132,12 +151,12 @@ fn texel_at(gbuffer: &[GBufferGpu], x: u32, y: u32, width: u32) -> GBufferGpu {
     gbuffer[y.wrapping_mul(width).wrapping_add(x) as usize]
 }
 
-/// Whether texel `q` shows a surface whose motion is within [`RIGID_WITHIN`]
-/// of `m` (false for NaN).
+/// Whether texel `q` shows a surface whose motion is within
+/// `sqrt(within_squared)` px/frame of `m` (false for NaN).
 #[inline]
-fn moves_with(q: GBufferGpu, m: Vec2) -> bool {
+fn moves_with(q: GBufferGpu, m: Vec2, within_squared: f32) -> bool {
     let d = Vec2::new(q.motion.x, q.motion.y) - m;
-    q.ids.w & GBUFFER_HIT != 0 && d.length_squared() <= RIGID_WITHIN * RIGID_WITHIN
+    q.ids.w & GBUFFER_HIT != 0 && d.length_squared() <= within_squared
 }
 
 /// Whether every seed of a frame follows its surface whatever its speed:
