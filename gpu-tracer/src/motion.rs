@@ -8,6 +8,7 @@
 use glam::{UVec2, Vec2};
 use kernels::abi::GBufferGpu;
 use kernels::motion::{frame_follows, moves_rigidly, reprojection_motion_pixel, seed_motion, visibility};
+use kernels::pan_offset::pixel_contribution;
 
 pub use kernels::motion::DISOCCLUSION_DEPTH_TOLERANCE;
 
@@ -74,6 +75,22 @@ pub fn seed_reprojection_motion(
     motion_per_pixel(current, previous, width, height, |g, m| {
         seed_motion(g, m, hold_below, follows_all)
     })
+}
+
+/// The frame-motion words the GPU's rigid-count pass sums
+/// (`kernels::pan_offset`: `[rigid, sampled, sum x, sum y]`, each pixel's
+/// `pixel_contribution` added with wrapping), for `advance_offset`.
+pub fn frame_motion_words(gbuffer: &[GBufferGpu], width: u32, height: u32) -> [u32; 4] {
+    let mut words = [0u32; 4];
+    for y in 0..height {
+        for x in 0..width {
+            let c = pixel_contribution(gbuffer, x, y, width, height);
+            for (w, c) in words.iter_mut().zip(c) {
+                *w = w.wrapping_add(c);
+            }
+        }
+    }
+    words
 }
 
 /// How many pixels of the frame move rigidly
@@ -239,5 +256,66 @@ mod tests {
         // Proportional: 8 px/frame tolerates 0.2 px/frame but not 0.25.
         assert_eq!(rigid_pixels(&frame(8.0, 0.1875), w, h), 12);
         assert_eq!(rigid_pixels(&frame(8.0, 0.25), w, h), 7);
+    }
+
+    /// The pan offset (`kernels::pan_offset`): a 10x10 frame sliding
+    /// (-1.25, 0.5) px/frame has 64 rigid pixels, 4 of them on the sum
+    /// grid; the offset advances by their mean in 1/16 px when the frame
+    /// follows, stays when it does not, and rounds to whole pixels.
+    #[test]
+    fn the_pan_offset_follows_frames_that_follow_as_a_whole() {
+        use kernels::pan_offset::{advance_offset, fixed_motion, offset_pixels};
+        let (w, h) = (10, 10);
+        let sliding: Vec<_> = (0..w * h).map(|_| texel(1, 10.0, [-1.25, 0.5], 10.0)).collect();
+        let words = frame_motion_words(&sliding, w, h);
+        let (x, y) = (-20i32 as u32, 8u32);
+        assert_eq!(words, [64, 4, x.wrapping_mul(4), 32]);
+        let mut offset = [0u32; 2];
+        for frame in 1..=3u32 {
+            offset = advance_offset(offset, words, w * h, 0.5);
+            assert_eq!(offset, [x.wrapping_mul(frame), y * frame]);
+        }
+        // -3.75 and 1.5 px round (halves up) to -4 and 2.
+        assert_eq!(offset_pixels(offset[0]) as i32, -4);
+        assert_eq!(offset_pixels(offset[1]), 2);
+        assert_eq!(offset_pixels(-24i32 as u32) as i32, -1);
+        assert_eq!(offset_pixels(-25i32 as u32) as i32, -2);
+        // Short of the share, or with the rule off: no change.
+        assert_eq!(advance_offset(offset, words, w * h, 0.65), offset);
+        assert_eq!(advance_offset(offset, words, w * h, 0.0), offset);
+        // A frame too slow to count: nothing sampled.
+        let slow: Vec<_> = (0..w * h).map(|_| texel(1, 10.0, [-0.5, 0.0], 10.0)).collect();
+        assert_eq!(frame_motion_words(&slow, w, h), [0; 4]);
+        // Fixed point: halves up, clamped at 64 px/frame, NaN as 0.
+        assert_eq!(fixed_motion(16.5 / 16.0), 17);
+        assert_eq!(fixed_motion(-16.5 / 16.0) as i32, -16);
+        assert_eq!(fixed_motion(1000.0), 1024);
+        assert_eq!(fixed_motion(-1000.0) as i32, -1024);
+        assert_eq!(fixed_motion(f32::NAN), 0);
+    }
+
+    /// ZSobol is read at the pixel plus the pan offset rounded to whole
+    /// pixels; the other samplers, and ZSobol's followed homes, ignore it.
+    #[test]
+    fn zsobol_reads_its_point_at_the_pan_offset() {
+        use kernels::abi::{SAMPLER_FOLLOW_HOMES, SAMPLER_JITTER_ONLY, SAMPLER_SCREEN_SOBOL, SAMPLER_ZSOBOL};
+        use kernels::numbers::sampler_position;
+        let mut p = kernels::abi::TraceParams {
+            sampler_offset_x: -40i32 as u32,
+            sampler_offset_y: 24,
+            ..Default::default()
+        };
+        let pixel = glam::UVec2::new(7, 3);
+        for sampler in [SAMPLER_ZSOBOL, SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY] {
+            p.sampler = sampler;
+            let q = sampler_position(&p, pixel, 0);
+            // -2.5 px rounds to -2, 1.5 to 2.
+            assert_eq!((q.x as i32, q.y), (5, 5), "sampler {sampler:#x}");
+        }
+        p.sampler = SAMPLER_SCREEN_SOBOL;
+        assert_eq!(sampler_position(&p, pixel, 0), pixel);
+        p.sampler = SAMPLER_ZSOBOL | SAMPLER_FOLLOW_HOMES;
+        let home = sampler_core::sequences::spatiotemporal::home_texel(0x0005_0009);
+        assert_eq!(sampler_position(&p, pixel, 0x0005_0009), home);
     }
 }

@@ -8,7 +8,7 @@ use crate::gpu::{
     Gpu, GpuError, PermuteMode, PermutePipelines, ReprojectPipelines, SeedPermuter, SeedReprojector,
     TracePipelines, Tracer,
 };
-use crate::motion::{seed_reprojection_motion, write_visibility};
+use crate::motion::{frame_motion_words, seed_reprojection_motion, write_visibility};
 use crate::scene::{SceneGpu, TraceSettings};
 use crate::timeline::SceneSequence;
 use glam::{UVec2, Vec4};
@@ -16,6 +16,7 @@ use kernels::abi::{
     GBufferGpu, SAMPLER_FOLLOW_HOMES, SAMPLER_JITTER_ONLY, SAMPLER_KIND_MASK, SAMPLER_SPATIOTEMPORAL,
     SEED_MODE_ADVANCE,
 };
+use kernels::pan_offset::advance_offset;
 use sampler_core::sequences::spatiotemporal::write_initial_homes;
 use sampler_core::{DitherTile, FeatureThresholds, FrameLayout, RetargetTables, SliceTables};
 use std::fmt;
@@ -100,9 +101,12 @@ pub struct SequenceOptions {
     /// With [`Self::reproject`]: every seed follows its surface, whatever
     /// [`Self::reproject_hold_below`] says, in a frame where at least this
     /// share of the pixels moves rigidly (`kernels::motion::moves_rigidly`:
-    /// at least a pixel a frame, as its four neighbours within 0.05; a camera
-    /// pan). In `[0, 1]`; 0 (the default here): off. The command line's
-    /// default is [`crate::method_choice::DEFAULT_REPROJECT_FOLLOW_SHARE`].
+    /// at least a pixel a frame, as its four neighbours within 0.05 px/frame
+    /// or 2.5% of its speed; a camera pan); in such frames ZSobol's screen
+    /// offset also advances by their mean motion (`kernels::pan_offset`),
+    /// so that its points follow the picture. In `[0, 1]`; 0 (the default
+    /// here): off. The command line's default is
+    /// [`crate::method_choice::DEFAULT_REPROJECT_FOLLOW_SHARE`].
     pub reproject_follow_share: f32,
     /// Feature-aware permutation (`sampler_core::permute_frame_features`
     /// with `FeatureThresholds::DEFAULT`): sort keys with the albedo divided
@@ -411,15 +415,26 @@ pub fn render_sequence_cpu(
     let mut color = vec![Vec4::ZERO; n];
     let mut mean = vec![Vec4::ZERO; n];
     let mut gbuf = vec![GBufferGpu::default(); if gbuffer { n } else { 0 }];
+    // ZSobol's screen offset in frames that follow as a whole
+    // (`kernels::pan_offset`), fixed point.
+    let mut pan_offset = [0u32; 2];
     for t in 0..job.frames {
         if t > 0 {
             sequence.advance()?;
         }
         let scene = sequence.scene();
-        let params = scene.trace_params(&settings, t)?;
+        let mut params = scene.trace_params(&settings, t)?;
         if gbuffer {
             cpu::gbuffer_frame(scene, &params, &mut gbuf)?;
         }
+        if reproject && options.reproject_follow_share > 0.0 {
+            // As the GPU's motion pass, every frame (frame 0 moves nothing).
+            let (w, h) = (layout.width(), layout.height());
+            let words = frame_motion_words(&gbuf, w, h);
+            pan_offset = advance_offset(pan_offset, words, w * h, options.reproject_follow_share);
+        }
+        params.sampler_offset_x = pan_offset[0];
+        params.sampler_offset_y = pan_offset[1];
         if reproject && t > 0 {
             let (w, h, below) = (layout.width(), layout.height(), options.reproject_hold_below);
             let share = options.reproject_follow_share;

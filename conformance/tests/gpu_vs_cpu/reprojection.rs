@@ -196,21 +196,37 @@ fn motion_kernel_matches_the_cpu() {
         (100.0, 0.85, &parallax),
         (100.0, 0.87, &parallax),
     ];
+    // The CPU's pan offset (`kernels::pan_offset`), advanced as the GPU's
+    // motion pass advances it at every call with a share above 0.
+    let mut offset = [0u32; 2];
+    let mut followed_frames = 0;
     for (hold_below, share, frame) in cases {
         let mut p = params;
         p.seed_hold_below = hold_below;
         p.seed_follow_share = share;
         tracer.set_params(&gpu, &p);
+        let mut words = [0u32; 4];
         for g in [&previous, frame] {
             gpu.queue
                 .write_buffer(&tracer.gbuffer, 0, bytemuck::cast_slice(g));
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             tracer.encode_motion(&mut encoder, &pipelines, None);
             gpu.queue.submit([encoder.finish()]);
+            if share > 0.0 {
+                words = gpu_tracer::motion::frame_motion_words(g, w, h);
+                let next = kernels::pan_offset::advance_offset(offset, words, w * h, share);
+                followed_frames += usize::from(next != offset);
+                offset = next;
+            }
         }
+        let gpu_words = tracer.read_frame_motion(&gpu).unwrap();
+        let case = format!("hold below {hold_below}, share {share}");
+        if share > 0.0 {
+            assert_eq!(gpu_words[..4], words, "{case}: rigid count and motion sums");
+        }
+        assert_eq!(gpu_words[4..], offset, "{case}: pan offset");
         let got: Vec<Vec2> = gpu.read(&motion, n).unwrap();
         let expected = seed_reprojection_motion(frame, &vis, w, h, hold_below, share);
-        let case = format!("hold below {hold_below}, share {share}");
         for (i, (g, e)) in got.iter().zip(&expected).enumerate() {
             assert!(
                 g.x.to_bits() == e[0].to_bits() && g.y.to_bits() == e[1].to_bits(),
@@ -237,6 +253,8 @@ fn motion_kernel_matches_the_cpu() {
             ),
         }
     }
+    // The sliding frames past their share moved the offset (twice each).
+    assert_eq!(followed_frames, 2, "frames that advanced the pan offset");
 }
 
 /// A 24x20 job of 4 frames at depth 3 (no Russian roulette) with `sampler`,
@@ -259,25 +277,39 @@ fn pan_job(
     }
 }
 
-/// The frames of `job` on the Cornell box with the camera panning 1.5 units
-/// a frame, on `gpu` or, with `None`, on the CPU (`render_sequence_gpu`,
-/// `render_sequence_cpu`).
-fn pan_frames(
-    gpu: Option<&Gpu>,
-    job: &gpu_tracer::RenderJob,
-    options: gpu_tracer::render::SequenceOptions,
-) -> Vec<Vec<glam::Vec4>> {
+/// Camera speed of the pans, units a frame: about 0.9 px/frame at the
+/// centre of the 24x20 frame.
+const PAN_SPEED: f32 = 1.5;
+
+/// A faster pan, about 1.8 px/frame at the centre: fast enough for the
+/// frame-wide follow rule (pixels of at least 1 px/frame) and the pan offset.
+const FAST_PAN_SPEED: f32 = 3.0;
+
+/// The Cornell box with the camera panning `speed` units a frame.
+fn pan_sequence(speed: f32) -> gpu_tracer::timeline::SceneSequence<'static> {
     use gpu_tracer::camera_path::{CameraPath, CameraPathKind};
-    use gpu_tracer::render::{render_sequence_cpu, render_sequence_gpu, FrameView};
     use gpu_tracer::timeline::{SceneSequence, Timeline};
     let timeline = Timeline {
         camera_path: Some(CameraPath {
             kind: CameraPathKind::Pan,
-            speed: 1.5,
+            speed,
         }),
         ..Timeline::still()
     };
-    let mut sequence = SceneSequence::new(&gpu_tracer::cornell::cornell_box(), timeline, 20).unwrap();
+    SceneSequence::new(&gpu_tracer::cornell::cornell_box(), timeline, 20).unwrap()
+}
+
+/// The frames of `job` on the Cornell box with the camera panning `speed`
+/// units a frame ([`pan_sequence`]), on `gpu` or, with `None`, on the CPU
+/// (`render_sequence_gpu`, `render_sequence_cpu`).
+fn pan_frames(
+    gpu: Option<&Gpu>,
+    job: &gpu_tracer::RenderJob,
+    options: gpu_tracer::render::SequenceOptions,
+    speed: f32,
+) -> Vec<Vec<glam::Vec4>> {
+    use gpu_tracer::render::{render_sequence_cpu, render_sequence_gpu, FrameView};
+    let mut sequence = pan_sequence(speed);
     let mut frames = Vec::new();
     let mut collect = |f: &FrameView<'_>| frames.push(f.color.to_vec());
     match gpu {
@@ -312,7 +344,7 @@ fn slow_surfaces_keep_their_seeds_on_the_gpu() {
             reproject_hold_below: hold_below,
             ..SequenceOptions::default()
         };
-        pan_frames(Some(&gpu), &job, options)
+        pan_frames(Some(&gpu), &job, options, PAN_SPEED)
     };
     let still_seeds = render(false, 0.0);
     let followed = render(true, 0.0);
@@ -341,8 +373,8 @@ fn zsobol_homes_follow_a_pan_on_the_gpu_as_on_the_cpu() {
         reproject,
         ..SequenceOptions::default()
     };
-    let cpu_frames = pan_frames(None, &job, options(true));
-    let followed = pan_frames(Some(&gpu), &job, options(true));
+    let cpu_frames = pan_frames(None, &job, options(true), PAN_SPEED);
+    let followed = pan_frames(Some(&gpu), &job, options(true), PAN_SPEED);
     assert_eq!(followed.len(), 4);
     let (frac, total) = crate::fraction_close(&cpu_frames, &followed);
     eprintln!(
@@ -351,6 +383,74 @@ fn zsobol_homes_follow_a_pan_on_the_gpu_as_on_the_cpu() {
     );
     assert_eq!(total, 24 * 20 * 4);
     assert!(frac > 0.95, "only {:.2}% of pixel-frames agree", 100.0 * frac);
-    let still_homes = pan_frames(Some(&gpu), &job, options(false));
+    let still_homes = pan_frames(Some(&gpu), &job, options(false), PAN_SPEED);
     assert_ne!(followed[3], still_homes[3], "the homes did not move on the GPU");
+}
+
+/// The render defaults in a pan (`--mode temporal --sampler zsobol-jitter`,
+/// reprojection with the frame-wide follow rule at a share of 0.1),
+/// panning about 1.8 px/frame: the pan moves the frames rigidly enough
+/// that they follow and the pan offset moves ZSobol's
+/// points (checked on the CPU's G-buffers), and the GPU's frames agree
+/// with the CPU's pixel for pixel up to float rounding (so the GPU advances
+/// the offset and the trace reads it as the CPU does).
+#[test]
+fn zsobol_follows_a_pan_on_the_gpu_as_on_the_cpu() {
+    use gpu_tracer::method_choice::DEFAULT_PERMUTE_SAMPLER;
+    use gpu_tracer::render::SequenceOptions;
+    use kernels::pan_offset::{advance_offset, offset_pixels};
+    let Some(gpu) = Gpu::for_test("zsobol_follows_a_pan_on_the_gpu_as_on_the_cpu") else {
+        return;
+    };
+    let job = pan_job(
+        DEFAULT_PERMUTE_SAMPLER,
+        gpu_tracer::PermuteMode::Temporal,
+        gpu_tracer::TileChoice::TEMPORAL,
+    );
+    // A share this small frame reaches: at 24x20 the walls' parallax
+    // between neighbouring pixels keeps most of them from moving rigidly.
+    let share = 0.1;
+    let options = SequenceOptions {
+        reproject: true,
+        reproject_follow_share: share,
+        ..SequenceOptions::default()
+    };
+    // The offset the CPU's G-buffers give, frame by frame.
+    let gbuffers = pan_gbuffers(&job, options, FAST_PAN_SPEED);
+    let (w, h) = (job.settings.width, job.settings.height);
+    let mut offset = [0u32; 2];
+    for g in &gbuffers {
+        let words = gpu_tracer::motion::frame_motion_words(g, w, h);
+        offset = advance_offset(offset, words, w * h, share);
+    }
+    let moved = [offset_pixels(offset[0]) as i32, offset_pixels(offset[1]) as i32];
+    eprintln!("pan offset after {} frames: {moved:?} px", gbuffers.len());
+    assert_ne!(moved, [0, 0], "the pan never moved ZSobol's points");
+    let cpu_frames = pan_frames(None, &job, options, FAST_PAN_SPEED);
+    let gpu_frames = pan_frames(Some(&gpu), &job, options, FAST_PAN_SPEED);
+    let (frac, total) = crate::fraction_close(&cpu_frames, &gpu_frames);
+    eprintln!(
+        "defaults in a pan: {:.2}% of {total} pixel-frames equal within 1e-3",
+        100.0 * frac
+    );
+    assert_eq!(total, 24 * 20 * 4);
+    assert!(frac > 0.95, "only {:.2}% of pixel-frames agree", 100.0 * frac);
+}
+
+/// The G-buffers of [`pan_frames`]' sequence at `speed`, rendered on the CPU.
+fn pan_gbuffers(
+    job: &gpu_tracer::RenderJob,
+    options: gpu_tracer::render::SequenceOptions,
+    speed: f32,
+) -> Vec<Vec<kernels::abi::GBufferGpu>> {
+    use gpu_tracer::render::{render_sequence_cpu, FrameView, SequenceOptions};
+    let mut sequence = pan_sequence(speed);
+    let mut gbuffers = Vec::new();
+    let mut collect = |f: &FrameView<'_>| gbuffers.push(f.gbuffer.expect("G-buffer requested").to_vec());
+    let options = SequenceOptions {
+        gbuffer: true,
+        ..options
+    };
+    render_sequence_cpu(&mut sequence, job, options, &mut collect).unwrap();
+    gbuffers
 }

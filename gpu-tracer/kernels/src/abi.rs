@@ -39,10 +39,10 @@
 //! | | 2 | storage, read | previous frame's visibility `[UVec2]` (`crate::motion::visibility`), `width * height` |
 //! | | 3 | storage, write | this frame's visibility `[UVec2]`, `width * height` |
 //! | | 4 | storage, write | reprojection motion `[Vec2]` (pixels; `crate::motion::DISOCCLUDED` where disoccluded), `width * height` |
-//! | | 5 | storage, read | rigid pixels `[u32]`, one element: [`RIGID_COUNT_ENTRY`]'s count |
+//! | | 5 | storage, read-write | frame motion `[u32]`, `crate::pan_offset::FRAME_MOTION_WORDS`: reads [`RIGID_COUNT_ENTRY`]'s words; invocation `(0, 0)` advances the pan offset (`crate::pan_offset::advance_offset`) |
 //! | [`RIGID_COUNT_ENTRY`] | 0 | uniform | [`TraceParams`] |
 //! | | 1 | storage, read | G-buffer `[GBufferGpu]` of this frame |
-//! | | 2 | storage, read-write | rigid pixels `[u32]`, one element (atomic; the host clears it) |
+//! | | 2 | storage, read-write | frame motion `[u32]` (`crate::pan_offset` has the layout): rigid count and motion sums, atomic; the host clears them |
 //! | [`FEATURES_ENTRY`] | 0 | uniform | [`TraceParams`] |
 //! | | 1 | storage, read | G-buffer `[GBufferGpu]` of this frame |
 //! | | 2 | storage, read | frame colour `[Vec4]` |
@@ -348,10 +348,15 @@ pub struct TraceParams {
     /// 0: never, and the motion pass does not read the count. Read by the
     /// motion pass only.
     pub seed_follow_share: f32,
-    /// Reserved, 0.
-    pub reserved1: u32,
-    /// Reserved, 0.
-    pub reserved2: u32,
+    /// ZSobol's screen offset, x (`crate::pan_offset`): `i32` bits in
+    /// `crate::pan_offset::OFFSET_UNITS` per pixel; the trace reads ZSobol's
+    /// point of pixel `p + round(offset)` ([`SAMPLER_ZSOBOL`] without
+    /// [`SAMPLER_FOLLOW_HOMES`]). 0 from the host; with the motion pass on,
+    /// the GPU copies the frame-motion buffer's accumulated offset here
+    /// after it (the CPU renderer writes its own).
+    pub sampler_offset_x: u32,
+    /// ZSobol's screen offset, y; as [`Self::sampler_offset_x`].
+    pub sampler_offset_y: u32,
 }
 
 /// One node of the BVH2 built by obvhs 0.4 (`Bvh2Node`), 48 bytes.

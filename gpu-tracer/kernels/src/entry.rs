@@ -7,7 +7,11 @@ use crate::abi::{
 };
 use crate::accumulate::accumulate_pixel;
 use crate::gbuffer::gbuffer_pixel_variant;
-use crate::motion::{frame_follows, moves_rigidly, reprojection_motion_pixel, seed_motion, visibility};
+use crate::motion::{frame_follows, reprojection_motion_pixel, seed_motion, visibility};
+use crate::pan_offset::{
+    advance_offset, pixel_contribution, FRAME_OFFSET_X, FRAME_OFFSET_Y, FRAME_RIGID, FRAME_SAMPLED,
+    FRAME_SUM_X, FRAME_SUM_Y,
+};
 use crate::surface_features::{demodulated_intensity, surface_feature};
 use crate::trace::trace_pixel_variant;
 use crate::trace_variant;
@@ -159,29 +163,44 @@ gbuffer_entry!(
 );
 
 /// [`RIGID_COUNT_ENTRY`](crate::abi::RIGID_COUNT_ENTRY): one invocation
-/// per visible pixel; adds 1 to `count[0]` (cleared by the host before the
-/// pass) when the pixel moves rigidly (`moves_rigidly`), for the motion
-/// pass's frame-wide rule (`frame_follows`). Runs only when
-/// [`TraceParams::seed_follow_share`] is not 0. Invocations outside the
-/// frame do nothing.
+/// per visible pixel; adds the pixel's contribution
+/// (`pan_offset::pixel_contribution`: 1 to the rigid count when it moves
+/// rigidly, and on the sum grid 1 to the sampled count and its fixed-point
+/// motion to the sums) to the frame-motion buffer's first
+/// `FRAME_CLEARED_WORDS` words (cleared by the host before the pass), for
+/// the motion pass's frame-wide rule (`frame_follows`) and pan offset. Runs
+/// only when [`TraceParams::seed_follow_share`] is not 0. Invocations
+/// outside the frame do nothing.
 #[spirv(compute(threads(8, 8)))]
 pub fn rigid_count_cs(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &TraceParams,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] gbuffer: &[GBufferGpu],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] count: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] frame: &mut [u32],
 ) {
     if id.x >= params.width || id.y >= params.height {
         return;
     }
-    if moves_rigidly(gbuffer, id.x, id.y, params.width, params.height) {
-        // SAFETY: an atomic on element 0 of a one-element storage buffer.
-        // Queue-family scope and no ordering, as the reprojection's claims:
-        // the sum is read only by the next dispatch, after a barrier, and an
-        // integer sum does not depend on the order of the additions.
-        unsafe {
-            atomic_i_add::<u32, { Scope::QueueFamily as u32 }, { Semantics::NONE.bits() }>(&mut count[0], 1);
-        }
+    let c = pixel_contribution(gbuffer, id.x, id.y, params.width, params.height);
+    if c[FRAME_RIGID] != 0 {
+        add(frame, FRAME_RIGID, 1);
+    }
+    if c[FRAME_SAMPLED] != 0 {
+        add(frame, FRAME_SAMPLED, 1);
+        add(frame, FRAME_SUM_X, c[FRAME_SUM_X]);
+        add(frame, FRAME_SUM_Y, c[FRAME_SUM_Y]);
+    }
+}
+
+/// Atomically adds `value` (wrapping) to `words[i]`.
+#[inline]
+fn add(words: &mut [u32], i: usize, value: u32) {
+    // SAFETY: an atomic on one element of a storage buffer. Queue-family
+    // scope and no ordering, as the reprojection's claims: the sums are read
+    // only by the next dispatch, after a barrier, and an integer sum does
+    // not depend on the order of the additions.
+    unsafe {
+        atomic_i_add::<u32, { Scope::QueueFamily as u32 }, { Semantics::NONE.bits() }>(&mut words[i], value);
     }
 }
 
@@ -190,9 +209,12 @@ pub fn rigid_count_cs(
 /// reprojection motion against the previous frame's visibility
 /// (`reprojection_motion_pixel`), zero where the surface moved less than
 /// [`TraceParams::seed_hold_below`] unless the frame follows as a whole
-/// (`seed_motion`, `frame_follows` of `rigid[0]`, the count of
-/// [`rigid_count_cs`]; not read when [`TraceParams::seed_follow_share`] is
-/// 0). Invocations outside the frame do nothing.
+/// (`seed_motion`, `frame_follows` of the frame-motion buffer's rigid
+/// count, from [`rigid_count_cs`]; not read when
+/// [`TraceParams::seed_follow_share`] is 0). Invocation `(0, 0)` also
+/// advances the pan offset in the buffer (`pan_offset::advance_offset`;
+/// the host then copies it into the parameters for the trace). Invocations
+/// outside the frame do nothing.
 #[spirv(compute(threads(8, 8)))]
 pub fn motion_cs(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -201,7 +223,7 @@ pub fn motion_cs(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] previous: &[UVec2],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] current: &mut [UVec2],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] motion: &mut [Vec2],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] rigid: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] frame: &mut [u32],
 ) {
     if id.x >= params.width || id.y >= params.height {
         return;
@@ -211,8 +233,27 @@ pub fn motion_cs(
     current[i] = visibility(&g);
     let m = reprojection_motion_pixel(&g, id.x, id.y, params.width, params.height, previous);
     let share = params.seed_follow_share;
-    let follows_all = share > 0.0 && frame_follows(rigid[0], params.width.wrapping_mul(params.height), share);
+    let pixels = params.width.wrapping_mul(params.height);
+    let follows_all = share > 0.0 && frame_follows(frame[FRAME_RIGID], pixels, share);
     motion[i] = seed_motion(&g, m, params.seed_hold_below, follows_all);
+    if id.x == 0 && id.y == 0 && share > 0.0 {
+        // Only this invocation touches the offset words; the others read
+        // the rigid count alone.
+        let sums = [
+            frame[FRAME_RIGID],
+            frame[FRAME_SAMPLED],
+            frame[FRAME_SUM_X],
+            frame[FRAME_SUM_Y],
+        ];
+        let o = advance_offset(
+            [frame[FRAME_OFFSET_X], frame[FRAME_OFFSET_Y]],
+            sums,
+            pixels,
+            share,
+        );
+        frame[FRAME_OFFSET_X] = o[0];
+        frame[FRAME_OFFSET_Y] = o[1];
+    }
 }
 
 /// [`FEATURES_ENTRY`](crate::abi::FEATURES_ENTRY): one invocation per

@@ -78,6 +78,7 @@ pub mod mis;
 pub mod motion;
 pub mod normal_map;
 pub mod numbers;
+pub mod pan_offset;
 pub mod permute_entry;
 pub mod regularization;
 pub mod reproject_entry;

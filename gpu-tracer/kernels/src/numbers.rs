@@ -73,6 +73,7 @@ use crate::abi::{
     SAMPLER_KIND_MASK, SAMPLER_KRONECKER, SAMPLER_SCREEN_SOBOL, SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL,
     SEED_MODE_ADVANCE, SPATIOTEMPORAL_TILE_LOG2,
 };
+use crate::pan_offset::offset_pixels;
 use crate::sampler_entry::{screen_sobol_pair, zsobol_pair};
 use glam::{UVec2, Vec2};
 use sampler_core::sequences::kronecker::{kronecker_point_at, KRONECKER_PAIRS};
@@ -465,12 +466,21 @@ impl PathNumbers {
 /// `pixel` whose seed-buffer entry is `seed`: with [`SAMPLER_SPATIOTEMPORAL`]
 /// or [`SAMPLER_ZSOBOL`] and [`SAMPLER_FOLLOW_HOMES`], the position the home
 /// `seed` holds names (`sampler_core::sequences::spatiotemporal::home_texel`:
-/// the spatiotemporal shift, or ZSobol's point of that pixel); otherwise
-/// `pixel`.
+/// the spatiotemporal shift, or ZSobol's point of that pixel); with
+/// [`SAMPLER_ZSOBOL`] otherwise `pixel` plus the pan offset rounded to
+/// whole pixels ([`TraceParams::sampler_offset_x`], `crate::pan_offset`; 0
+/// unless frames follow as a whole); otherwise `pixel`.
 #[inline]
 pub fn sampler_position(params: &TraceParams, pixel: UVec2, seed: u32) -> UVec2 {
     if sampler_reads_homes(params.sampler) && params.sampler & SAMPLER_FOLLOW_HOMES != 0 {
         home_texel(seed)
+    } else if params.sampler & SAMPLER_KIND_MASK == SAMPLER_ZSOBOL {
+        // ZSobol wraps pixels every 4096, a divisor of 2^32: wrapping adds
+        // of the signed offset are exact.
+        UVec2::new(
+            pixel.x.wrapping_add(offset_pixels(params.sampler_offset_x)),
+            pixel.y.wrapping_add(offset_pixels(params.sampler_offset_y)),
+        )
     } else {
         pixel
     }

@@ -9,6 +9,16 @@ use kernels::abi::{
     GBufferGpu, TraceParams, ACCUMULATE_ENTRY, FEATURES_ENTRY, GBUFFER_ENTRY, GBUFFER_UNTEXTURED_ENTRY,
     MOTION_ENTRY, RIGID_COUNT_ENTRY, TRACE_BASIC_ENTRY, TRACE_ENTRY, TRACE_UNTEXTURED_ENTRY, TRACE_WORKGROUP,
 };
+use kernels::pan_offset::{FRAME_CLEARED_WORDS, FRAME_MOTION_WORDS, FRAME_OFFSET_X, FRAME_OFFSET_Y};
+
+// The pan offset's two words are copied as one block into the parameters:
+// adjacent in both, at offsets a buffer copy may use (multiples of 4).
+const _: () = assert!(FRAME_OFFSET_Y == FRAME_OFFSET_X + 1);
+const _: () = assert!(
+    std::mem::offset_of!(TraceParams, sampler_offset_y)
+        == std::mem::offset_of!(TraceParams, sampler_offset_x) + 4
+);
+const _: () = assert!(std::mem::offset_of!(TraceParams, sampler_offset_x) % 4 == 0);
 
 /// The trace, G-buffer and accumulate pipelines, created once per device.
 /// The trace kernel's variants (`kernels::trace_variant`) share one
@@ -179,11 +189,12 @@ pub struct Tracer {
 /// The motion pass's ping-pong visibility buffers (`width * height`
 /// `UVec2`, `kernels::motion::visibility`) and a bind group per direction:
 /// frame `t` reads `visibility[(t + 1) % 2]` and writes `visibility[t % 2]`;
-/// and the rigid-count pass's counter (one `u32`) with its bind group.
+/// and the frame-motion buffer (`kernels::pan_offset`: the rigid-count
+/// pass's count and sums, the pan offset) with the count's bind group.
 #[derive(Debug)]
 struct MotionPass {
     bind_groups: [wgpu::BindGroup; 2],
-    rigid: wgpu::Buffer,
+    frame: wgpu::Buffer,
     rigid_bg: wgpu::BindGroup,
     /// Which bind group the next [`Tracer::encode_motion`] uses.
     next: usize,
@@ -298,7 +309,7 @@ impl Tracer {
             gpu.storage_zeroed::<UVec2>("visibility (even frames)", n),
             gpu.storage_zeroed::<UVec2>("visibility (odd frames)", n),
         ];
-        let rigid = gpu.storage_zeroed::<u32>("rigid pixels", 1);
+        let frame = gpu.storage_zeroed::<u32>("frame motion", FRAME_MOTION_WORDS);
         let bind = |read: usize, write: usize| {
             gpu.bind(
                 &pipelines.motion,
@@ -308,15 +319,15 @@ impl Tracer {
                     &vis[read],
                     &vis[write],
                     motion,
-                    &rigid,
+                    &frame,
                 ],
             )
         };
-        let rigid_bg = gpu.bind(&pipelines.rigid_count, &[&self.params, &self.gbuffer, &rigid]);
+        let rigid_bg = gpu.bind(&pipelines.rigid_count, &[&self.params, &self.gbuffer, &frame]);
         self.motion = Some(MotionPass {
             bind_groups: [bind(1, 0), bind(0, 1)],
             rigid_bg,
-            rigid,
+            frame,
             next: 0,
         });
     }
@@ -327,11 +338,15 @@ impl Tracer {
     /// `kernels::motion::DISOCCLUDED`
     /// (`kernels::motion::reprojection_motion_pixel`), and this frame's
     /// visibility for the next. Before it, when the parameters last set
-    /// have a `TraceParams::seed_follow_share` above 0, the counter cleared
-    /// and the rigid-count pass (five G-buffer texels a pixel), whose sum
-    /// the motion pass then reads. Call once per frame; the first call's
-    /// motion is meaningless (no previous frame). `timer` times both passes
-    /// together.
+    /// have a `TraceParams::seed_follow_share` above 0, the count and sums
+    /// cleared and the rigid-count pass (five G-buffer texels a pixel),
+    /// which the motion pass then reads (the frame-wide rule, and the pan
+    /// offset it advances: `kernels::pan_offset`). After them the pan
+    /// offset is copied into the parameters' `sampler_offset_x` and
+    /// `sampler_offset_y`, where the trace reads it: call
+    /// [`Tracer::set_params`] before this, not between it and the trace.
+    /// Call once per frame; the first call's motion is meaningless (no
+    /// previous frame). `timer` times both passes together.
     ///
     /// # Panics
     /// Without [`enable_motion`](Self::enable_motion) first.
@@ -346,7 +361,8 @@ impl Tracer {
         pass.next = 1 - i;
         let motion = self.motion.as_ref().expect("checked above");
         if self.count_rigid {
-            encoder.clear_buffer(&motion.rigid, 0, None);
+            let cleared = (FRAME_CLEARED_WORDS * std::mem::size_of::<u32>()) as u64;
+            encoder.clear_buffer(&motion.frame, 0, Some(cleared));
         }
         // One compute pass, so that `timer` times both dispatches; wgpu
         // orders the motion dispatch's read of the count after the count's
@@ -367,6 +383,33 @@ impl Tracer {
         pass.set_pipeline(&pipelines.motion);
         pass.set_bind_group(0, &motion.bind_groups[i], &[]);
         pass.dispatch_workgroups(gx, gy, 1);
+        drop(pass);
+        // The pan offset (two words) into the parameters, for the trace.
+        let word = std::mem::size_of::<u32>() as u64;
+        encoder.copy_buffer_to_buffer(
+            &motion.frame,
+            FRAME_OFFSET_X as u64 * word,
+            &self.params,
+            std::mem::offset_of!(TraceParams, sampler_offset_x) as u64,
+            2 * word,
+        );
+    }
+
+    /// Reads the frame-motion buffer back (`kernels::pan_offset`'s
+    /// `FRAME_MOTION_WORDS` words: the last frame's rigid count and sums,
+    /// the pan offset). For tests and diagnostics.
+    ///
+    /// # Panics
+    /// Without [`enable_motion`](Self::enable_motion) first.
+    ///
+    /// # Errors
+    /// [`GpuError`] if the read-back fails.
+    pub fn read_frame_motion(&self, gpu: &Gpu) -> Result<Vec<u32>, GpuError> {
+        let motion = self
+            .motion
+            .as_ref()
+            .expect("enable_motion before read_frame_motion");
+        gpu.read(&motion.frame, FRAME_MOTION_WORDS)
     }
 
     #[allow(clippy::too_many_arguments)]

@@ -236,8 +236,8 @@ impl SceneGpu {
             environment_map: self.environment_map,
             glossy_regularization: s.glossy_regularization,
             seed_follow_share: 0.0,
-            reserved1: 0,
-            reserved2: 0,
+            sampler_offset_x: 0,
+            sampler_offset_y: 0,
         })
     }
 }

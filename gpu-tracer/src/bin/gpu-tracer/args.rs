@@ -91,9 +91,11 @@ pub(crate) struct RenderArgs {
     pub(crate) reproject_hold_below: Option<f32>,
     /// With reprojection: in a frame where at least this share of the pixels
     /// moves rigidly (at least 1 px/frame, as their four neighbours within
-    /// 0.05 px/frame: a camera pan), every seed follows its surface whatever
-    /// `--reproject-hold-below` says. In [0, 1]; 0: off. Default 0.5 in
-    /// `--mode temporal`, 0 in the other modes.
+    /// 0.05 px/frame or 2.5% of their speed: a camera pan), every seed
+    /// follows its surface whatever `--reproject-hold-below` says, and
+    /// ZSobol's points (`--sampler zsobol|zsobol-jitter`) follow the frame's
+    /// mean motion. In [0, 1]; 0: off. Default 0.5 in `--mode temporal`, 0
+    /// in the other modes.
     #[arg(long, value_parser = parse_share, allow_hyphen_values = true)]
     pub(crate) reproject_follow_share: Option<f32>,
     /// Feature-aware permutation in `--mode permute` and `--mode temporal`: sort keys with the
