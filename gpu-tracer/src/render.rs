@@ -108,6 +108,15 @@ pub struct SequenceOptions {
     /// here): off. The command line's default is
     /// [`crate::method_choice::DEFAULT_REPROJECT_FOLLOW_SHARE`].
     pub reproject_follow_share: f32,
+    /// With [`Self::reproject_follow_share`] above 0: in the frames that
+    /// follow as a whole, ZSobol's points follow the frame's mean rigid
+    /// motion (`kernels::pan_offset`: the trace reads ZSobol at the pixel
+    /// plus the accumulated offset; `--sampler zsobol|zsobol-jitter` only).
+    /// A history that follows a pan then sees each surface point's own
+    /// ZSobol sequence, at a small cost to each raw frame (QUALITY.md,
+    /// "ZSobol follows a pan"). `false` (the default here): ZSobol stays on
+    /// the screen. The command line's default is on.
+    pub pan_offset: bool,
     /// Feature-aware permutation (`sampler_core::permute_frame_features`
     /// with `FeatureThresholds::DEFAULT`): sort keys with the albedo divided
     /// out, blocks sorted in groups of one surface, retarget moves cut at
@@ -433,8 +442,10 @@ pub fn render_sequence_cpu(
             let words = frame_motion_words(&gbuf, w, h);
             pan_offset = advance_offset(pan_offset, words, w * h, options.reproject_follow_share);
         }
-        params.sampler_offset_x = pan_offset[0];
-        params.sampler_offset_y = pan_offset[1];
+        if options.pan_offset {
+            params.sampler_offset_x = pan_offset[0];
+            params.sampler_offset_y = pan_offset[1];
+        }
         if reproject && t > 0 {
             let (w, h, below) = (layout.width(), layout.height(), options.reproject_hold_below);
             let share = options.reproject_follow_share;
@@ -597,6 +608,7 @@ pub fn render_sequence_gpu(
         let pipelines = ReprojectPipelines::new(gpu)?;
         let reprojector = SeedReprojector::new(gpu, &pipelines, layout, &permuter.seeds)?;
         tracer.enable_motion(gpu, &trace_pipelines, &reprojector.motion);
+        tracer.set_pan_offset(options.pan_offset);
         Some((pipelines, reprojector))
     } else {
         None

@@ -50,13 +50,18 @@ pub enum MotionMethod {
     /// left at their pixels (`SequenceOptions::reproject_hold_below`), except
     /// in frames that move rigidly
     /// (`gpu_tracer::method_choice::DEFAULT_REPROJECT_FOLLOW_SHARE`): the
-    /// render defaults when something moves.
+    /// render defaults when something moves (with the pan offset:
+    /// ZSobol's points follow the frames that follow as a whole).
     TemporalPermuteJitterReprojectFast,
+    /// [`MotionMethod::TemporalPermuteJitterReprojectFast`] without the pan
+    /// offset (`SequenceOptions::pan_offset` off, `--pan-offset off`):
+    /// ZSobol's points stay on the screen.
+    TemporalPermuteJitterReprojectFastScreen,
 }
 
 impl MotionMethod {
     /// Every row, white first.
-    pub const ALL: [MotionMethod; 15] = [
+    pub const ALL: [MotionMethod; 16] = [
         MotionMethod::White,
         MotionMethod::Permute,
         MotionMethod::PermuteReproject,
@@ -72,6 +77,7 @@ impl MotionMethod {
         MotionMethod::TemporalPermuteJitterReproject,
         MotionMethod::FeatureTemporalPermuteJitterReproject,
         MotionMethod::TemporalPermuteJitterReprojectFast,
+        MotionMethod::TemporalPermuteJitterReprojectFastScreen,
     ];
 
     /// Short name on the command line (`conformance motion --methods`): the
@@ -96,6 +102,9 @@ impl MotionMethod {
                 "feature-temporal-permute-jitter-reproject"
             }
             MotionMethod::TemporalPermuteJitterReprojectFast => "temporal-permute-jitter-reproject-fast",
+            MotionMethod::TemporalPermuteJitterReprojectFastScreen => {
+                "temporal-permute-jitter-reproject-fast-screen"
+            }
         }
     }
 
@@ -145,6 +154,9 @@ impl MotionMethod {
             }
             MotionMethod::TemporalPermuteJitterReprojectFast => {
                 "temporal-permute + zsobol jitter + reprojection of fast surfaces and rigid frames (the default)"
+            }
+            MotionMethod::TemporalPermuteJitterReprojectFastScreen => {
+                "temporal-permute + zsobol jitter + reprojection of fast surfaces and rigid frames, zsobol on the screen"
             }
         }
     }
@@ -196,7 +208,8 @@ impl MotionMethod {
             }
             MotionMethod::TemporalPermuteJitterReproject
             | MotionMethod::FeatureTemporalPermuteJitterReproject
-            | MotionMethod::TemporalPermuteJitterReprojectFast => {
+            | MotionMethod::TemporalPermuteJitterReprojectFast
+            | MotionMethod::TemporalPermuteJitterReprojectFastScreen => {
                 settings.sampler = kernels::abi::SAMPLER_ZSOBOL | kernels::abi::SAMPLER_JITTER_ONLY;
                 (PermuteMode::Temporal, true)
             }
@@ -214,7 +227,12 @@ impl MotionMethod {
             tile,
             salt: config.salt,
         };
-        let (hold_below, follow_share) = if self == MotionMethod::TemporalPermuteJitterReprojectFast {
+        let fast = matches!(
+            self,
+            MotionMethod::TemporalPermuteJitterReprojectFast
+                | MotionMethod::TemporalPermuteJitterReprojectFastScreen
+        );
+        let (hold_below, follow_share) = if fast {
             (
                 gpu_tracer::method_choice::DEFAULT_REPROJECT_HOLD_BELOW,
                 gpu_tracer::method_choice::DEFAULT_REPROJECT_FOLLOW_SHARE,
@@ -227,6 +245,7 @@ impl MotionMethod {
             reproject,
             reproject_hold_below: hold_below,
             reproject_follow_share: follow_share,
+            pan_offset: self == MotionMethod::TemporalPermuteJitterReprojectFast,
             features,
             ..SequenceOptions::default()
         };

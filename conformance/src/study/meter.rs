@@ -140,6 +140,7 @@ impl Study {
                     reproject: false,
                     reproject_hold_below: 0.0,
                     reproject_follow_share: 0.0,
+                    pan_offset: false,
                     features: true,
                     feature_key: match method {
                         Method::FeaturePermuteRawKey => FeatureKey::Raw,

@@ -393,7 +393,8 @@ fn zsobol_homes_follow_a_pan_on_the_gpu_as_on_the_cpu() {
 /// that they follow and the pan offset moves ZSobol's
 /// points (checked on the CPU's G-buffers), and the GPU's frames agree
 /// with the CPU's pixel for pixel up to float rounding (so the GPU advances
-/// the offset and the trace reads it as the CPU does).
+/// the offset and the trace reads it as the CPU does); without the offset
+/// the frames differ, and agree again between the GPU and the CPU.
 #[test]
 fn zsobol_follows_a_pan_on_the_gpu_as_on_the_cpu() {
     use gpu_tracer::method_choice::DEFAULT_PERMUTE_SAMPLER;
@@ -413,6 +414,7 @@ fn zsobol_follows_a_pan_on_the_gpu_as_on_the_cpu() {
     let options = SequenceOptions {
         reproject: true,
         reproject_follow_share: share,
+        pan_offset: true,
         ..SequenceOptions::default()
     };
     // The offset the CPU's G-buffers give, frame by frame.
@@ -435,6 +437,17 @@ fn zsobol_follows_a_pan_on_the_gpu_as_on_the_cpu() {
     );
     assert_eq!(total, 24 * 20 * 4);
     assert!(frac > 0.95, "only {:.2}% of pixel-frames agree", 100.0 * frac);
+    // Without the pan offset ZSobol stays on the screen: other frames, and
+    // the GPU (which then leaves the parameters' offset at 0) agrees.
+    let screen = SequenceOptions {
+        pan_offset: false,
+        ..options
+    };
+    let cpu_screen = pan_frames(None, &job, screen, FAST_PAN_SPEED);
+    assert_ne!(cpu_screen[3], cpu_frames[3], "the pan offset changed nothing");
+    let gpu_screen = pan_frames(Some(&gpu), &job, screen, FAST_PAN_SPEED);
+    let (frac, _) = crate::fraction_close(&cpu_screen, &gpu_screen);
+    assert!(frac > 0.95, "without the offset only {:.2}% agree", 100.0 * frac);
 }
 
 /// The G-buffers of [`pan_frames`]' sequence at `speed`, rendered on the CPU.

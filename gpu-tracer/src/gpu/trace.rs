@@ -184,6 +184,9 @@ pub struct Tracer {
     /// parameters last set have a `seed_follow_share` above 0 (at 0 the
     /// motion pass does not read the count).
     count_rigid: bool,
+    /// Whether [`Tracer::encode_motion`] copies the pan offset into the
+    /// parameters ([`Tracer::set_pan_offset`]).
+    pan_offset: bool,
 }
 
 /// The motion pass's ping-pong visibility buffers (`width * height`
@@ -263,6 +266,7 @@ impl Tracer {
             features_bg: None,
             variant,
             count_rigid: params.seed_follow_share > 0.0,
+            pan_offset: true,
         })
     }
 
@@ -332,6 +336,16 @@ impl Tracer {
         });
     }
 
+    /// Whether the trace reads ZSobol at the pan offset the motion pass
+    /// advances (`kernels::pan_offset`; on from [`Tracer::new`]): with
+    /// `false` [`Tracer::encode_motion`] leaves the parameters' offset as
+    /// [`Tracer::set_params`] wrote it (0 from the scene's parameters), so
+    /// ZSobol stays on the screen; the offset in the frame-motion buffer
+    /// advances either way.
+    pub fn set_pan_offset(&mut self, on: bool) {
+        self.pan_offset = on;
+    }
+
     /// Encodes the motion pass (after [`encode_gbuffer`](Self::encode_gbuffer)
     /// of the same frame): the motion vectors of this frame against the
     /// previous one's visibility, with disoccluded pixels
@@ -341,10 +355,11 @@ impl Tracer {
     /// have a `TraceParams::seed_follow_share` above 0, the count and sums
     /// cleared and the rigid-count pass (five G-buffer texels a pixel),
     /// which the motion pass then reads (the frame-wide rule, and the pan
-    /// offset it advances: `kernels::pan_offset`). After them the pan
-    /// offset is copied into the parameters' `sampler_offset_x` and
-    /// `sampler_offset_y`, where the trace reads it: call
-    /// [`Tracer::set_params`] before this, not between it and the trace.
+    /// offset it advances: `kernels::pan_offset`). After them, unless
+    /// [`Tracer::set_pan_offset`] turned it off, the pan offset is copied
+    /// into the parameters' `sampler_offset_x` and `sampler_offset_y`,
+    /// where the trace reads it: call [`Tracer::set_params`] before this,
+    /// not between it and the trace.
     /// Call once per frame; the first call's motion is meaningless (no
     /// previous frame). `timer` times both passes together.
     ///
@@ -384,6 +399,9 @@ impl Tracer {
         pass.set_bind_group(0, &motion.bind_groups[i], &[]);
         pass.dispatch_workgroups(gx, gy, 1);
         drop(pass);
+        if !self.pan_offset {
+            return;
+        }
         // The pan offset (two words) into the parameters, for the trace.
         let word = std::mem::size_of::<u32>() as u64;
         encoder.copy_buffer_to_buffer(

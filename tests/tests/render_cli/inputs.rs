@@ -113,6 +113,7 @@ fn bad_input_fails_with_a_clear_message_and_writes_nothing() {
             vec!["--reproject-follow-share", "nan"],
             "not a share of the frame in [0, 1]",
         ),
+        (vec!["--pan-offset", "maybe"], "invalid value 'maybe'"),
         (
             vec!["--glossy-regularization", "-0.1"],
             "not a strength in [0, 1]",
@@ -341,11 +342,41 @@ fn camera_path_motion_and_emitterless_warning() {
     );
     assert!(o.status.success(), "{}", text(&o));
     // A moving camera on the CPU reprojects seeds by default, those of
-    // surfaces from 6 px/frame on, and every seed in frames half rigid.
+    // surfaces from 6 px/frame on, and every seed in frames half rigid,
+    // where ZSobol's jitter follows too (the pan offset).
     assert!(
-        text(&o).contains("reprojection on from 6 px/frame, everywhere in frames 0.5 rigid"),
+        text(&o).contains(
+            "reprojection on from 6 px/frame, everywhere in frames 0.5 rigid, ZSobol following them"
+        ),
         "{}",
         text(&o)
+    );
+    // `--pan-offset off`: the same rule, ZSobol on the screen.
+    let o = run(
+        &exe,
+        &[
+            "render",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--frames",
+            "2",
+            "--device",
+            "cpu",
+            "--camera-path",
+            "pan",
+            "--pan-offset",
+            "off",
+            "--out",
+            dir.path().join("screen").to_str().unwrap(),
+        ],
+    );
+    let t = text(&o);
+    assert!(o.status.success(), "{t}");
+    assert!(
+        t.contains("everywhere in frames 0.5 rigid") && !t.contains("ZSobol following"),
+        "{t}"
     );
     let m = image::open(dir.path().join("aovs/frame_00001.motion.exr"))
         .unwrap()

@@ -98,6 +98,13 @@ pub(crate) struct RenderArgs {
     /// in the other modes.
     #[arg(long, value_parser = parse_share, allow_hyphen_values = true)]
     pub(crate) reproject_follow_share: Option<f32>,
+    /// With a follow share above 0: whether ZSobol's points
+    /// (`--sampler zsobol|zsobol-jitter`) follow the frames that follow as a
+    /// whole (`on`, the default: a history that follows a camera pan keeps
+    /// ZSobol's gain in time, at a small cost to each raw frame) or stay on
+    /// the screen (`off`). QUALITY.md, "ZSobol follows a pan".
+    #[arg(long, value_enum, default_value = "on")]
+    pub(crate) pan_offset: OnOff,
     /// Feature-aware permutation in `--mode permute` and `--mode temporal`: sort keys with the
     /// albedo divided out, each block sorted in groups of one surface, and
     /// no retarget move across an edge (object id, normal, depth from the

@@ -25,7 +25,7 @@ use gpu_tracer::{
     TraceSettings,
 };
 use indicatif::{ProgressBar, ProgressStyle};
-use kernels::abi::{SEED_MODE_ADVANCE, SEED_MODE_FIXED};
+use kernels::abi::{SAMPLER_KIND_MASK, SAMPLER_ZSOBOL, SEED_MODE_ADVANCE, SEED_MODE_FIXED};
 use output::{filter_frame, prepare_out_dir, save_frame, write_results};
 use scene_setup::prepare_scene;
 use std::time::Instant;
@@ -153,6 +153,7 @@ fn render(args: RenderArgs) -> Result<()> {
         reproject_follow_share: args
             .reproject_follow_share
             .unwrap_or_else(|| default_reproject_follow_share(job.mode)),
+        pan_offset: args.pan_offset == OnOff::On,
         features,
         feature_key: match args.feature_key {
             FeatureKeyArg::Demodulated => FeatureKey::Demodulated,
@@ -239,8 +240,14 @@ fn render(args: RenderArgs) -> Result<()> {
             "off".to_string()
         } else if options.reproject_hold_below > 0.0 && options.reproject_follow_share > 0.0 {
             format!(
-                "on from {} px/frame, everywhere in frames {} rigid",
-                options.reproject_hold_below, options.reproject_follow_share
+                "on from {} px/frame, everywhere in frames {} rigid{}",
+                options.reproject_hold_below,
+                options.reproject_follow_share,
+                if options.pan_offset && job.settings.sampler & SAMPLER_KIND_MASK == SAMPLER_ZSOBOL {
+                    ", ZSobol following them"
+                } else {
+                    ""
+                }
             )
         } else if options.reproject_hold_below > 0.0 {
             format!("on from {} px/frame", options.reproject_hold_below)
