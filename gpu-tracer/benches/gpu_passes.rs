@@ -3,7 +3,9 @@
 //! (primary visibility and motion vectors), the sorting and retargeting
 //! passes (4x4 blocks, 64x64 tile), and the seed reprojection (its motion
 //! pass and its six passes) under a camera panning 2 units a frame (about
-//! 1.5 px at the back wall), and the feature-aware permutation (the
+//! 1.5 px at the back wall; the motion pass with the render defaults'
+//! reprojection settings, so its rigid count, frame-wide rule and pan
+//! offset included), and the feature-aware permutation (the
 //! tracer's feature pass, the grouped sort, the inverse + cut retarget),
 //! and the real-time filters (`taa`, `gauss`, `atrous`, `taa+atrous`) on the
 //! traced frame and its G-buffer; and the temporally blue permutation
@@ -122,7 +124,7 @@ fn main() {
         scene
             .set_cameras(&camera(t), &camera(t.saturating_sub(1)))
             .expect("camera");
-        tracer.set_params(&gpu, &scene.trace_params(&settings, t).expect("params"));
+        tracer.set_params(&gpu, &defaults_params(&scene, &settings, t));
         permuter.set_frame(&gpu, t);
         featured.set_frame(&gpu, t);
         walk.set_frame(&gpu, t);
@@ -236,7 +238,7 @@ fn main() {
                 scene
                     .set_cameras(&camera(t), &camera(t.saturating_sub(1)))
                     .expect("camera");
-                tracer.set_params(&gpu, &scene.trace_params(&settings, t).expect("params"));
+                tracer.set_params(&gpu, &defaults_params(&scene, &settings, t));
                 let mut e = gpu.device.create_command_encoder(&Default::default());
                 tracer.encode_motion(&mut e, &tp, None);
                 names = reprojector.encode_each_timed(&mut e, &rp, &split_timer, 0);
@@ -362,4 +364,14 @@ fn main() {
         let ms = median(&mut ms);
         println!("{name:<28} {ms:>10.3} {:>13.2}%", 100.0 * ms / tr);
     }
+}
+
+/// Frame `t`'s parameters with the render defaults' reprojection settings
+/// (`--mode temporal`): seeds held below 6 px/frame, every seed following in
+/// frames half rigid, so that the motion pass runs its rigid count.
+fn defaults_params(scene: &SceneGpu, settings: &TraceSettings, t: u32) -> kernels::abi::TraceParams {
+    let mut p = scene.trace_params(settings, t).expect("params");
+    p.seed_hold_below = gpu_tracer::method_choice::DEFAULT_REPROJECT_HOLD_BELOW;
+    p.seed_follow_share = gpu_tracer::method_choice::DEFAULT_REPROJECT_FOLLOW_SHARE;
+    p
 }
