@@ -17,7 +17,8 @@
 //! forms (per block, per seed: the same seeds) are timed beside it, as are
 //! the reprojection's and the feature-aware step's, and (with timestamp
 //! queries) the reprojection's passes one by one. `GPU_PASSES_ROUNDS=N`
-//! measures `N` frames instead of 15.
+//! measures `N` frames instead of 15; `GPU_PASSES_FOLLOW_SHARE=0` times the
+//! motion pass without the defaults' rigid count.
 //!
 //! ```text
 //! cargo bench -p gpu-tracer --bench gpu_passes
@@ -369,9 +370,14 @@ fn main() {
 /// Frame `t`'s parameters with the render defaults' reprojection settings
 /// (`--mode temporal`): seeds held below 6 px/frame, every seed following in
 /// frames half rigid, so that the motion pass runs its rigid count.
+/// `GPU_PASSES_FOLLOW_SHARE=S` sets another share (0: no rigid count, to
+/// time the motion pass without it).
 fn defaults_params(scene: &SceneGpu, settings: &TraceSettings, t: u32) -> kernels::abi::TraceParams {
     let mut p = scene.trace_params(settings, t).expect("params");
     p.seed_hold_below = gpu_tracer::method_choice::DEFAULT_REPROJECT_HOLD_BELOW;
-    p.seed_follow_share = gpu_tracer::method_choice::DEFAULT_REPROJECT_FOLLOW_SHARE;
+    p.seed_follow_share = std::env::var("GPU_PASSES_FOLLOW_SHARE")
+        .ok()
+        .map(|s| s.parse().expect("GPU_PASSES_FOLLOW_SHARE: a share in [0, 1]"))
+        .unwrap_or(gpu_tracer::method_choice::DEFAULT_REPROJECT_FOLLOW_SHARE);
     p
 }
