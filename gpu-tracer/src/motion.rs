@@ -72,6 +72,24 @@ pub fn seed_reprojection_motion(
         let rigid = rigid_pixels(current, width, height);
         frame_follows(rigid, width.wrapping_mul(height), follow_share)
     };
+    seed_motion_with(current, previous, width, height, hold_below, follows_all)
+}
+
+/// [`seed_reprojection_motion`] with the frame-wide rule already decided
+/// (`follows_all`, from `kernels::motion::frame_follows` of the frame's
+/// rigid count): for a caller that has counted the rigid pixels itself,
+/// e.g. with [`frame_motion_words`].
+///
+/// # Panics
+/// If `current` or `previous` is not `width * height` long.
+pub fn seed_motion_with(
+    current: &[GBufferGpu],
+    previous: &[UVec2],
+    width: u32,
+    height: u32,
+    hold_below: f32,
+    follows_all: bool,
+) -> Vec<[f32; 2]> {
     motion_per_pixel(current, previous, width, height, |g, m| {
         seed_motion(g, m, hold_below, follows_all)
     })

@@ -8,7 +8,7 @@ use crate::gpu::{
     Gpu, GpuError, PermuteMode, PermutePipelines, ReprojectPipelines, SeedPermuter, SeedReprojector,
     TracePipelines, Tracer,
 };
-use crate::motion::{frame_motion_words, seed_reprojection_motion, write_visibility};
+use crate::motion::{frame_motion_words, seed_motion_with, write_visibility};
 use crate::scene::{SceneGpu, TraceSettings};
 use crate::timeline::SceneSequence;
 use glam::{UVec2, Vec4};
@@ -16,7 +16,8 @@ use kernels::abi::{
     GBufferGpu, SAMPLER_FOLLOW_HOMES, SAMPLER_JITTER_ONLY, SAMPLER_KIND_MASK, SAMPLER_SPATIOTEMPORAL,
     SEED_MODE_ADVANCE,
 };
-use kernels::pan_offset::advance_offset;
+use kernels::motion::frame_follows;
+use kernels::pan_offset::{advance_offset, FRAME_RIGID};
 use sampler_core::sequences::spatiotemporal::write_initial_homes;
 use sampler_core::{DitherTile, FeatureThresholds, FrameLayout, RetargetTables, SliceTables};
 use std::fmt;
@@ -436,11 +437,16 @@ pub fn render_sequence_cpu(
         if gbuffer {
             cpu::gbuffer_frame(scene, &params, &mut gbuf)?;
         }
-        if reproject && options.reproject_follow_share > 0.0 {
-            // As the GPU's motion pass, every frame (frame 0 moves nothing).
+        // The frame-wide rule and the pan offset from one count of the rigid
+        // pixels, as the GPU's rigid-count and motion passes, every frame
+        // (frame 0 moves nothing).
+        let share = options.reproject_follow_share;
+        let mut follows_all = false;
+        if reproject && share > 0.0 {
             let (w, h) = (layout.width(), layout.height());
             let words = frame_motion_words(&gbuf, w, h);
-            pan_offset = advance_offset(pan_offset, words, w * h, options.reproject_follow_share);
+            follows_all = frame_follows(words[FRAME_RIGID], w * h, share);
+            pan_offset = advance_offset(pan_offset, words, w * h, share);
         }
         if options.pan_offset {
             params.sampler_offset_x = pan_offset[0];
@@ -448,8 +454,7 @@ pub fn render_sequence_cpu(
         }
         if reproject && t > 0 {
             let (w, h, below) = (layout.width(), layout.height(), options.reproject_hold_below);
-            let share = options.reproject_follow_share;
-            let motion = seed_reprojection_motion(&gbuf, &previous_vis, w, h, below, share);
+            let motion = seed_motion_with(&gbuf, &previous_vis, w, h, below, follows_all);
             // Seeds, or with the hold mode the homes: moved alike.
             sampler_core::reproject_frame(&layout, &motion, &seeds, &mut claims, &mut next)?;
             std::mem::swap(&mut seeds, &mut next);
