@@ -8,7 +8,10 @@
 use glam::{UVec2, Vec2};
 use kernels::abi::GBufferGpu;
 use kernels::motion::{frame_follows, moves_rigidly, reprojection_motion_pixel, seed_motion, visibility};
-use kernels::pan_offset::pixel_contribution;
+use kernels::pan_offset::{
+    pixel_contribution, region_word, sum_region, FRAME_CLEARED_WORDS, FRAME_RIGID, REGION_SAMPLED,
+    REGION_SUM_X, REGION_SUM_Y,
+};
 
 pub use kernels::motion::DISOCCLUSION_DEPTH_TOLERANCE;
 
@@ -96,15 +99,21 @@ pub fn seed_motion_with(
 }
 
 /// The frame-motion words the GPU's rigid-count pass sums
-/// (`kernels::pan_offset`: `[rigid, sampled, sum x, sum y]`, each pixel's
+/// (`kernels::pan_offset`'s first `FRAME_CLEARED_WORDS`: the rigid count,
+/// then each screen region's sampled count and motion sums; each pixel's
 /// `pixel_contribution` added with wrapping), for `advance_offset`.
-pub fn frame_motion_words(gbuffer: &[GBufferGpu], width: u32, height: u32) -> [u32; 4] {
-    let mut words = [0u32; 4];
+pub fn frame_motion_words(gbuffer: &[GBufferGpu], width: u32, height: u32) -> [u32; FRAME_CLEARED_WORDS] {
+    let mut words = [0u32; FRAME_CLEARED_WORDS];
     for y in 0..height {
         for x in 0..width {
-            let c = pixel_contribution(gbuffer, x, y, width, height);
-            for (w, c) in words.iter_mut().zip(c) {
-                *w = w.wrapping_add(c);
+            let [rigid, sampled, mx, my] = pixel_contribution(gbuffer, x, y, width, height);
+            words[FRAME_RIGID] = words[FRAME_RIGID].wrapping_add(rigid);
+            if sampled != 0 {
+                let r = sum_region(x, y, width, height);
+                for (k, c) in [(REGION_SAMPLED, sampled), (REGION_SUM_X, mx), (REGION_SUM_Y, my)] {
+                    let w = &mut words[region_word(r, k)];
+                    *w = w.wrapping_add(c);
+                }
             }
         }
     }
@@ -278,19 +287,31 @@ mod tests {
 
     /// The pan offset (`kernels::pan_offset`): a 10x10 frame sliding
     /// (-1.25, 0.5) px/frame has 64 rigid pixels, 4 of them on the sum
-    /// grid; the offset advances by their mean in 1/16 px when the frame
-    /// follows, stays when it does not, and rounds to whole pixels.
+    /// grid, one in each of 4 screen regions; the offset advances by their
+    /// mean in 1/16 px when the frame follows, stays when it does not, and
+    /// rounds to whole pixels.
     #[test]
     fn the_pan_offset_follows_frames_that_follow_as_a_whole() {
-        use kernels::pan_offset::{advance_offset, fixed_motion, offset_pixels};
+        use kernels::pan_offset::{advance_offset, fixed_motion, motion_spread, offset_pixels};
         let (w, h) = (10, 10);
         let sliding: Vec<_> = (0..w * h).map(|_| texel(1, 10.0, [-1.25, 0.5], 10.0)).collect();
         let words = frame_motion_words(&sliding, w, h);
         let (x, y) = (-20i32 as u32, 8u32);
-        assert_eq!(words, [64, 4, x.wrapping_mul(4), 32]);
+        assert_eq!(words[FRAME_RIGID], 64);
+        // Grid pixels (4, 4), (8, 4), (4, 8), (8, 8): regions (1, 1), (3, 1), (1, 3), (3, 3).
+        for r in 0..16 {
+            let expected = if [5, 7, 13, 15].contains(&r) {
+                [1, x, y]
+            } else {
+                [0; 3]
+            };
+            let got = [REGION_SAMPLED, REGION_SUM_X, REGION_SUM_Y].map(|k| words[region_word(r, k)]);
+            assert_eq!(got, expected, "region {r}");
+        }
+        assert_eq!(motion_spread(&words), [4, x, y, 0]);
         let mut offset = [0u32; 2];
         for frame in 1..=3u32 {
-            offset = advance_offset(offset, words, w * h, 0.5);
+            offset = advance_offset(offset, &words, w * h, 0.5);
             assert_eq!(offset, [x.wrapping_mul(frame), y * frame]);
         }
         // -3.75 and 1.5 px round (halves up) to -4 and 2.
@@ -299,17 +320,66 @@ mod tests {
         assert_eq!(offset_pixels(-24i32 as u32) as i32, -1);
         assert_eq!(offset_pixels(-25i32 as u32) as i32, -2);
         // Short of the share, or with the rule off: no change.
-        assert_eq!(advance_offset(offset, words, w * h, 0.65), offset);
-        assert_eq!(advance_offset(offset, words, w * h, 0.0), offset);
+        assert_eq!(advance_offset(offset, &words, w * h, 0.65), offset);
+        assert_eq!(advance_offset(offset, &words, w * h, 0.0), offset);
         // A frame too slow to count: nothing sampled.
         let slow: Vec<_> = (0..w * h).map(|_| texel(1, 10.0, [-0.5, 0.0], 10.0)).collect();
-        assert_eq!(frame_motion_words(&slow, w, h), [0; 4]);
+        assert_eq!(frame_motion_words(&slow, w, h), [0; FRAME_CLEARED_WORDS]);
+        assert_eq!(
+            advance_offset(offset, &[0; FRAME_CLEARED_WORDS], w * h, 0.0),
+            offset
+        );
         // Fixed point: halves up, clamped at 64 px/frame, NaN as 0.
         assert_eq!(fixed_motion(16.5 / 16.0), 17);
         assert_eq!(fixed_motion(-16.5 / 16.0) as i32, -16);
         assert_eq!(fixed_motion(1000.0), 1024);
         assert_eq!(fixed_motion(-1000.0) as i32, -1024);
         assert_eq!(fixed_motion(f32::NAN), 0);
+    }
+
+    /// The offset moves only where the rigid pixels move alike
+    /// (`kernels::pan_offset::moves_alike`): a 20x12 frame whose left half
+    /// slides at `left` px/frame and right half at `right` (both with 0.5
+    /// down) has rigid pixels in both halves, two grid columns in each; the
+    /// regions' spread around the mean decides.
+    #[test]
+    fn the_pan_offset_leaves_frames_that_do_not_move_alike() {
+        use kernels::pan_offset::{
+            advance_offset, motion_spread, moves_alike, PAN_SPREAD_PERCENT, SPREAD_BITS,
+        };
+        let (w, h) = (20, 12);
+        let frame = |left: f32, right: f32| -> Vec<GBufferGpu> {
+            (0..w * h)
+                .map(|i| texel(1, 10.0, [if i % w < 10 { left } else { right }, 0.5], 10.0))
+                .collect()
+        };
+        // Parallax of a pan: -2 and -2.25 px/frame, means -32 and -36 in
+        // 1/16 px around -34: spread 2 (32 in 1/256 px) against 14% of 34 + 8.
+        let pan = frame_motion_words(&frame(-2.0, -2.25), w, h);
+        assert_eq!(motion_spread(&pan), [8, -34i32 as u32, 8, 32]);
+        assert!(moves_alike(motion_spread(&pan)));
+        let moved = advance_offset([0, 0], &pan, w * h, 0.5);
+        assert_eq!(moved, [-34i32 as u32, 8]);
+        // An orbit's walls: -1.25 and -2.5 px/frame, means -20 and -40
+        // around -30: spread 10 (160) against 14% of 30 + 8 = 5.3 (85).
+        let turn = frame_motion_words(&frame(-1.25, -2.5), w, h);
+        assert_eq!(motion_spread(&turn), [8, -30i32 as u32, 8, 160]);
+        assert!(!moves_alike(motion_spread(&turn)));
+        assert!(kernels::motion::frame_follows(turn[FRAME_RIGID], w * h, 0.5));
+        assert_eq!(advance_offset(moved, &turn, w * h, 0.5), moved);
+        // The boundary: a spread of exactly the percentage moves.
+        // A spread of 1/16 of the mean's length in 1/256 px units.
+        let at = PAN_SPREAD_PERCENT << SPREAD_BITS;
+        assert!(moves_alike([1, 100, 0, at]));
+        assert!(!moves_alike([1, 100, 0, at + 1]));
+        // Uneven regions: one of 3 pixels 1/16 px off a mean of 0 gives
+        // 1/3 of 16 in 1/256 px, floored: the remainders are kept.
+        let mut words = [0u32; FRAME_CLEARED_WORDS];
+        words[region_word(0, REGION_SAMPLED)] = 2;
+        words[region_word(1, REGION_SAMPLED)] = 1;
+        words[region_word(1, REGION_SUM_X)] = 1;
+        assert_eq!(motion_spread(&words), [3, 0, 0, 5]);
+        assert!(!moves_alike([0, 0, 0, 0]));
     }
 
     /// ZSobol is read at the pixel plus the pan offset rounded to whole

@@ -446,7 +446,7 @@ pub fn render_sequence_cpu(
             let (w, h) = (layout.width(), layout.height());
             let words = frame_motion_words(&gbuf, w, h);
             follows_all = frame_follows(words[FRAME_RIGID], w * h, share);
-            pan_offset = advance_offset(pan_offset, words, w * h, share);
+            pan_offset = advance_offset(pan_offset, &words, w * h, share);
         }
         if options.pan_offset {
             params.sampler_offset_x = pan_offset[0];

@@ -41,6 +41,17 @@ pub struct SequenceStats {
     /// default follow share (`kernels::motion::frame_follows` with
     /// `gpu_tracer::method_choice::DEFAULT_REPROJECT_FOLLOW_SHARE`).
     pub frames_following: f64,
+    /// Fraction of frames `1..` that follow as a whole and whose rigid pixels
+    /// move alike, so that the pan offset moves (`kernels::pan_offset::
+    /// advance_offset` with the default follow share).
+    pub frames_moving_offset: f64,
+    /// Mean, over the frames `1..` with sampled rigid pixels, of their
+    /// screen regions' spread around the mean motion relative to its length
+    /// (`kernels::pan_offset::motion_spread` over the L1 speed; the pan
+    /// offset moves at most `PAN_SPREAD_PERCENT` / 100).
+    pub rigid_spread: f64,
+    /// Frames `1..` with sampled rigid pixels (for [`Self::rigid_spread`]'s mean).
+    pub frames_sampled: f64,
     /// Mean fraction of pixels whose history is reset (frames `1..`).
     pub history_resets: f64,
     /// Mean share of the image of each region ([`Region::ALL`] order).

@@ -19,12 +19,13 @@ use gpu_tracer::cornell::cornell_box;
 use gpu_tracer::cpu;
 use gpu_tracer::filter::{FilterChain, FilterSettings, FrameFilter};
 use gpu_tracer::method_choice::DEFAULT_REPROJECT_FOLLOW_SHARE;
-use gpu_tracer::motion::{reprojection_motion, rigid_pixels, write_visibility};
+use gpu_tracer::motion::{frame_motion_words, reprojection_motion, write_visibility};
 use gpu_tracer::render::{render_sequence_cpu, FrameView};
 use gpu_tracer::scene::Scene;
 use gpu_tracer::timeline::{SceneSequence, Timeline};
 use kernels::abi::GBufferGpu;
 use kernels::motion::frame_follows;
+use kernels::pan_offset::{motion_spread, moves_alike, FRAME_RIGID, SPREAD_BITS};
 use sampler_core::{FrameLayout, Intensity};
 use std::collections::HashMap;
 use std::path::Path;
@@ -175,10 +176,21 @@ impl MotionSequence {
                 sampler_core::reproject_frame(&layout, &motion, &homes, &mut claims, &mut homes_next)?;
                 std::mem::swap(&mut homes, &mut homes_next);
                 stats.homes_in_order += homes_in_order(&homes, size, pw) / k;
-                let rigid = rigid_pixels(&gbuf, size, size);
+                let words = frame_motion_words(&gbuf, size, size);
+                let rigid = words[FRAME_RIGID];
                 stats.rigid_share += rigid as f64 / n as f64 / k;
+                let spread = motion_spread(&words);
+                let speed = (spread[1] as i32).unsigned_abs() + (spread[2] as i32).unsigned_abs();
+                if spread[0] > 0 && speed > 0 {
+                    let relative = spread[3] as f64 / (speed << SPREAD_BITS) as f64;
+                    stats.rigid_spread += relative;
+                    stats.frames_sampled += 1.0;
+                }
                 if frame_follows(rigid, n as u32, DEFAULT_REPROJECT_FOLLOW_SHARE) {
                     stats.frames_following += 1.0 / k;
+                    if moves_alike(spread) {
+                        stats.frames_moving_offset += 1.0 / k;
+                    }
                 }
                 let resets = (0..n).filter(|&i| !has_source(i, motion[i], size)).count();
                 let moving: f64 = (0..n)
@@ -200,6 +212,9 @@ impl MotionSequence {
             });
         }
         stats.poses = references.len();
+        if stats.frames_sampled > 0.0 {
+            stats.rigid_spread /= stats.frames_sampled;
+        }
         Ok(MotionSequence {
             case,
             description,

@@ -112,11 +112,12 @@ pub fn markdown(results: &[CaseResult]) -> String {
     }
     s += "\nSequences (fractions of the image, mean over frames 1..):\n\n";
     s += "| sequence | motion | centre px/frame | mean px/frame | seeds followed | recycled | stayed in pixel | homes in order | moving rigidly | frames following \
-          | history resets | emitter / edges / interior | poses |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+          | rigid motion spread | frames moving the pan offset | history resets | emitter / edges / interior | poses |\n\
+          |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in results {
         let st = &r.stats;
         s += &format!(
-            "| {} | {} | {:.2} | {:.2} | {:.3} | {:.4} | {:.3} | {:.3} | {:.3} | {:.3} | {:.4} | {:.3} / {:.3} / {:.3} | {} |\n",
+            "| {} | {} | {:.2} | {:.2} | {:.3} | {:.4} | {:.3} | {:.3} | {:.3} | {:.3} | {} | {:.3} | {:.4} | {:.3} / {:.3} / {:.3} | {} |\n",
             r.case.name(),
             r.description,
             st.centre_speed,
@@ -127,6 +128,8 @@ pub fn markdown(results: &[CaseResult]) -> String {
             st.homes_in_order,
             st.rigid_share,
             st.frames_following,
+            if st.frames_sampled > 0.0 { format!("{:.3}", st.rigid_spread) } else { "-".into() },
+            st.frames_moving_offset,
             st.history_resets,
             st.region_share[0],
             st.region_share[1],

@@ -103,6 +103,7 @@ fn motion_kernel_matches_the_cpu() {
     use gpu_tracer::motion::{reprojection_motion, seed_reprojection_motion, write_visibility};
     use gpu_tracer::{cornell::cornell_box, SceneGpu, TraceSettings};
     use kernels::abi::{GBufferGpu, GBUFFER_HIT, GBUFFER_NO_HIT, GBUFFER_PREV_IN_FRONT};
+    use kernels::pan_offset::FRAME_CLEARED_WORDS;
     let Some(gpu) = Gpu::for_test("motion_kernel_matches_the_cpu") else {
         return;
     };
@@ -180,6 +181,19 @@ fn motion_kernel_matches_the_cpu() {
             g
         })
         .collect();
+    // An orbit's walls: the left half -1.25 px/frame, the right half -2.5;
+    // rigid on both sides of the seam, but too far apart for one pan
+    // offset (`kernels::pan_offset::moves_alike`).
+    let turning: Vec<GBufferGpu> = sliding
+        .iter()
+        .enumerate()
+        .map(|(i, g)| {
+            let mut g = *g;
+            g.motion.x = if i as u32 % w < w / 2 { -1.25 } else { -2.5 };
+            g
+        })
+        .collect();
+    assert_eq!(gpu_tracer::motion::rigid_pixels(&turning, w, h), 33 * 21);
     assert_eq!(gpu_tracer::motion::rigid_pixels(&current, w, h), 0);
     assert_eq!(gpu_tracer::motion::rigid_pixels(&sliding, w, h), 35 * 21);
     assert_eq!(gpu_tracer::motion::rigid_pixels(&parallax, w, h), 35 * 21);
@@ -195,6 +209,7 @@ fn motion_kernel_matches_the_cpu() {
         (100.0, 0.87, &sliding),
         (100.0, 0.85, &parallax),
         (100.0, 0.87, &parallax),
+        (100.0, 0.75, &turning),
     ];
     // The CPU's pan offset (`kernels::pan_offset`), advanced as the GPU's
     // motion pass advances it at every call with a share above 0.
@@ -205,7 +220,7 @@ fn motion_kernel_matches_the_cpu() {
         p.seed_hold_below = hold_below;
         p.seed_follow_share = share;
         tracer.set_params(&gpu, &p);
-        let mut words = [0u32; 4];
+        let mut words = [0u32; FRAME_CLEARED_WORDS];
         for g in [&previous, frame] {
             gpu.queue
                 .write_buffer(&tracer.gbuffer, 0, bytemuck::cast_slice(g));
@@ -214,7 +229,7 @@ fn motion_kernel_matches_the_cpu() {
             gpu.queue.submit([encoder.finish()]);
             if share > 0.0 {
                 words = gpu_tracer::motion::frame_motion_words(g, w, h);
-                let next = kernels::pan_offset::advance_offset(offset, words, w * h, share);
+                let next = kernels::pan_offset::advance_offset(offset, &words, w * h, share);
                 followed_frames += usize::from(next != offset);
                 offset = next;
             }
@@ -222,9 +237,13 @@ fn motion_kernel_matches_the_cpu() {
         let gpu_words = tracer.read_frame_motion(&gpu).unwrap();
         let case = format!("hold below {hold_below}, share {share}");
         if share > 0.0 {
-            assert_eq!(gpu_words[..4], words, "{case}: rigid count and motion sums");
+            assert_eq!(
+                gpu_words[..FRAME_CLEARED_WORDS],
+                words,
+                "{case}: rigid count and motion sums"
+            );
         }
-        assert_eq!(gpu_words[4..], offset, "{case}: pan offset");
+        assert_eq!(gpu_words[FRAME_CLEARED_WORDS..], offset, "{case}: pan offset");
         let got: Vec<Vec2> = gpu.read(&motion, n).unwrap();
         let expected = seed_reprojection_motion(frame, &vis, w, h, hold_below, share);
         for (i, (g, e)) in got.iter().zip(&expected).enumerate() {
@@ -247,13 +266,15 @@ fn motion_kernel_matches_the_cpu() {
             }
             (_, 0.85) => assert_eq!(changed, 0, "{case}: the sliding frame did not follow"),
             (_, 0.87) => assert!(expected.iter().all(|m| *m == [0.0, 0.0]), "{case}"),
+            (_, 0.75) => assert_eq!(changed, 0, "{case}: the turning frame did not follow"),
             _ => assert!(
                 changed > n / 10 && changed < n * 9 / 10,
                 "{case}: {changed} of {n} held"
             ),
         }
     }
-    // The sliding frames past their share moved the offset (twice each).
+    // The sliding frames past their share moved the offset, once each; the
+    // turning frame followed as a whole but left the offset where it was.
     assert_eq!(followed_frames, 2, "frames that advanced the pan offset");
 }
 
@@ -423,7 +444,7 @@ fn zsobol_follows_a_pan_on_the_gpu_as_on_the_cpu() {
     let mut offset = [0u32; 2];
     for g in &gbuffers {
         let words = gpu_tracer::motion::frame_motion_words(g, w, h);
-        offset = advance_offset(offset, words, w * h, share);
+        offset = advance_offset(offset, &words, w * h, share);
     }
     let moved = [offset_pixels(offset[0]) as i32, offset_pixels(offset[1]) as i32];
     eprintln!("pan offset after {} frames: {moved:?} px", gbuffers.len());

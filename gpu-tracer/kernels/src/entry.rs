@@ -9,8 +9,8 @@ use crate::accumulate::accumulate_pixel;
 use crate::gbuffer::gbuffer_pixel_variant;
 use crate::motion::{frame_follows, reprojection_motion_pixel, seed_motion, visibility};
 use crate::pan_offset::{
-    advance_offset, pixel_contribution, FRAME_OFFSET_X, FRAME_OFFSET_Y, FRAME_RIGID, FRAME_SAMPLED,
-    FRAME_SUM_X, FRAME_SUM_Y,
+    advance_offset, pixel_contribution, region_word, sum_region, FRAME_OFFSET_X, FRAME_OFFSET_Y, FRAME_RIGID,
+    REGION_SAMPLED, REGION_SUM_X, REGION_SUM_Y,
 };
 use crate::surface_features::{demodulated_intensity, surface_feature};
 use crate::trace::trace_pixel_variant;
@@ -165,8 +165,8 @@ gbuffer_entry!(
 /// [`RIGID_COUNT_ENTRY`](crate::abi::RIGID_COUNT_ENTRY): one invocation
 /// per visible pixel; adds the pixel's contribution
 /// (`pan_offset::pixel_contribution`: 1 to the rigid count when it moves
-/// rigidly, and on the sum grid 1 to the sampled count and its fixed-point
-/// motion to the sums) to the frame-motion buffer's first
+/// rigidly, and on the sum grid 1 to its screen region's sampled count and
+/// its fixed-point motion to the region's sums) to the frame-motion buffer's first
 /// `FRAME_CLEARED_WORDS` words (cleared by the host before the pass), for
 /// the motion pass's frame-wide rule (`frame_follows`) and pan offset. Runs
 /// only when [`TraceParams::seed_follow_share`] is not 0. Invocations
@@ -182,13 +182,14 @@ pub fn rigid_count_cs(
         return;
     }
     let c = pixel_contribution(gbuffer, id.x, id.y, params.width, params.height);
-    if c[FRAME_RIGID] != 0 {
+    if c[0] != 0 {
         add(frame, FRAME_RIGID, 1);
     }
-    if c[FRAME_SAMPLED] != 0 {
-        add(frame, FRAME_SAMPLED, 1);
-        add(frame, FRAME_SUM_X, c[FRAME_SUM_X]);
-        add(frame, FRAME_SUM_Y, c[FRAME_SUM_Y]);
+    if c[1] != 0 {
+        let r = sum_region(id.x, id.y, params.width, params.height);
+        add(frame, region_word(r, REGION_SAMPLED), 1);
+        add(frame, region_word(r, REGION_SUM_X), c[2]);
+        add(frame, region_word(r, REGION_SUM_Y), c[3]);
     }
 }
 
@@ -239,15 +240,9 @@ pub fn motion_cs(
     if id.x == 0 && id.y == 0 && share > 0.0 {
         // Only this invocation touches the offset words; the others read
         // the rigid count alone.
-        let sums = [
-            frame[FRAME_RIGID],
-            frame[FRAME_SAMPLED],
-            frame[FRAME_SUM_X],
-            frame[FRAME_SUM_Y],
-        ];
         let o = advance_offset(
             [frame[FRAME_OFFSET_X], frame[FRAME_OFFSET_Y]],
-            sums,
+            frame,
             pixels,
             share,
         );

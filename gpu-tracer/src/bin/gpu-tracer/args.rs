@@ -100,9 +100,11 @@ pub(crate) struct RenderArgs {
     pub(crate) reproject_follow_share: Option<f32>,
     /// With a follow share above 0: whether ZSobol's points
     /// (`--sampler zsobol|zsobol-jitter`) follow the frames that follow as a
-    /// whole (`on`, the default: a history that follows a camera pan keeps
-    /// ZSobol's gain in time, at a small cost to each raw frame) or stay on
-    /// the screen (`off`). QUALITY.md, "ZSobol follows a pan".
+    /// whole and whose rigid pixels move alike, as in a camera pan (`on`,
+    /// the default: a history that follows the pan keeps ZSobol's gain in
+    /// time, at a small cost to each raw frame; an orbit's frames leave them
+    /// where they are) or stay on the screen (`off`). QUALITY.md, "ZSobol
+    /// follows a pan".
     #[arg(long, value_enum, default_value = "on")]
     pub(crate) pan_offset: OnOff,
     /// Feature-aware permutation in `--mode permute` and `--mode temporal`: sort keys with the
