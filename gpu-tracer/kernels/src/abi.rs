@@ -39,10 +39,12 @@
 //! | | 2 | storage, read | previous frame's visibility `[UVec2]` (`crate::motion::visibility`), `width * height` |
 //! | | 3 | storage, write | this frame's visibility `[UVec2]`, `width * height` |
 //! | | 4 | storage, write | reprojection motion `[Vec2]` (pixels; `crate::motion::DISOCCLUDED` where disoccluded), `width * height` |
-//! | | 5 | storage, read-write | frame motion `[u32]`, `crate::pan_offset::FRAME_MOTION_WORDS`: reads [`RIGID_COUNT_ENTRY`]'s words; invocation `(0, 0)` advances the pan offset (`crate::pan_offset::advance_offset`) |
+//! | | 5 | storage, read | frame motion `[u32]`, `crate::pan_offset::FRAME_MOTION_WORDS`: reads [`RIGID_COUNT_ENTRY`]'s rigid count |
 //! | [`RIGID_COUNT_ENTRY`] | 0 | uniform | [`TraceParams`] |
 //! | | 1 | storage, read | G-buffer `[GBufferGpu]` of this frame |
 //! | | 2 | storage, read-write | frame motion `[u32]` (`crate::pan_offset` has the layout): rigid count and motion sums, atomic; the host clears them |
+//! | [`PAN_OFFSET_ENTRY`] | 0 | uniform | [`TraceParams`] |
+//! | | 1 | storage, read-write | frame motion `[u32]`: reads [`RIGID_COUNT_ENTRY`]'s words, advances the pan offset (`crate::pan_offset::advance_offset`) |
 //! | [`FEATURES_ENTRY`] | 0 | uniform | [`TraceParams`] |
 //! | | 1 | storage, read | G-buffer `[GBufferGpu]` of this frame |
 //! | | 2 | storage, read | frame colour `[Vec4]` |
@@ -90,6 +92,10 @@ pub const MOTION_ENTRY: &str = "entry::motion_cs";
 /// counts the pixels that move rigidly (`crate::motion::moves_rigidly`) for
 /// the motion pass's frame-wide rule.
 pub const RIGID_COUNT_ENTRY: &str = "entry::rigid_count_cs";
+/// Name of the pan-offset entry point (one invocation for the frame): advances
+/// the pan offset from the rigid-count pass's words
+/// (`crate::pan_offset::advance_offset`).
+pub const PAN_OFFSET_ENTRY: &str = "entry::pan_offset_cs";
 /// Name of the feature entry point (one invocation per visible pixel): the
 /// feature-aware permutation's inputs from the G-buffer and the colour
 /// (`crate::surface_features`).

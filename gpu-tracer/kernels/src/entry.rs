@@ -168,7 +168,8 @@ gbuffer_entry!(
 /// rigidly, and on the sum grid 1 to its screen region's sampled count and
 /// its fixed-point motion to the region's sums) to the frame-motion buffer's first
 /// `FRAME_CLEARED_WORDS` words (cleared by the host before the pass), for
-/// the motion pass's frame-wide rule (`frame_follows`) and pan offset. Runs
+/// the motion pass's frame-wide rule (`frame_follows`) and
+/// [`pan_offset_cs`]. Runs
 /// only when [`TraceParams::seed_follow_share`] is not 0. Invocations
 /// outside the frame do nothing.
 #[spirv(compute(threads(8, 8)))]
@@ -212,10 +213,8 @@ fn add(words: &mut [u32], i: usize, value: u32) {
 /// [`TraceParams::seed_hold_below`] unless the frame follows as a whole
 /// (`seed_motion`, `frame_follows` of the frame-motion buffer's rigid
 /// count, from [`rigid_count_cs`]; not read when
-/// [`TraceParams::seed_follow_share`] is 0). Invocation `(0, 0)` also
-/// advances the pan offset in the buffer (`pan_offset::advance_offset`;
-/// the host then copies it into the parameters for the trace). Invocations
-/// outside the frame do nothing.
+/// [`TraceParams::seed_follow_share`] is 0). Invocations outside the frame
+/// do nothing.
 #[spirv(compute(threads(8, 8)))]
 pub fn motion_cs(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -224,7 +223,7 @@ pub fn motion_cs(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] previous: &[UVec2],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] current: &mut [UVec2],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] motion: &mut [Vec2],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] frame: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] frame: &[u32],
 ) {
     if id.x >= params.width || id.y >= params.height {
         return;
@@ -237,18 +236,30 @@ pub fn motion_cs(
     let pixels = params.width.wrapping_mul(params.height);
     let follows_all = share > 0.0 && frame_follows(frame[FRAME_RIGID], pixels, share);
     motion[i] = seed_motion(&g, m, params.seed_hold_below, follows_all);
-    if id.x == 0 && id.y == 0 && share > 0.0 {
-        // Only this invocation touches the offset words; the others read
-        // the rigid count alone.
-        let o = advance_offset(
-            [frame[FRAME_OFFSET_X], frame[FRAME_OFFSET_Y]],
-            frame,
-            pixels,
-            share,
-        );
-        frame[FRAME_OFFSET_X] = o[0];
-        frame[FRAME_OFFSET_Y] = o[1];
-    }
+}
+
+/// [`PAN_OFFSET_ENTRY`](crate::abi::PAN_OFFSET_ENTRY): one invocation (one
+/// workgroup of one) after [`rigid_count_cs`]; advances the pan offset in
+/// the frame-motion buffer (`pan_offset::advance_offset` of the count's
+/// words with [`TraceParams::seed_follow_share`]; the host then copies it
+/// into the parameters for the trace). A pass of its own: inside the
+/// per-pixel motion pass the regions' loop, masked off everywhere but at
+/// one pixel, still cost every SIMD group of a CPU Vulkan driver its
+/// divisions (lavapipe: 8 ms of a 720p frame; BENCHMARKS.md).
+#[spirv(compute(threads(1)))]
+pub fn pan_offset_cs(
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] params: &TraceParams,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] frame: &mut [u32],
+) {
+    let pixels = params.width.wrapping_mul(params.height);
+    let o = advance_offset(
+        [frame[FRAME_OFFSET_X], frame[FRAME_OFFSET_Y]],
+        frame,
+        pixels,
+        params.seed_follow_share,
+    );
+    frame[FRAME_OFFSET_X] = o[0];
+    frame[FRAME_OFFSET_Y] = o[1];
 }
 
 /// [`FEATURES_ENTRY`](crate::abi::FEATURES_ENTRY): one invocation per

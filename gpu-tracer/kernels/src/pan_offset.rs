@@ -30,9 +30,10 @@
 //! pixels move alike: the mean motion of each of the [`REGIONS`] screen
 //! regions differs from the frame's by at most [`PAN_SPREAD_PERCENT`] of
 //! the frame's speed on average ([`motion_spread`]). A camera that slides
-//! moves every region alike, up to its parallax (about 10% at most on the
-//! Cornell box); an orbit turns the picture, and its walls move at
-//! different speeds in different parts of the screen (17-23% at 256x256),
+//! moves every region alike, up to its parallax (at most 11.4% in any
+//! frame of the Cornell box's pans); an orbit turns the picture, and its
+//! walls move at different speeds in different parts of the screen (17% and
+//! more in every frame of the 256x256 orbits),
 //! where one offset would follow none of them and costs each raw frame
 //! without a gain behind the history (QUALITY.md, "The pan offset leaves
 //! orbits alone").
@@ -199,7 +200,8 @@ pub fn motion_spread(frame: &[u32]) -> [u32; 4] {
                 .wrapping_sub(dx)
                 .unsigned_abs()
                 .wrapping_add(my.wrapping_sub(dy).unsigned_abs());
-            // n_r <= n / 16 + a border row and column, d < 2^13: no overflow.
+            // n_r is at most the region's grid pixels (2^17 and a row and a
+            // column for 2^25 pixels), d <= 2 * 2 * 1024 = 2^12: no overflow.
             let term = nr.wrapping_mul(d);
             quotient = quotient.wrapping_add(term / n);
             remainder = remainder.wrapping_add(term % n);

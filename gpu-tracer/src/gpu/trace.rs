@@ -7,7 +7,8 @@ use crate::scene::{SceneGpu, TraceVariant};
 use glam::{UVec2, Vec4};
 use kernels::abi::{
     GBufferGpu, TraceParams, ACCUMULATE_ENTRY, FEATURES_ENTRY, GBUFFER_ENTRY, GBUFFER_UNTEXTURED_ENTRY,
-    MOTION_ENTRY, RIGID_COUNT_ENTRY, TRACE_BASIC_ENTRY, TRACE_ENTRY, TRACE_UNTEXTURED_ENTRY, TRACE_WORKGROUP,
+    MOTION_ENTRY, PAN_OFFSET_ENTRY, RIGID_COUNT_ENTRY, TRACE_BASIC_ENTRY, TRACE_ENTRY,
+    TRACE_UNTEXTURED_ENTRY, TRACE_WORKGROUP,
 };
 use kernels::pan_offset::{FRAME_CLEARED_WORDS, FRAME_MOTION_WORDS, FRAME_OFFSET_X, FRAME_OFFSET_Y};
 
@@ -38,6 +39,7 @@ pub struct TracePipelines {
     gbuffer_untextured: LazyPipeline,
     motion: wgpu::ComputePipeline,
     rigid_count: wgpu::ComputePipeline,
+    pan_offset: wgpu::ComputePipeline,
     features: wgpu::ComputePipeline,
     accumulate: wgpu::ComputePipeline,
 }
@@ -66,6 +68,7 @@ impl TracePipelines {
             gbuffer_untextured: gpu.lazy_pipeline(GBUFFER_UNTEXTURED_ENTRY, &gbuffer_layout),
             motion: gpu.pipeline(MOTION_ENTRY)?,
             rigid_count: gpu.pipeline(RIGID_COUNT_ENTRY)?,
+            pan_offset: gpu.pipeline(PAN_OFFSET_ENTRY)?,
             features: gpu.pipeline(FEATURES_ENTRY)?,
             accumulate: gpu.pipeline(ACCUMULATE_ENTRY)?,
         })
@@ -199,6 +202,7 @@ struct MotionPass {
     bind_groups: [wgpu::BindGroup; 2],
     frame: wgpu::Buffer,
     rigid_bg: wgpu::BindGroup,
+    offset_bg: wgpu::BindGroup,
     /// Which bind group the next [`Tracer::encode_motion`] uses.
     next: usize,
 }
@@ -328,9 +332,11 @@ impl Tracer {
             )
         };
         let rigid_bg = gpu.bind(&pipelines.rigid_count, &[&self.params, &self.gbuffer, &frame]);
+        let offset_bg = gpu.bind(&pipelines.pan_offset, &[&self.params, &frame]);
         self.motion = Some(MotionPass {
             bind_groups: [bind(1, 0), bind(0, 1)],
             rigid_bg,
+            offset_bg,
             frame,
             next: 0,
         });
@@ -379,11 +385,12 @@ impl Tracer {
             let cleared = (FRAME_CLEARED_WORDS * std::mem::size_of::<u32>()) as u64;
             encoder.clear_buffer(&motion.frame, 0, Some(cleared));
         }
-        // One compute pass, so that `timer` times both dispatches; wgpu
-        // orders the motion dispatch's read of the count after the count's
-        // atomic writes (one usage scope per dispatch).
+        // One compute pass, so that `timer` times every dispatch; wgpu
+        // orders the pan offset's and the motion dispatch's reads of the
+        // count after the count's atomic writes (one usage scope per
+        // dispatch).
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("rigid count + motion"),
+            label: Some("rigid count + pan offset + motion"),
             timestamp_writes: timer.map(|(t, span)| t.writes(span)),
         });
         let (gx, gy) = (
@@ -394,6 +401,9 @@ impl Tracer {
             pass.set_pipeline(&pipelines.rigid_count);
             pass.set_bind_group(0, &motion.rigid_bg, &[]);
             pass.dispatch_workgroups(gx, gy, 1);
+            pass.set_pipeline(&pipelines.pan_offset);
+            pass.set_bind_group(0, &motion.offset_bg, &[]);
+            pass.dispatch_workgroups(1, 1, 1);
         }
         pass.set_pipeline(&pipelines.motion);
         pass.set_bind_group(0, &motion.bind_groups[i], &[]);
