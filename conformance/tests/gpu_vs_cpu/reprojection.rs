@@ -212,7 +212,7 @@ fn motion_kernel_matches_the_cpu() {
         (100.0, 0.75, &turning),
     ];
     // The CPU's pan offset (`kernels::pan_offset`), advanced as the GPU's
-    // motion pass advances it at every call with a share above 0.
+    // pan-offset pass advances it at every call with a share above 0.
     let mut offset = [0u32; 2];
     let mut followed_frames = 0;
     for (hold_below, share, frame) in cases {

@@ -15,9 +15,10 @@
 //! pan"). Frames that do not follow leave the offset where it is.
 //!
 //! # The frame-motion buffer
-//! One `[u32]` of [`FRAME_MOTION_WORDS`] words, shared by the rigid-count
-//! and motion passes ([`crate::entry::rigid_count_cs`],
-//! [`crate::entry::motion_cs`]) and mirrored by the CPU renderer:
+//! One `[u32]` of [`FRAME_MOTION_WORDS`] words, shared by the rigid-count,
+//! pan-offset and motion passes ([`crate::entry::rigid_count_cs`],
+//! [`crate::entry::pan_offset_cs`], [`crate::entry::motion_cs`]) and
+//! mirrored by the CPU renderer:
 //!
 //! | word | contents | lifetime |
 //! |---|---|---|

@@ -342,7 +342,7 @@ impl Tracer {
         });
     }
 
-    /// Whether the trace reads ZSobol at the pan offset the motion pass
+    /// Whether the trace reads ZSobol at the pan offset the pan-offset pass
     /// advances (`kernels::pan_offset`; on from [`Tracer::new`]): with
     /// `false` [`Tracer::encode_motion`] leaves the parameters' offset as
     /// [`Tracer::set_params`] wrote it (0 from the scene's parameters), so
@@ -359,15 +359,16 @@ impl Tracer {
     /// (`kernels::motion::reprojection_motion_pixel`), and this frame's
     /// visibility for the next. Before it, when the parameters last set
     /// have a `TraceParams::seed_follow_share` above 0, the count and sums
-    /// cleared and the rigid-count pass (five G-buffer texels a pixel),
-    /// which the motion pass then reads (the frame-wide rule, and the pan
-    /// offset it advances: `kernels::pan_offset`). After them, unless
+    /// cleared, the rigid-count pass (five G-buffer texels a pixel) and the
+    /// one-invocation pass that advances the pan offset from its words
+    /// (`kernels::pan_offset`); the motion pass then reads the count (the
+    /// frame-wide rule). After them, unless
     /// [`Tracer::set_pan_offset`] turned it off, the pan offset is copied
     /// into the parameters' `sampler_offset_x` and `sampler_offset_y`,
     /// where the trace reads it: call [`Tracer::set_params`] before this,
     /// not between it and the trace.
     /// Call once per frame; the first call's motion is meaningless (no
-    /// previous frame). `timer` times both passes together.
+    /// previous frame). `timer` times the passes together.
     ///
     /// # Panics
     /// Without [`enable_motion`](Self::enable_motion) first.
