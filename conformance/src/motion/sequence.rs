@@ -25,7 +25,7 @@ use gpu_tracer::scene::Scene;
 use gpu_tracer::timeline::{SceneSequence, Timeline};
 use kernels::abi::GBufferGpu;
 use kernels::motion::frame_follows;
-use kernels::pan_offset::{motion_spread, moves_alike, FRAME_RIGID, SPREAD_BITS};
+use kernels::pan_offset::{motion_spread, moves_alike, spread_speed, FRAME_RIGID};
 use sampler_core::{FrameLayout, Intensity};
 use std::collections::HashMap;
 use std::path::Path;
@@ -180,9 +180,9 @@ impl MotionSequence {
                 let rigid = words[FRAME_RIGID];
                 stats.rigid_share += rigid as f64 / n as f64 / k;
                 let spread = motion_spread(&words);
-                let speed = (spread[1] as i32).unsigned_abs() + (spread[2] as i32).unsigned_abs();
+                let speed = spread_speed(spread);
                 if spread[0] > 0 && speed > 0 {
-                    let relative = spread[3] as f64 / (speed << SPREAD_BITS) as f64;
+                    let relative = spread[3] as f64 / speed as f64;
                     stats.rigid_spread += relative;
                     stats.frames_sampled += 1.0;
                 }

@@ -215,15 +215,23 @@ pub fn motion_spread(frame: &[u32]) -> [u32; 4] {
     [n, dx as u32, dy as u32, spread]
 }
 
-/// Whether a frame with [`motion_spread`] figures `spread` moves alike
-/// enough for the offset to follow it: some pixel sampled, and the spread
-/// at most [`PAN_SPREAD_PERCENT`] of the mean's L1 length.
+/// The L1 length `|x| + |y|` of the mean motion of [`motion_spread`]'s
+/// figures `spread`, in the spread's units (1/256 px): what the spread is
+/// measured against.
 #[inline]
-pub fn moves_alike(spread: [u32; 4]) -> bool {
+pub fn spread_speed(spread: [u32; 4]) -> u32 {
     let speed = (spread[1] as i32)
         .unsigned_abs()
         .wrapping_add((spread[2] as i32).unsigned_abs());
-    spread[0] > 0 && spread[3].wrapping_mul(100) <= PAN_SPREAD_PERCENT.wrapping_mul(speed << SPREAD_BITS)
+    speed << SPREAD_BITS
+}
+
+/// Whether a frame with [`motion_spread`] figures `spread` moves alike
+/// enough for the offset to follow it: some pixel sampled, and the spread
+/// at most [`PAN_SPREAD_PERCENT`] of the mean's L1 length ([`spread_speed`]).
+#[inline]
+pub fn moves_alike(spread: [u32; 4]) -> bool {
+    spread[0] > 0 && spread[3].wrapping_mul(100) <= PAN_SPREAD_PERCENT.wrapping_mul(spread_speed(spread))
 }
 
 /// The offset after a frame whose frame-motion words are `frame` (at least
