@@ -340,7 +340,11 @@ fn full_size_vector_mask_from_file() {
 /// than `1 / sqrt(12 n)`. ZSobol's frames are digital shifts of one point set by a
 /// (0, 2)-sequence (`zsobol_frame_sample_u32`), so a pixel's 128 frames are an
 /// exact (0, 7, 2)-net: every 8x8 cell holds two points. Its first form, re-randomised
-/// every frame (seed = frame), is printed beside it: white-like over frames.
+/// every frame (seed = frame), is printed beside it: white-like over frames. The
+/// Kronecker sequence's jitter pair, `(sqrt 2, sqrt 3)`, is chosen for the short
+/// windows a history keeps; over 128 frames it is less even in 2D than the Sobol
+/// sequence (about 45 against 22; the generator before it read about 24) and still
+/// far from random.
 #[test]
 fn spatiotemporal_jitter_is_stratified_over_frames() {
     let tile = defaults::tile_64();
@@ -409,7 +413,7 @@ fn spatiotemporal_jitter_is_stratified_over_frames() {
         "re-randomised chi-square {:.1}",
         rerandomised.0
     );
-    assert!(kronecker.0 < 35.0, "Kronecker chi-square {:.1}", kronecker.0);
+    assert!(kronecker.0 < 50.0, "Kronecker chi-square {:.1}", kronecker.0);
     assert!(
         kronecker.1 < 0.25 * random_dev,
         "Kronecker rms mean deviation {:.4}",
