@@ -36,8 +36,11 @@ fn regularised_caustics_make_the_walls_blue_in_time() {
     assert!(plain.regularization.is_none());
     let effect = regularized.regularization.as_ref().expect("measured");
     print!("{}", effect.markdown());
-    // The walls' history: white-ish without (0.94 at this size), blue with (0.77).
-    assert!(after < before - 0.08, "walls {before:.3} -> {after:.3}");
+    // The walls' history: white-ish without, blue with: 0.94 -> 0.77 at this size
+    // with the Kronecker jitter pair searched for the means; since the pair is
+    // (sqrt 2, sqrt 3) (QUALITY.md, "The jitter's generator") the walls' edges keep
+    // less without regularisation already, 0.85 -> 0.78.
+    assert!(after < before - 0.05, "walls {before:.3} -> {after:.3}");
     // The interior's noise halves or so, at a bias well below white's history error.
     let interior = 2;
     assert!(effect.noise[interior] < 0.8, "{effect:?}");
