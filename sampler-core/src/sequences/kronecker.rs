@@ -52,8 +52,9 @@
 /// vertex, then Russian roulette per vertex) can draw, `1 + 3 * 64`.
 pub const KRONECKER_PAIRS: u32 = 193;
 
-/// The search that produced [`KRONECKER_GENERATORS`]: (pairs, candidates,
-/// shifts, integrands, seed) of `bake::KroneckerSearch`.
+/// The search that produced pairs 1.. of [`KRONECKER_GENERATORS`] (pair 0
+/// is [`JITTER_GENERATOR`]): (pairs, candidates, shifts, integrands, seed)
+/// of `bake::KroneckerSearch`.
 pub const GENERATOR_SEARCH: (u32, u32, u32, u32, u64) = (KRONECKER_PAIRS, 1024, 96, 24, 1);
 
 /// Pair 0's generator, the pixel jitter's: `(frac sqrt 2, frac sqrt 3)` in
