@@ -286,7 +286,8 @@ impl RenderJob {
     /// [`PermuteMode::Temporal`] needs the
     /// [`TileChoice::TEMPORAL`] tile (the side of the slices of
     /// `sampler_core::defaults::temporal_target`, which it sorts against)
-    /// and a sampler that reads the seeds (not the spatiotemporal one); it
+    /// and a sampler that reads the seeds (not the spatiotemporal one on
+    /// every decision; its jitter alone, `SAMPLER_JITTER_ONLY`, is fine); it
     /// takes seed reprojection and the feature-aware permutation as
     /// [`PermuteMode::Permute`] does.
     ///
@@ -299,6 +300,7 @@ impl RenderJob {
         }
         let layout = self.layout()?;
         let spatiotemporal = self.settings.sampler & SAMPLER_KIND_MASK == SAMPLER_SPATIOTEMPORAL;
+        let jitter_only = self.settings.sampler & SAMPLER_JITTER_ONLY != 0;
         let incompatible = |what: &str| Err(RenderError::Incompatible(what.into()));
         match self.mode {
             PermuteMode::Hold if !hold_takes(self.settings.sampler) => incompatible(
@@ -310,9 +312,9 @@ impl RenderJob {
                 "the temporal mode sorts against the 64x64 slices of its default target: it needs the 64 \
                  tile",
             ),
-            PermuteMode::Temporal if spatiotemporal => incompatible(
+            PermuteMode::Temporal if spatiotemporal && !jitter_only => incompatible(
                 "the temporal mode permutes seeds, and the spatiotemporal sampler draws every number \
-                 itself: use another sampler",
+                 itself: use another sampler (or its jitter only)",
             ),
             _ => Ok(layout),
         }

@@ -51,6 +51,7 @@ fn colour(m: Method) -> RGBColor {
         Method::TemporalSortAdvance => RGBColor(90, 90, 90),
         Method::TemporalPermute => RGBColor(200, 120, 40),
         Method::TemporalPermuteJitter => RGBColor(160, 80, 20),
+        Method::TemporalPermuteKroneckerJitter => RGBColor(200, 60, 90),
         Method::FeaturePermute => RGBColor(0, 170, 170),
         Method::FeaturePermuteJitter => RGBColor(0, 100, 100),
         Method::FeaturePermuteRawKey => RGBColor(120, 120, 40),

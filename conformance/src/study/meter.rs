@@ -161,7 +161,9 @@ impl Study {
                 method == Method::TemporalSortAdvance,
                 &mut on_frame,
             )?,
-            Method::TemporalPermute | Method::TemporalPermuteJitter => {
+            Method::TemporalPermute
+            | Method::TemporalPermuteJitter
+            | Method::TemporalPermuteKroneckerJitter => {
                 render_temporal_permute(self, method.jitter_sampler(), &mut on_frame)?
             }
             Method::DitherFilterAdapted => {

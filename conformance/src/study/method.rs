@@ -51,6 +51,11 @@ pub enum Method {
     /// ZSobol, as [`Method::PermuteZSobolJitter`] (`--mode temporal --sampler
     /// zsobol-jitter`).
     TemporalPermuteJitter,
+    /// [`Method::TemporalPermute`] with the position inside the pixel from
+    /// the spatiotemporal sampler's Kronecker sequence (`--mode temporal
+    /// --sampler spatiotemporal-kronecker-jitter`): the jitter pair every
+    /// window of frames spreads evenly, the rest from the permuted seeds.
+    TemporalPermuteKroneckerJitter,
     /// The feature-aware permutation (issue 14, `SequenceOptions::features` of the
     /// tracer's CPU loop): demodulated sort keys, blocks sorted in groups of one
     /// surface, retarget moves cut at edges, features from the G-buffer.
@@ -75,7 +80,7 @@ pub enum Method {
 
 impl Method {
     /// Every method, white first.
-    pub const ALL: [Method; 22] = [
+    pub const ALL: [Method; 23] = [
         Method::White,
         Method::Sort,
         Method::Permute,
@@ -92,6 +97,7 @@ impl Method {
         Method::TemporalSortAdvance,
         Method::TemporalPermute,
         Method::TemporalPermuteJitter,
+        Method::TemporalPermuteKroneckerJitter,
         Method::FeaturePermute,
         Method::FeaturePermuteJitter,
         Method::FeaturePermuteRawKey,
@@ -135,7 +141,10 @@ impl Method {
     /// that takes its pixel jitter (`SAMPLER_JITTER_ONLY`) for the `-jitter`
     /// rows, else `SAMPLER_SEEDS` (every number from the permuted seeds).
     pub fn jitter_sampler(self) -> u32 {
-        use kernels::abi::{SAMPLER_JITTER_ONLY, SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS, SAMPLER_ZSOBOL};
+        use kernels::abi::{
+            SAMPLER_JITTER_ONLY, SAMPLER_KRONECKER, SAMPLER_SCREEN_SOBOL, SAMPLER_SEEDS,
+            SAMPLER_SPATIOTEMPORAL, SAMPLER_ZSOBOL,
+        };
         match self {
             Method::PermuteJitter | Method::FeaturePermuteJitter => {
                 SAMPLER_SCREEN_SOBOL | SAMPLER_JITTER_ONLY
@@ -143,6 +152,9 @@ impl Method {
             Method::PermuteZSobolJitter
             | Method::TemporalPermuteJitter
             | Method::FeatureTemporalPermuteJitter => SAMPLER_ZSOBOL | SAMPLER_JITTER_ONLY,
+            Method::TemporalPermuteKroneckerJitter => {
+                SAMPLER_SPATIOTEMPORAL | SAMPLER_KRONECKER | SAMPLER_JITTER_ONLY
+            }
             _ => SAMPLER_SEEDS,
         }
     }
@@ -171,6 +183,7 @@ impl Method {
             Method::TemporalSortAdvance => "temporal-sort-advance",
             Method::TemporalPermute => "temporal-permute",
             Method::TemporalPermuteJitter => "temporal-permute-jitter",
+            Method::TemporalPermuteKroneckerJitter => "temporal-permute-kronecker-jitter",
             Method::FeaturePermute => "feature-permute",
             Method::FeaturePermuteJitter => "feature-permute-jitter",
             Method::FeaturePermuteRawKey => "feature-permute-raw-key",
@@ -213,6 +226,9 @@ impl Method {
                 "sorting against STBN slice t + retarget table to slice t + 1 (blue in time), fixed streams"
             }
             Method::TemporalPermuteJitter => "temporal-permute, with the pixel jitter from ZSobol",
+            Method::TemporalPermuteKroneckerJitter => {
+                "temporal-permute, with the pixel jitter from the spatiotemporal Kronecker sequence"
+            }
             Method::FeaturePermute => {
                 "feature-aware permute: demodulated keys, groups of one surface, cut retarget moves"
             }

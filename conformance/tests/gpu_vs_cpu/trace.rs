@@ -264,6 +264,12 @@ fn apriori_samplers_agree_with_the_cpu_renderer() {
             "zsobol-jitter",
             PermuteMode::Permute,
         ),
+        // The Kronecker sequence's jitter (its net shifts) with the seeds.
+        (
+            SAMPLER_SPATIOTEMPORAL | SAMPLER_KRONECKER | SAMPLER_JITTER_ONLY,
+            "spatiotemporal-kronecker-jitter",
+            PermuteMode::Temporal,
+        ),
     ] {
         compare_trace_statistics(&gpu, &scene, sampler, name);
         compare_same_seeds(&gpu, &scene, sampler, mode, name);

@@ -68,6 +68,27 @@ fn zsobol_holds_its_points_at_the_homes() {
     }
 }
 
+/// The temporal mode permutes seeds: the spatiotemporal sampler on every
+/// decision is refused, its jitter alone (the Kronecker sequence's too, the
+/// rest from the seeds) renders and moves the image as a permutation does.
+#[test]
+fn the_temporal_mode_takes_the_spatiotemporal_jitter_only() {
+    use kernels::abi::SAMPLER_KRONECKER;
+    let err = job(SAMPLER_SPATIOTEMPORAL, PermuteMode::Temporal)
+        .validate()
+        .unwrap_err();
+    assert!(
+        matches!(&err, RenderError::Incompatible(m) if m.contains("draws every number")),
+        "{err}"
+    );
+    let scene = SceneGpu::build(&cornell_box()).unwrap();
+    let jitter = SAMPLER_SPATIOTEMPORAL | SAMPLER_KRONECKER | SAMPLER_JITTER_ONLY;
+    let temporal = render_cpu(&scene, &job(jitter, PermuteMode::Temporal), |_, _| {}).unwrap();
+    let white = render_cpu(&scene, &job(jitter, PermuteMode::White), |_, _| {}).unwrap();
+    assert!(temporal.mean.iter().any(|c| c.x > 0.0), "the Cornell box renders");
+    assert_ne!(temporal.last, white.last, "the seeds are permuted, not fresh");
+}
+
 /// A camera panning `speed` pixels a frame at the back wall.
 fn pan_at(speed: f32) -> Timeline {
     Timeline {

@@ -34,7 +34,9 @@ pub struct TraceSettings {
     /// [`ZSOBOL_MAX_SPP`] spp, width and height at most
     /// `sampler_core::sequences::zsobol::ZSOBOL_TILE`); either a-priori sampler may be
     /// ORed with [`SAMPLER_JITTER_ONLY`] (only the position inside the pixel
-    /// from the sampler, the rest from the seeds: for the seed permutation).
+    /// from the sampler, the rest from the seeds: for the seed permutation;
+    /// also the spatiotemporal sampler, with or without its Kronecker
+    /// sequence).
     /// See [`TraceParams::sampler`].
     pub sampler: u32,
     /// Radiance of a constant environment (sky), linear RGB, each channel
@@ -166,12 +168,14 @@ impl SceneGpu {
                 kind <= kernels::abi::SAMPLER_SPATIOTEMPORAL
                     && (flags == 0
                         || (flags == SAMPLER_JITTER_ONLY && kind != kernels::abi::SAMPLER_SEEDS)
+                        || (flags == SAMPLER_JITTER_ONLY | kernels::abi::SAMPLER_KRONECKER
+                            && kind == kernels::abi::SAMPLER_SPATIOTEMPORAL)
                         || (flags & !(kernels::abi::SAMPLER_FOLLOW_HOMES | kernels::abi::SAMPLER_KRONECKER) == 0
                             && kind == kernels::abi::SAMPLER_SPATIOTEMPORAL)
                         || (flags == kernels::abi::SAMPLER_FOLLOW_HOMES && kernels::abi::sampler_reads_homes(kind))),
                 "0 (seeds), 1 (screen-sobol), 2 (zsobol) or 3 (spatiotemporal), the last three optionally ORed \
                  with 256 (jitter only), zsobol and spatiotemporal also with 512 (homes), spatiotemporal also \
-                 with 1024 (Kronecker sequence)",
+                 with 1024 (Kronecker sequence), alone or with 512 or 256",
             ),
             (
                 "spp",
@@ -304,6 +308,14 @@ mod tests {
             },
             TraceSettings {
                 sampler: SAMPLER_SCREEN_SOBOL | 1 << 9,
+                ..ok
+            },
+            // The Kronecker jitter reads the seeds for the rest: no homes with it.
+            TraceSettings {
+                sampler: kernels::abi::SAMPLER_SPATIOTEMPORAL
+                    | kernels::abi::SAMPLER_KRONECKER
+                    | SAMPLER_JITTER_ONLY
+                    | 1 << 9,
                 ..ok
             },
             TraceSettings {
