@@ -2,7 +2,8 @@
 //! buffer (binding 7 of `kernels::abi::TRACE_ENTRY`): the screen-space Sobol
 //! keys (`sampler_core::defaults::screen_sobol_keys()`), then the
 //! spatiotemporal sampler's 64x64 shift tile as its `STEP_COUNT` shift-pair
-//! tiles (`sampler_core::sequences::spatiotemporal::write_shift_pair_tiles`
+//! tiles and the jitter pair's net shifts
+//! (`sampler_core::sequences::spatiotemporal::write_shift_pair_tiles`
 //! of the ranks of `sampler_core::defaults::tile_64()`, at index
 //! `key_count()` of the keys' layout: a pair's two shift coordinates in one
 //! word), then the Kronecker generators of its `SAMPLER_KRONECKER`
@@ -16,8 +17,7 @@ use kernels::numbers::{
     point_slot_pair, point_slots, point_table_start, sampler_kind, spatiotemporal_sequence,
 };
 use sampler_core::sequences::kronecker::KRONECKER_GENERATORS;
-use sampler_core::sequences::spatiotemporal::write_shift_pair_tiles;
-use sampler_core::STEP_COUNT;
+use sampler_core::sequences::spatiotemporal::{shift_pair_tiles_len, write_shift_pair_tiles};
 use std::sync::OnceLock;
 
 /// Words reserved for the frame point table after the shift tile: 64
@@ -54,12 +54,12 @@ pub fn sampler_buffer() -> &'static [u32] {
 }
 
 /// The shift-pair tiles of the spatiotemporal sampler's rank tile `ranks`
-/// (side `2^SPATIOTEMPORAL_TILE_LOG2`).
+/// (side `2^SPATIOTEMPORAL_TILE_LOG2`), then its jitter pair's net shifts.
 ///
 /// # Panics
 /// If `ranks` is not that tile's size.
 fn shift_pair_tiles(ranks: &[u32]) -> Vec<u32> {
-    let mut out = vec![0u32; STEP_COUNT << (2 * SPATIOTEMPORAL_TILE_LOG2)];
+    let mut out = vec![0u32; shift_pair_tiles_len(SPATIOTEMPORAL_TILE_LOG2)];
     write_shift_pair_tiles(ranks, SPATIOTEMPORAL_TILE_LOG2, &mut out).expect("the shift tile's size");
     out
 }
@@ -116,14 +116,17 @@ mod tests {
         let keys = sampler_core::defaults::screen_sobol_keys();
         let n = keys.layout().key_count();
         assert_eq!(&b[..n], keys.keys());
-        let tile = STEP_COUNT << (2 * SPATIOTEMPORAL_TILE_LOG2);
+        let tile = shift_pair_tiles_len(SPATIOTEMPORAL_TILE_LOG2);
         let ranks = sampler_core::defaults::tile_64();
         let packed = &b[n..n + tile];
-        for j in 0..STEP_COUNT {
-            let part = &packed[j * tile / STEP_COUNT..(j + 1) * tile / STEP_COUNT];
-            // Every tile holds the ranks in its low halves.
+        let texels = 1 << (2 * SPATIOTEMPORAL_TILE_LOG2);
+        for j in 0..sampler_core::STEP_COUNT {
+            let part = &packed[j * texels..(j + 1) * texels];
+            // Every shift-pair tile holds the ranks in its low halves.
             assert!(part.iter().zip(ranks.values()).all(|(w, r)| w & 0xFFFF == *r));
         }
+        // Then the net shifts, one tile more.
+        assert_eq!(tile, (sampler_core::STEP_COUNT + 1) * texels);
         assert_eq!(packed, shift_pair_tiles(ranks.values()).as_slice());
         assert_eq!(generators_start(n), n + tile);
         let g = KRONECKER_GENERATORS.len();

@@ -22,7 +22,7 @@
 //! | | 4 | storage, read | `[EmitterGpu]` (at least one entry: pad with [`EmitterGpu::NONE`]) |
 //! | | 5 | storage, read | seeds `[u32]`, `padded_width * padded_height` |
 //! | | 6 | storage, write | frame colour `[Vec4]`, `width * height` |
-//! | | 7 | storage, read | screen-space Sobol keys `[u32]` laid out as [`TraceParams::key_side_log2`], [`TraceParams::key_pairs`], [`TraceParams::key_levels`] say (`sampler_core::sequences::screen_sobol`; the host binds `sampler_core::defaults::screen_sobol_keys()`), then the `STEP_COUNT` shift-pair tiles of the [`SPATIOTEMPORAL_TILE_LOG2`]-sided shift tile of [`SAMPLER_SPATIOTEMPORAL`] (the host appends `sampler_core::sequences::spatiotemporal::write_shift_pair_tiles` of `sampler_core::defaults::tile_64()`'s ranks: both coordinates of a pair's shift in one word), then the `2 * KRONECKER_PAIRS` generator words of [`SAMPLER_KRONECKER`] (`sampler_core::sequences::kronecker::KRONECKER_GENERATORS`), then the frame's point table of [`SAMPLER_SPATIOTEMPORAL`] ([`TraceParams::point_samples`]); read only with [`SAMPLER_SCREEN_SOBOL`] (with or without [`SAMPLER_JITTER_ONLY`]) and [`SAMPLER_SPATIOTEMPORAL`], at least one element |
+//! | | 7 | storage, read | screen-space Sobol keys `[u32]` laid out as [`TraceParams::key_side_log2`], [`TraceParams::key_pairs`], [`TraceParams::key_levels`] say (`sampler_core::sequences::screen_sobol`; the host binds `sampler_core::defaults::screen_sobol_keys()`), then the `STEP_COUNT` shift-pair tiles of the [`SPATIOTEMPORAL_TILE_LOG2`]-sided shift tile of [`SAMPLER_SPATIOTEMPORAL`] and its jitter pair's net shifts (the host appends `sampler_core::sequences::spatiotemporal::write_shift_pair_tiles` of `sampler_core::defaults::tile_64()`'s ranks, `shift_pair_tiles_len` words: both coordinates of a pair's shift in one word), then the `2 * KRONECKER_PAIRS` generator words of [`SAMPLER_KRONECKER`] (`sampler_core::sequences::kronecker::KRONECKER_GENERATORS`), then the frame's point table of [`SAMPLER_SPATIOTEMPORAL`] ([`TraceParams::point_samples`]); read only with [`SAMPLER_SCREEN_SOBOL`] (with or without [`SAMPLER_JITTER_ONLY`]) and [`SAMPLER_SPATIOTEMPORAL`], at least one element |
 //! | | 8 | storage, read | `[TriangleAttrGpu]` (112 bytes each: texture coordinates, ids, tangent, vertex normals), parallel to binding 2 |
 //! | | 9 | storage, read | images `[u32]` (layout in [`IMAGE_HEADER_WORDS`]), at least one element |
 //! | | 10 | storage, read | environment map `[f32]`: sampling table then texels ([`crate::environment::environment_texel`]), at least one element |
@@ -188,7 +188,9 @@ pub const SAMPLER_ZSOBOL: u32 = 2;
 /// Owen-scrambled Sobol sequence across frames (index `frame * spp + s`),
 /// rotated by a per-pixel shift read from the dither tile that follows the
 /// screen-space Sobol keys in binding 7 (at `ScreenSobolLayout::key_count()`
-/// of the keys' layout, side `2^`[`SPATIOTEMPORAL_TILE_LOG2`]). Any spp.
+/// of the keys' layout, side `2^`[`SPATIOTEMPORAL_TILE_LOG2`]; the pixel
+/// jitter's shift from the net tile after it,
+/// `sampler_core::sequences::spatiotemporal::net_shift_u32`). Any spp.
 /// Russian roulette reads the sampler too (`crate::numbers::pair_roulette`):
 /// with this sampler no number of a path comes from the seed.
 pub const SAMPLER_SPATIOTEMPORAL: u32 = 3;

@@ -80,10 +80,10 @@ use sampler_core::sequences::kronecker::{kronecker_point_at, KRONECKER_PAIRS};
 use sampler_core::sequences::r2::q32_to_f32;
 use sampler_core::sequences::screen_sobol::ScreenSobolLayout;
 use sampler_core::sequences::spatiotemporal::{
-    home_texel, spatiotemporal_index, spatiotemporal_point_u32, spatiotemporal_shift_packed,
-    SEQUENCE_KRONECKER, SEQUENCE_SOBOL, SPATIOTEMPORAL_SEED,
+    home_texel, shift_pair_tiles_len, spatiotemporal_index, spatiotemporal_point_u32,
+    spatiotemporal_shift_packed, SEQUENCE_KRONECKER, SEQUENCE_SOBOL, SPATIOTEMPORAL_SEED,
 };
-use sampler_core::{RandomStream, STEP_COUNT};
+use sampler_core::RandomStream;
 
 /// Stream dimensions used before the first vertex (pixel jitter).
 pub const DIMS_CAMERA: u32 = 2;
@@ -202,12 +202,13 @@ pub fn point_slot_pair(slot: u32, max_depth: u32) -> u32 {
 /// Index in binding 7 of the Kronecker generators
 /// (`sampler_core::sequences::kronecker::KRONECKER_GENERATORS`, read with
 /// [`SAMPLER_KRONECKER`]): after the screen-space Sobol keys (`key_count`
-/// words) and the [`STEP_COUNT`] shift-pair tiles of the
-/// `2^SPATIOTEMPORAL_TILE_LOG2`-sided shift tile
-/// (`sampler_core::sequences::spatiotemporal::write_shift_pair_tiles`).
+/// words) and the `STEP_COUNT` shift-pair tiles and the jitter pair's net
+/// shifts of the `2^SPATIOTEMPORAL_TILE_LOG2`-sided shift tile
+/// (`sampler_core::sequences::spatiotemporal::write_shift_pair_tiles`,
+/// [`shift_pair_tiles_len`] words).
 #[inline]
 pub fn generators_start(key_count: usize) -> usize {
-    key_count + (STEP_COUNT << (2 * SPATIOTEMPORAL_TILE_LOG2))
+    key_count + shift_pair_tiles_len(SPATIOTEMPORAL_TILE_LOG2)
 }
 
 /// Index in binding 7 of the frame point table: after the generators
@@ -279,7 +280,8 @@ fn spatiotemporal_point(params: &TraceParams, keys: &[u32], key_count: usize, s:
 ///   progressive sequence (Owen-scrambled Sobol, or the Kronecker sequence
 ///   with [`SAMPLER_KRONECKER`], [`spatiotemporal_sequence`]), rotated by the
 ///   pixel's shift read, both coordinates in one load, from the shift-pair
-///   tiles stored after the keys
+///   tiles stored after the keys (the jitter pair's from the net tile after
+///   them, ZSobol's one-sample points: jointly stratified over neighbours)
 ///   (`sampler_core::sequences::spatiotemporal::spatiotemporal_shift_packed`:
 ///   bit for bit the two reads of the rank tile; the
 ///   point from the frame table after the tiles when

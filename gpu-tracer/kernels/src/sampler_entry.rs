@@ -111,7 +111,8 @@ pub fn zsobol_pair(spp: u32, frame: u32, pixel: UVec2, s: u32, pair: u32) -> Vec
 /// (`sampler_core::sequences::spatiotemporal`) with its Sobol sequence
 /// (`SEQUENCE_SOBOL`; the trace kernel also offers the Kronecker one,
 /// `crate::abi::SAMPLER_KRONECKER`), its shift read from the
-/// `2^side_log2`-sided rank tile `tile`; each coordinate in `[0, 1)` (24
+/// `2^side_log2`-sided rank tile `tile` (pair 0's computed instead:
+/// `spatiotemporal::net_shift_u32`); each coordinate in `[0, 1)` (24
 /// bits). Pass a pixel's home (`spatiotemporal::home_texel`) as `pixel` to
 /// have its shift follow the picture.
 #[inline]

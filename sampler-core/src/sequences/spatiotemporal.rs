@@ -40,6 +40,18 @@
 //!   the sequence point and differ only by their shift, so where neighbours
 //!   integrate the same function their errors are the function of a
 //!   blue-noise shift: blue in space, every frame.
+//! - Pair [`NET_SHIFT_PAIR`] (pair 0, where a renderer puts the position
+//!   inside the pixel) is shifted by a **2D net** instead ([`net_shift_u32`]):
+//!   ZSobol's one-sample-per-pixel points, so that the shifts of every
+//!   aligned square of `4^m` pixels are a (0, 2m, 2)-net: neighbours' jitters
+//!   are stratified jointly, in both coordinates at once, where two scalar
+//!   tile reads are blue one coordinate at a time. A common rotation by the
+//!   frame's point moves the net off the aligned intervals but keeps most of
+//!   its spread: at the lights' silhouettes, where the jitter decides the
+//!   error, a frame's blurred error drops by about a tenth (`QUALITY.md`,
+//!   "Blue in time"), and a pixel's sequence over frames is the same rotated
+//!   sequence as before (any shift gives the same history and running means
+//!   on average).
 //!
 //! Because a frame's sequence points are the same for every pixel, a renderer
 //! can compute them once per frame ([`spatiotemporal_frame_points`]) and
@@ -71,11 +83,15 @@
 //! time on: `BENCHMARKS.md`, "Spatiotemporal sampler"). Ranks must fit in
 //! 16 bits: tiles up to 256x256.
 //!
+//! The net shifts of [`NET_SHIFT_PAIR`] are one more tile after those
+//! ([`shift_pair_tiles_len`]): ZSobol's point of each texel, both
+//! coordinates cut to 16 bits in one word, so that pair too is one load.
+//!
 //! So the sampler needs no per-frame data and no history, and its sequence
 //! continues for 2^32 samples; nothing here is optimised for a filter yet
-//! (the two coordinates of a shift are two scalar blue-noise reads, not a
-//! jointly blue 2D vector): the measured figures are in `QUALITY.md`,
-//! "Blue in time".
+//! (the two coordinates of the other pairs' shifts are two scalar blue-noise
+//! reads, not a jointly blue 2D vector): the measured figures are in
+//! `QUALITY.md`, "Blue in time".
 //!
 //! All arithmetic is `u32` with `wrapping_*` (0.32 fixed point: `x_q32 / 2^32`);
 //! identical on the CPU and in shaders.
@@ -85,6 +101,7 @@ use crate::sequences::kronecker::kronecker_point_u32;
 use crate::sequences::owen::{owen_sobol_pair_u32, shuffle_index};
 use crate::sequences::seed::hash_u32;
 use crate::sequences::walk::{step_index, step_of_index, tile_log2, walk_offset, STEP_COUNT};
+use crate::sequences::zsobol::zsobol_frame_pair_u32;
 use glam::UVec2;
 
 /// Seed of the shared sequence, so that a renderer's pairs match the
@@ -99,12 +116,41 @@ pub fn spatiotemporal_index(frame: u32, spp: u32, s: u32) -> u32 {
     frame.wrapping_mul(spp).wrapping_add(s)
 }
 
+/// The pair whose shifts are a 2D net ([`net_shift_u32`]) rather than two
+/// tile reads: pair 0, where a renderer puts the position inside the pixel
+/// (the tracer's pixel jitter), whose error at silhouettes is a 2D step.
+pub const NET_SHIFT_PAIR: u32 = 0;
+
+/// The shift of pair [`NET_SHIFT_PAIR`] at `pixel`, both coordinates in
+/// 0.32 fixed point: ZSobol's one-sample-per-pixel point of frame 0
+/// ([`zsobol_frame_pair_u32`]`(q, 0, 0, 0, 0)`) of the pixel `q = pixel mod
+/// 2^side_log2` (the shift tile's period), each coordinate cut to its top
+/// 16 bits plus half a step (the precision of the packed tile,
+/// [`write_shift_pair_tiles`]). Over every aligned square of `4^m` pixels
+/// inside the period the shifts are a (0, 2m, 2)-net: each elementary
+/// interval of area `4^-m` holds one (module docs). `side_log2` must be in
+/// `1..=15`.
+#[inline]
+pub fn net_shift_u32(side_log2: u32, pixel: UVec2) -> [u32; 2] {
+    let mask = (1u32 << side_log2).wrapping_sub(1);
+    let p = zsobol_frame_pair_u32(UVec2::new(pixel.x & mask, pixel.y & mask), 0, 0, 0, 0);
+    [net_shift_word(p[0] >> 16), net_shift_word(p[1] >> 16)]
+}
+
+/// The 0.32 fixed-point shift of a 16-bit net coordinate: the centre of its
+/// stratum.
+#[inline]
+fn net_shift_word(top16: u32) -> u32 {
+    (top16 << 16) | (1u32 << 15)
+}
+
 /// The per-pixel shift of pair `pair`, both coordinates in 0.32 fixed point:
-/// coordinate `c` is the rank `r` of the `2^side_log2`-sided square `tile`
-/// (row-major, ranks `0..4^side_log2`) at texel `(pixel + o) mod side`,
-/// `o = walk_offset(2 pair + c + 1, side_log2)`, as `(r + 0.5) / 4^side_log2`.
-/// `side_log2` must be in `1..=15`; a texel past the end of `tile` reads rank 0
-/// (no panic in shaders).
+/// for pair [`NET_SHIFT_PAIR`] [`net_shift_u32`] (no read of `tile`); for
+/// the others coordinate `c` is the rank `r` of the `2^side_log2`-sided
+/// square `tile` (row-major, ranks `0..4^side_log2`) at texel `(pixel + o) mod
+/// side`, `o = walk_offset(2 pair + c + 1, side_log2)`, as `(r + 0.5) /
+/// 4^side_log2`. `side_log2` must be in `1..=15`; a texel past the end of
+/// `tile` reads rank 0 (no panic in shaders).
 #[inline]
 pub fn spatiotemporal_shift_u32(tile: &[u32], side_log2: u32, pixel: UVec2, pair: u32) -> [u32; 2] {
     spatiotemporal_shift_at(tile, 0, side_log2, pixel, pair)
@@ -120,6 +166,9 @@ pub fn spatiotemporal_shift_at(
     pixel: UVec2,
     pair: u32,
 ) -> [u32; 2] {
+    if pair == NET_SHIFT_PAIR {
+        return net_shift_u32(side_log2, pixel);
+    }
     // Two calls, not a loop filling an array: shaders keep arrays indexed at
     // run time in scratch memory.
     [
@@ -160,18 +209,28 @@ fn shift_word(rank: u32, side_log2: u32) -> u32 {
 /// pack (two 16-bit ranks a word).
 pub const MAX_SHIFT_PAIR_TILE_LOG2: u32 = 8;
 
+/// Words [`write_shift_pair_tiles`] writes for a `2^side_log2`-sided tile:
+/// `(STEP_COUNT + 1) * 4^side_log2` (the shift-pair tiles, then the net
+/// shifts of [`NET_SHIFT_PAIR`]).
+#[inline]
+pub const fn shift_pair_tiles_len(side_log2: u32) -> usize {
+    (STEP_COUNT + 1) << (2 * side_log2)
+}
+
 /// Writes the [`STEP_COUNT`] shift-pair tiles of the rank tile `ranks` (side
 /// `2^side_log2`, row-major) into `out` (module docs, "Both coordinates of a
 /// shift in one read"): `out[j * n + q] = ranks[q] | ranks[(q + step_j) mod
 /// side] << 16`, `n = 4^side_log2`, where `step_j` is the walk's step of
-/// index `j` ([`step_of_index`]).
+/// index `j` ([`step_of_index`]); then the net shifts of [`NET_SHIFT_PAIR`]:
+/// `out[STEP_COUNT * n + q]` holds the top 16 bits of [`net_shift_u32`]'s
+/// coordinates at texel `q`, `x | y << 16`.
 ///
 /// # Errors
 /// [`Error::TileSize`] if the side is not a power of two in
 /// `2..=2^`[`MAX_SHIFT_PAIR_TILE_LOG2`]; [`Error::BufferSize`] if `ranks` is
-/// not `n` long ([`Buffer::DitherTile`]) or `out` not `STEP_COUNT * n`
-/// ([`Buffer::ShiftPairTiles`]). A rank of `2^16` or more cannot occur in a
-/// tile of that size; one would be cut to 16 bits.
+/// not `n` long ([`Buffer::DitherTile`]) or `out` not
+/// [`shift_pair_tiles_len`] ([`Buffer::ShiftPairTiles`]). A rank of `2^16`
+/// or more cannot occur in a tile of that size; one would be cut to 16 bits.
 pub fn write_shift_pair_tiles(ranks: &[u32], side_log2: u32, out: &mut [u32]) -> Result<(), Error> {
     let side = 1u32 << side_log2.min(31);
     if side_log2 > MAX_SHIFT_PAIR_TILE_LOG2 || tile_log2(side).is_none() {
@@ -185,15 +244,20 @@ pub fn write_shift_pair_tiles(ranks: &[u32], side_log2: u32, out: &mut [u32]) ->
             actual: ranks.len(),
         });
     }
-    if out.len() != STEP_COUNT * n {
+    if out.len() != shift_pair_tiles_len(side_log2) {
         return Err(Error::BufferSize {
             buffer: Buffer::ShiftPairTiles,
-            expected: STEP_COUNT * n,
+            expected: shift_pair_tiles_len(side_log2),
             actual: out.len(),
         });
     }
     let mask = side - 1;
-    for (j, tile) in out.chunks_exact_mut(n).enumerate() {
+    let (pairs, nets) = out.split_at_mut(STEP_COUNT * n);
+    for (q, word) in nets.iter_mut().enumerate() {
+        let shift = net_shift_u32(side_log2, UVec2::new(q as u32 & mask, q as u32 >> side_log2));
+        *word = (shift[0] >> 16) | (shift[1] >> 16 << 16);
+    }
+    for (j, tile) in pairs.chunks_exact_mut(n).enumerate() {
         let step = step_of_index(j as u32, side_log2);
         for (q, word) in tile.iter_mut().enumerate() {
             let (x, y) = (q as u32 & mask, q as u32 >> side_log2);
@@ -206,8 +270,9 @@ pub fn write_shift_pair_tiles(ranks: &[u32], side_log2: u32, out: &mut [u32]) ->
 
 /// [`spatiotemporal_shift_at`] from the shift-pair tiles of the rank tile
 /// instead ([`write_shift_pair_tiles`], starting at `buffer[start]`): the same
-/// two words, bit for bit, from one read. A read past `buffer` gives rank 0
-/// for both coordinates.
+/// two words, bit for bit, from one read (for [`NET_SHIFT_PAIR`] from the
+/// net tile after the shift-pair tiles). A read past `buffer` gives rank 0
+/// (or net coordinate 0) for both coordinates.
 #[inline]
 pub fn spatiotemporal_shift_packed(
     buffer: &[u32],
@@ -216,6 +281,15 @@ pub fn spatiotemporal_shift_packed(
     pixel: UVec2,
     pair: u32,
 ) -> [u32; 2] {
+    if pair == NET_SHIFT_PAIR {
+        let mask = (1u32 << side_log2).wrapping_sub(1);
+        let texel = (((pixel.y & mask) << side_log2) | (pixel.x & mask)) as usize;
+        let i = start
+            .wrapping_add(STEP_COUNT << (2 * side_log2))
+            .wrapping_add(texel);
+        let word = if i < buffer.len() { buffer[i] } else { 0 };
+        return [net_shift_word(word & 0xFFFF), net_shift_word(word >> 16)];
+    }
     let first = pair.wrapping_mul(2).wrapping_add(1);
     let tile = (step_index(first, side_log2) as usize) << (2 * side_log2);
     let i = start
@@ -390,7 +464,7 @@ mod tests {
         let n = 1u32 << (2 * side_log2);
         // A permutation of 0..64 as a stand-in tile.
         let tile: [u32; 64] = core::array::from_fn(|i| ((i as u32).wrapping_mul(37) + 11) % n);
-        for pair in 0..3 {
+        for pair in 1..4 {
             for c in 0..2 {
                 let mut seen = [false; 64];
                 for y in 0..8 {
@@ -407,8 +481,8 @@ mod tests {
                 }
             }
         }
-        let a = spatiotemporal_shift_u32(&tile, side_log2, UVec2::new(1, 2), 0);
-        let b = spatiotemporal_shift_u32(&tile, side_log2, UVec2::new(6, 5), 0);
+        let a = spatiotemporal_shift_u32(&tile, side_log2, UVec2::new(1, 2), 1);
+        let b = spatiotemporal_shift_u32(&tile, side_log2, UVec2::new(6, 5), 1);
         assert_ne!(a, b);
         for frame in [0, 1, 17] {
             let pa = spatiotemporal_pair_u32(SEQUENCE_SOBOL, a, frame, 4, 3, 0);
@@ -432,7 +506,7 @@ mod tests {
             spatiotemporal_point_u32(5, 1, 1)
         );
         // A short tile reads rank 0 instead of panicking.
-        let short = spatiotemporal_shift_u32(&tile[..1], side_log2, UVec2::new(7, 7), 0);
+        let short = spatiotemporal_shift_u32(&tile[..1], side_log2, UVec2::new(7, 7), 1);
         assert!(short
             .iter()
             .all(|&v| v >> (32 - 2 * side_log2) == 0 || v >> (32 - 2 * side_log2) == tile[0]));
@@ -448,7 +522,7 @@ mod tests {
             let ranks: std::vec::Vec<u32> = (0..n as u32)
                 .map(|i| (i.wrapping_mul(2_654_435_761) >> 7) % n as u32)
                 .collect();
-            let mut packed = std::vec![0u32; STEP_COUNT * n];
+            let mut packed = std::vec![0u32; shift_pair_tiles_len(side_log2)];
             write_shift_pair_tiles(&ranks, side_log2, &mut packed).expect("sizes");
             // Behind other data, as the tracer's buffer holds them.
             let mut buffer = std::vec![7u32; 5];
@@ -470,13 +544,15 @@ mod tests {
             let [a, b] = spatiotemporal_shift_packed(&buffer[..6], 5, side_log2, UVec2::new(1, 1), 3);
             assert_eq!(a >> (32 - 2 * side_log2), 0);
             assert_eq!(b >> (32 - 2 * side_log2), 0);
+            let net = spatiotemporal_shift_packed(&buffer[..6], 5, side_log2, UVec2::new(1, 1), 0);
+            assert_eq!(net, [1 << 15, 1 << 15]);
         }
     }
 
     #[test]
     fn shift_pair_tiles_refuse_bad_sizes() {
         let ranks = [0u32; 16];
-        let mut out = [0u32; 64];
+        let mut out = [0u32; 80];
         assert!(write_shift_pair_tiles(&ranks, 2, &mut out).is_ok());
         assert_eq!(
             write_shift_pair_tiles(&ranks[..15], 2, &mut out),
@@ -487,11 +563,11 @@ mod tests {
             })
         );
         assert_eq!(
-            write_shift_pair_tiles(&ranks, 2, &mut out[..63]),
+            write_shift_pair_tiles(&ranks, 2, &mut out[..79]),
             Err(Error::BufferSize {
                 buffer: Buffer::ShiftPairTiles,
-                expected: 64,
-                actual: 63
+                expected: 80,
+                actual: 79
             })
         );
         assert_eq!(
@@ -501,6 +577,53 @@ mod tests {
         assert_eq!(
             write_shift_pair_tiles(&ranks, 9, &mut out),
             Err(Error::TileSize { tile: 512 })
+        );
+    }
+
+    /// Pair 0's shifts are ZSobol's points of the pixel modulo the period,
+    /// and over every aligned square of `4^m` pixels a (0, 2m, 2)-net at
+    /// their 16 bits: each elementary interval of area `4^-m`, of every
+    /// shape, holds exactly one.
+    #[test]
+    fn the_jitter_pairs_shifts_are_nets_over_aligned_squares() {
+        let side_log2 = 6;
+        let tile = [0u32; 1];
+        for m in 0..=side_log2 {
+            let side = 1u32 << m;
+            for (bx, by) in [(0u32, 0u32), (1, 0), (0, 1), (3, 2)] {
+                if (bx + 1) * side > 64 || (by + 1) * side > 64 {
+                    continue;
+                }
+                for xbits in 0..=2 * m {
+                    let ybits = 2 * m - xbits;
+                    let mut seen = std::vec![false; 1 << (2 * m)];
+                    for y in 0..side {
+                        for x in 0..side {
+                            let p = UVec2::new(bx * side + x, by * side + y);
+                            let s = spatiotemporal_shift_u32(&tile, side_log2, p, NET_SHIFT_PAIR);
+                            let cell = ((s[0] as u64 >> (32 - xbits)) << ybits
+                                | (s[1] as u64 >> (32 - ybits)))
+                                as usize;
+                            assert!(
+                                !seen[cell],
+                                "square {bx},{by} of side {side}, shape {xbits}x{ybits}"
+                            );
+                            seen[cell] = true;
+                        }
+                    }
+                }
+            }
+        }
+        for p in [UVec2::new(0, 0), UVec2::new(5, 63), UVec2::new(64 + 5, 128 + 63)] {
+            let q = UVec2::new(p.x % 64, p.y % 64);
+            let z = zsobol_frame_pair_u32(q, 0, 0, 0, 0);
+            let s = net_shift_u32(side_log2, p);
+            assert_eq!(s, [(z[0] & 0xFFFF_0000) | 0x8000, (z[1] & 0xFFFF_0000) | 0x8000]);
+        }
+        // Not the tile's shifts: the other pairs keep theirs.
+        assert_ne!(
+            spatiotemporal_shift_u32(&[3u32; 4096], side_log2, UVec2::new(1, 1), 0),
+            spatiotemporal_shift_u32(&[3u32; 4096], side_log2, UVec2::new(1, 1), 1)
         );
     }
 
