@@ -52,9 +52,10 @@ pub enum Method {
     /// zsobol-jitter`).
     TemporalPermuteJitter,
     /// [`Method::TemporalPermute`] with the position inside the pixel from
-    /// the spatiotemporal sampler's Kronecker sequence (`--mode temporal
-    /// --sampler spatiotemporal-kronecker-jitter`): the jitter pair every
-    /// window of frames spreads evenly, the rest from the permuted seeds.
+    /// the spatiotemporal sampler's Kronecker sequence (`PermuteMode::Temporal`
+    /// with `SAMPLER_SPATIOTEMPORAL | SAMPLER_KRONECKER | SAMPLER_JITTER_ONLY`;
+    /// no CLI name): a jitter whose every window of frames is evenly spread,
+    /// the rest from the permuted seeds.
     TemporalPermuteKroneckerJitter,
     /// The feature-aware permutation (issue 14, `SequenceOptions::features` of the
     /// tracer's CPU loop): demodulated sort keys, blocks sorted in groups of one
