@@ -159,20 +159,12 @@ impl SceneGpu {
             });
         }
         let zsobol_tile = sampler_core::sequences::zsobol::ZSOBOL_TILE;
-        let kind = s.sampler & SAMPLER_KIND_MASK;
-        let flags = s.sampler & !SAMPLER_KIND_MASK;
+        let (kind, flags) = (s.sampler & SAMPLER_KIND_MASK, s.sampler & !SAMPLER_KIND_MASK);
         let sampler_checks: [(&'static str, u32, bool, &'static str); 4] = [
             (
                 "sampler",
                 s.sampler,
-                kind <= kernels::abi::SAMPLER_SPATIOTEMPORAL
-                    && (flags == 0
-                        || (flags == SAMPLER_JITTER_ONLY && kind != kernels::abi::SAMPLER_SEEDS)
-                        || (flags == SAMPLER_JITTER_ONLY | kernels::abi::SAMPLER_KRONECKER
-                            && kind == kernels::abi::SAMPLER_SPATIOTEMPORAL)
-                        || (flags & !(kernels::abi::SAMPLER_FOLLOW_HOMES | kernels::abi::SAMPLER_KRONECKER) == 0
-                            && kind == kernels::abi::SAMPLER_SPATIOTEMPORAL)
-                        || (flags == kernels::abi::SAMPLER_FOLLOW_HOMES && kernels::abi::sampler_reads_homes(kind))),
+                sampler_flags_valid(kind, flags),
                 "0 (seeds), 1 (screen-sobol), 2 (zsobol) or 3 (spatiotemporal), the last three optionally ORed \
                  with 256 (jitter only), zsobol and spatiotemporal also with 512 (homes), spatiotemporal also \
                  with 1024 (Kronecker sequence), alone or with 512 or 256",
@@ -243,6 +235,23 @@ impl SceneGpu {
             sampler_offset_x: 0,
             sampler_offset_y: 0,
         })
+    }
+}
+
+/// Whether sampler `kind` ([`SAMPLER_KIND_MASK`] bits of
+/// [`TraceSettings::sampler`]) takes `flags` (the other bits): the seed
+/// stream none; screen-space Sobol the jitter-only flag; ZSobol the
+/// jitter-only flag or homes, not both; the spatiotemporal sampler its
+/// Kronecker sequence with either the jitter-only flag or homes, not both.
+fn sampler_flags_valid(kind: u32, flags: u32) -> bool {
+    use kernels::abi::{SAMPLER_FOLLOW_HOMES, SAMPLER_KRONECKER, SAMPLER_SEEDS, SAMPLER_SPATIOTEMPORAL};
+    let jitter_or_homes = |f: u32| f == 0 || f == SAMPLER_JITTER_ONLY || f == SAMPLER_FOLLOW_HOMES;
+    match kind {
+        SAMPLER_SEEDS => flags == 0,
+        SAMPLER_SCREEN_SOBOL => flags & !SAMPLER_JITTER_ONLY == 0,
+        SAMPLER_ZSOBOL => jitter_or_homes(flags),
+        SAMPLER_SPATIOTEMPORAL => jitter_or_homes(flags & !SAMPLER_KRONECKER),
+        _ => false,
     }
 }
 

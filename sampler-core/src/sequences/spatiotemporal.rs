@@ -190,11 +190,19 @@ fn shift_coordinate(buffer: &[u32], start: usize, side_log2: u32, pixel: UVec2, 
 /// reads at the walk's offset `o_walk` (toroidally).
 #[inline]
 fn shift_texel(side_log2: u32, pixel: UVec2, walk: u32) -> usize {
-    let mask = (1u32 << side_log2).wrapping_sub(1);
     let o = walk_offset(walk, side_log2);
-    let x = pixel.x.wrapping_add(o.x) & mask;
-    let y = pixel.y.wrapping_add(o.y) & mask;
-    ((y << side_log2) | x) as usize
+    tile_texel(
+        side_log2,
+        UVec2::new(pixel.x.wrapping_add(o.x), pixel.y.wrapping_add(o.y)),
+    )
+}
+
+/// Row-major index of the texel of a `2^side_log2`-sided tile at `pixel`
+/// (toroidally).
+#[inline]
+fn tile_texel(side_log2: u32, pixel: UVec2) -> usize {
+    let mask = (1u32 << side_log2).wrapping_sub(1);
+    (((pixel.y & mask) << side_log2) | (pixel.x & mask)) as usize
 }
 
 /// The 0.32 fixed-point shift of `rank` in a tile of `4^side_log2` texels:
@@ -282,11 +290,9 @@ pub fn spatiotemporal_shift_packed(
     pair: u32,
 ) -> [u32; 2] {
     if pair == NET_SHIFT_PAIR {
-        let mask = (1u32 << side_log2).wrapping_sub(1);
-        let texel = (((pixel.y & mask) << side_log2) | (pixel.x & mask)) as usize;
         let i = start
             .wrapping_add(STEP_COUNT << (2 * side_log2))
-            .wrapping_add(texel);
+            .wrapping_add(tile_texel(side_log2, pixel));
         let word = if i < buffer.len() { buffer[i] } else { 0 };
         return [net_shift_word(word & 0xFFFF), net_shift_word(word >> 16)];
     }
