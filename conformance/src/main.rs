@@ -69,10 +69,16 @@ enum Command {
         /// feature-permute-jitter.
         #[arg(long, value_delimiter = ',')]
         methods: Vec<String>,
-        /// Salt of the initial white-noise seeds (the scatter between salts shows how
-        /// far single runs can be trusted).
+        /// The draw: salt of the initial white-noise seeds and of where the a-priori
+        /// samplers' per-pixel data sits on the screen (1: as baked; the scatter
+        /// between salts shows how far single runs can be trusted).
         #[arg(long, default_value_t = 1)]
         salt: u32,
+        /// Run the study at this many consecutive salts from --salt (draws) and end
+        /// with a table of each row's headline figures: mean and range over the
+        /// draws. Single-draw differences of a few percent are not evidence.
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=16))]
+        draws: u32,
         /// Scene: cornell, cornell-textured (the checker-textured glTF of the
         /// demodulation study), cornell-untextured (the same with each texture
         /// replaced by its mean colour), cornell-glossy (three GGX spheres,
@@ -212,6 +218,7 @@ fn main() -> Result<()> {
             max_depth,
             methods,
             salt,
+            draws,
             scene,
             glossy_regularization,
             modulate_by,
@@ -240,27 +247,43 @@ fn main() -> Result<()> {
                     rows.push(m);
                 }
             }
-            let config = StudyConfig {
-                max_depth,
-                salt,
-                scene,
-                modulate_by,
-                glossy_regularization,
-                taa_clamp: taa_clamp == "on",
-                ..StudyConfig::new(size, 1, frames, ref_spp)
-            };
             let cache = default_cache_dir();
             let start = std::time::Instant::now();
-            let study = Study::new(config, (!no_cache).then_some(cache.as_path()), |_, _| {})?;
-            eprintln!("[{:7.1} s] reference ready", start.elapsed().as_secs_f64());
-            let result = study.run(&rows, |m, t| {
-                if t + 1 == frames {
-                    eprintln!("[{:7.1} s] {} done", start.elapsed().as_secs_f64(), m.name());
-                }
-            })?;
-            let tables = result.markdown();
-            println!("{}", result.summary());
-            println!("{tables}");
+            let mut tables = String::new();
+            let mut results = Vec::new();
+            for draw in 0..draws {
+                let config = StudyConfig {
+                    max_depth,
+                    salt: salt.wrapping_add(draw),
+                    scene,
+                    modulate_by,
+                    glossy_regularization,
+                    taa_clamp: taa_clamp == "on",
+                    ..StudyConfig::new(size, 1, frames, ref_spp)
+                };
+                let study = Study::new(config, (!no_cache).then_some(cache.as_path()), |_, _| {})?;
+                eprintln!(
+                    "[{:7.1} s] salt {}: reference ready",
+                    start.elapsed().as_secs_f64(),
+                    config.salt
+                );
+                let result = study.run(&rows, |m, t| {
+                    if t + 1 == frames {
+                        eprintln!("[{:7.1} s] {} done", start.elapsed().as_secs_f64(), m.name());
+                    }
+                })?;
+                let draw_tables = result.markdown();
+                println!("{}", result.summary());
+                println!("{draw_tables}");
+                tables += &draw_tables;
+                results.push(result);
+            }
+            if draws > 1 {
+                let table = conformance::study::draws_markdown(&results);
+                println!("{table}");
+                tables += "\n";
+                tables += &table;
+            }
             println!("total {:.1} s", start.elapsed().as_secs_f64());
             if let Some(path) = out {
                 std::fs::write(&path, &tables)?;

@@ -50,6 +50,7 @@ impl MotionConfig {
         let mut s = TraceSettings::new(self.size, self.size);
         s.max_depth = self.max_depth;
         s.seed_mode = SEED_MODE_FIXED;
+        s.sampler_origin = gpu_tracer::scene::sampler_origin_of_salt(self.salt);
         s
     }
 }

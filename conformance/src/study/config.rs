@@ -37,7 +37,10 @@ pub struct StudyConfig {
     pub seed_mode: u32,
     /// Maximum path length in segments.
     pub max_depth: u32,
-    /// Salt of the initial white-noise seeds.
+    /// The draw: salt of the initial white-noise seeds, and where the
+    /// a-priori samplers' per-pixel data sits on the screen
+    /// (`gpu_tracer::scene::sampler_origin_of_salt`; salt 1: as baked), so
+    /// that two salts are two independent draws of every row.
     pub salt: u32,
     /// Also measure every method after the real-time filters
     /// ([`STUDY_FILTERS`](super::filtered::STUDY_FILTERS)); on by default.
@@ -98,6 +101,7 @@ impl StudyConfig {
         s.seed_mode = self.seed_mode;
         s.environment = self.scene.environment();
         s.glossy_regularization = self.glossy_regularization;
+        s.sampler_origin = gpu_tracer::scene::sampler_origin_of_salt(self.salt);
         s
     }
 

@@ -19,6 +19,8 @@
 //! - [`history`]: each method's error after an exponential history alone (EMA, no
 //!   clamp) and after the EMA then a Gaussian blur.
 //! - [`result`]: the measured study and every figure read off it.
+//! - [`draws`]: one study over several draws (salts): each headline figure's mean and
+//!   range.
 //! - [`uncertainty`]: how far one run's accumulated figures can be trusted.
 //! - [`surfaces`]: the interior's history on glossy and on diffuse first hits.
 //! - `meter`: [`Study::run`] and the per-frame measurement.
@@ -116,6 +118,7 @@
 //! entry point has no mask binding.
 
 pub mod config;
+pub mod draws;
 pub mod feature_diagnostics;
 pub mod filtered;
 pub mod history;
@@ -133,6 +136,7 @@ pub mod uncertainty;
 pub mod walks;
 
 pub use config::{StudyConfig, ACCUMULATION_POINTS, ACCUMULATION_SNAPSHOTS, GOAL_FRAME};
+pub use draws::{draws_markdown, DrawFigure, Spread, DRAW_FIGURES};
 pub use feature_diagnostics::FeatureDiagnostics;
 pub use history::{HistoryErrors, EMA_ALPHA, EMA_FROM};
 pub use insets::{crop, Inset, Surface};

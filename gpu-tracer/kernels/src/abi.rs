@@ -365,6 +365,21 @@ pub struct TraceParams {
     pub sampler_offset_x: u32,
     /// ZSobol's screen offset, y; as [`Self::sampler_offset_x`].
     pub sampler_offset_y: u32,
+    /// Where the a-priori samplers' per-pixel data sits on the screen, x
+    /// (`crate::numbers::sampler_position`): the pixel (or home) `p` reads
+    /// the keys of [`SAMPLER_SCREEN_SOBOL`], the shifts of
+    /// [`SAMPLER_SPATIOTEMPORAL`] or ZSobol's point of `p + origin`
+    /// (wrapping adds, so any `u32` is valid; the data repeats every 4096
+    /// pixels or less, a divisor of `2^32`). One draw of the samplers'
+    /// placement: two origins give two independent-looking renders with the
+    /// same quality in expectation. 0 (the default) everywhere else.
+    pub sampler_origin_x: u32,
+    /// The samplers' origin, y; as [`Self::sampler_origin_x`].
+    pub sampler_origin_y: u32,
+    /// Padding to std140's 16-byte size; 0.
+    pub pad0: u32,
+    /// Padding to std140's 16-byte size; 0.
+    pub pad1: u32,
 }
 
 /// One node of the BVH2 built by obvhs 0.4 (`Bvh2Node`), 48 bytes.
@@ -726,7 +741,7 @@ impl EmitterGpu {
     }
 }
 
-const _: () = assert!(core::mem::size_of::<TraceParams>() == 256);
+const _: () = assert!(core::mem::size_of::<TraceParams>() == 272);
 const _: () = assert!(core::mem::size_of::<TriangleAttrGpu>() == 112);
 const _: () = assert!(core::mem::size_of::<GBufferGpu>() == 64);
 const _: () = assert!(core::mem::size_of::<BvhNodeGpu>() == 48);

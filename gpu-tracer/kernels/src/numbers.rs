@@ -471,21 +471,26 @@ impl PathNumbers {
 /// the spatiotemporal shift, or ZSobol's point of that pixel); with
 /// [`SAMPLER_ZSOBOL`] otherwise `pixel` plus the pan offset rounded to
 /// whole pixels ([`TraceParams::sampler_offset_x`], `crate::pan_offset`; 0
-/// unless frames follow as a whole); otherwise `pixel`.
+/// unless frames follow as a whole); otherwise `pixel`. Every case then
+/// plus the samplers' origin ([`TraceParams::sampler_origin_x`], wrapping:
+/// every table the position reads repeats every 4096 pixels or less, a
+/// divisor of `2^32`, so the adds are exact).
 #[inline]
 pub fn sampler_position(params: &TraceParams, pixel: UVec2, seed: u32) -> UVec2 {
-    if sampler_reads_homes(params.sampler) && params.sampler & SAMPLER_FOLLOW_HOMES != 0 {
+    let at = if sampler_reads_homes(params.sampler) && params.sampler & SAMPLER_FOLLOW_HOMES != 0 {
         home_texel(seed)
     } else if params.sampler & SAMPLER_KIND_MASK == SAMPLER_ZSOBOL {
-        // ZSobol wraps pixels every 4096, a divisor of 2^32: wrapping adds
-        // of the signed offset are exact.
         UVec2::new(
             pixel.x.wrapping_add(offset_pixels(params.sampler_offset_x)),
             pixel.y.wrapping_add(offset_pixels(params.sampler_offset_y)),
         )
     } else {
         pixel
-    }
+    };
+    UVec2::new(
+        at.x.wrapping_add(params.sampler_origin_x),
+        at.y.wrapping_add(params.sampler_origin_y),
+    )
 }
 
 /// First stream dimension of vertex `depth`: `DIMS_CAMERA + DIMS_PER_VERTEX * depth`.

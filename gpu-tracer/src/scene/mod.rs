@@ -53,7 +53,7 @@ pub use image_pack::MAX_IMAGE_WORDS;
 pub use light::{Light, LightKind};
 pub use material::{Alpha, Bsdf, Filter, Image, Material, NormalTexture, TextureRef, UvTransform, Wrap};
 pub(crate) use settings::check_glossy_regularization;
-pub use settings::{screen_sobol_max_spp, TraceSettings, ZSOBOL_MAX_SPP};
+pub use settings::{sampler_origin_of_salt, screen_sobol_max_spp, TraceSettings, ZSOBOL_MAX_SPP};
 pub use trace_variant::TraceVariant;
 pub use vertex_normals::{usable_normals, MIN_NORMAL_LENGTH};
 

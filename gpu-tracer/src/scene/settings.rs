@@ -48,6 +48,26 @@ pub struct TraceSettings {
     /// (`kernels::regularization`; biased). 0 (the default): off, unbiased.
     /// See [`TraceParams::glossy_regularization`].
     pub glossy_regularization: f32,
+    /// Where the a-priori samplers' per-pixel data sits on the screen, in
+    /// pixels (x, y; any values, read wrapping): pixel `p` reads the keys,
+    /// shifts or ZSobol point of `p + origin`. One draw of the samplers'
+    /// placement, for decorrelating two renders that should not share a
+    /// pattern (two eyes, two studies of one method); every origin has the
+    /// same quality in expectation. `[0, 0]` (the default): the samplers as
+    /// baked. See [`TraceParams::sampler_origin_x`] and
+    /// [`sampler_origin_of_salt`].
+    pub sampler_origin: [u32; 2],
+}
+
+/// The samplers' origin ([`TraceSettings::sampler_origin`]) of draw `salt`:
+/// point `salt - 1` (wrapping) of the R2 sequence started at 0, in 1/4096
+/// (the top 12 bits of `sampler_core::sequences::r2::r2_q32(salt - 1, 0)`),
+/// so salt 1 is the samplers as baked (`[0, 0]`) and consecutive salts sit
+/// far apart on the 64-pixel tiles and on ZSobol's 4096-pixel period. The
+/// studies' `--salt` picks it together with the white seeds.
+pub fn sampler_origin_of_salt(salt: u32) -> [u32; 2] {
+    let [x, y] = sampler_core::sequences::r2::r2_q32(salt.wrapping_sub(1), 0);
+    [x >> 20, y >> 20]
 }
 
 /// Largest spp per frame of [`SAMPLER_ZSOBOL`]: `2^ZSOBOL_MAX_LOG2_SPP` = 256.
@@ -92,6 +112,7 @@ impl TraceSettings {
             sampler: kernels::abi::SAMPLER_SEEDS,
             environment: glam::Vec3::ZERO,
             glossy_regularization: 0.0,
+            sampler_origin: [0, 0],
         }
     }
 }
@@ -234,6 +255,10 @@ impl SceneGpu {
             seed_follow_share: 0.0,
             sampler_offset_x: 0,
             sampler_offset_y: 0,
+            sampler_origin_x: s.sampler_origin[0],
+            sampler_origin_y: s.sampler_origin[1],
+            pad0: 0,
+            pad1: 0,
         })
     }
 }
@@ -260,6 +285,34 @@ mod tests {
     use super::*;
     use crate::scene::buffers::tests::quad_scene;
     use glam::Vec3;
+
+    /// Salt 1 is the samplers as baked; the first 16 salts give 16
+    /// different origins on the 64-pixel tiles, and the settings carry the
+    /// origin into the parameters.
+    #[test]
+    fn salts_draw_the_samplers_origin() {
+        assert_eq!(sampler_origin_of_salt(1), [0, 0]);
+        assert_eq!(sampler_origin_of_salt(2), [0xC13F_A9A9 >> 20, 0x91E1_0DA6 >> 20]);
+        let mut on_tile: Vec<[u32; 2]> = (1..=16)
+            .map(|salt| sampler_origin_of_salt(salt).map(|c| c % 64))
+            .collect();
+        on_tile.sort();
+        on_tile.dedup();
+        assert_eq!(on_tile.len(), 16);
+        for salt in [0, 7, u32::MAX] {
+            assert!(sampler_origin_of_salt(salt).iter().all(|&c| c < 4096));
+        }
+        let gpu = SceneGpu::build(&quad_scene(Vec3::ONE)).expect("valid");
+        let s = TraceSettings {
+            sampler_origin: sampler_origin_of_salt(3),
+            ..TraceSettings::new(16, 8)
+        };
+        let p = gpu.trace_params(&s, 0).expect("valid");
+        assert_eq!(
+            [p.sampler_origin_x, p.sampler_origin_y],
+            sampler_origin_of_salt(3)
+        );
+    }
 
     #[test]
     fn trace_params_validation() {

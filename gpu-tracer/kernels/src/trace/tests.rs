@@ -427,3 +427,62 @@ fn screen_sobol_frames_shift_the_keys_and_keep_the_net() {
         }
     }
 }
+
+/// The samplers' origin moves where every a-priori sampler reads its
+/// per-pixel data, homes and ZSobol's pan offset included, by wrapping
+/// adds: a pixel's numbers under origin `o` are those of pixel `p + o`
+/// under origin 0.
+#[test]
+fn the_origin_moves_every_samplers_data() {
+    use crate::abi::{SAMPLER_FOLLOW_HOMES, SAMPLER_KRONECKER, SAMPLER_SPATIOTEMPORAL};
+    use sampler_core::sequences::spatiotemporal::home_of_pixel;
+    let keys = test_keys();
+    let (pixel, home) = (UVec2::new(5, 9), UVec2::new(12, 3));
+    let origin = UVec2::new(4093, 70);
+    let moved = |p: UVec2| UVec2::new(p.x.wrapping_add(origin.x), p.y.wrapping_add(origin.y));
+    for (sampler, at) in [
+        (SAMPLER_SCREEN_SOBOL, pixel),
+        (SAMPLER_ZSOBOL, pixel),
+        (SAMPLER_SPATIOTEMPORAL, pixel),
+        (SAMPLER_SPATIOTEMPORAL | SAMPLER_KRONECKER, pixel),
+        (SAMPLER_ZSOBOL | SAMPLER_FOLLOW_HOMES, home),
+        (SAMPLER_SPATIOTEMPORAL | SAMPLER_FOLLOW_HOMES, home),
+    ] {
+        let plain = half_lit_params(sampler, 1, 6);
+        let drawn = TraceParams {
+            sampler_origin_x: origin.x,
+            sampler_origin_y: origin.y,
+            ..plain
+        };
+        let seed = home_of_pixel(home.x, home.y);
+        assert_eq!(sampler_position(&plain, pixel, seed), at, "sampler {sampler}");
+        assert_eq!(
+            sampler_position(&drawn, pixel, seed),
+            moved(at),
+            "sampler {sampler}"
+        );
+        let jitter = PathNumbers::new(&drawn, pixel, seed, 0).jitter(&drawn, &keys);
+        assert_eq!(
+            jitter,
+            apriori_pair(&plain, &keys, moved(at), 0, PAIR_JITTER),
+            "sampler {sampler}"
+        );
+    }
+    // With ZSobol's pan offset both add.
+    let panned = TraceParams {
+        sampler_offset_x: -40i32 as u32,
+        sampler_offset_y: 24,
+        sampler_origin_x: origin.x,
+        sampler_origin_y: origin.y,
+        ..half_lit_params(SAMPLER_ZSOBOL, 1, 6)
+    };
+    let no_origin = TraceParams {
+        sampler_origin_x: 0,
+        sampler_origin_y: 0,
+        ..panned
+    };
+    assert_eq!(
+        sampler_position(&panned, pixel, 0),
+        moved(sampler_position(&no_origin, pixel, 0))
+    );
+}

@@ -1,0 +1,197 @@
+//! One study over several draws: the same configuration at consecutive salts
+//! (each salt draws the white seeds and where the a-priori samplers' per-pixel
+//! data sits on the screen, [`StudyConfig::salt`](super::config::StudyConfig::salt)),
+//! and per row the headline figures' mean and range over the draws.
+//!
+//! Why: one draw of a sampler's per-pixel data moves the figures behind a
+//! history by 2-3% and the running means by 10-15% (the few hundred pixels at
+//! the lights' silhouettes decide them, and they are the same pixels in every
+//! draw), so a difference of that size between two single runs separates two
+//! draws, not two methods (QUALITY.md, "The jitter's shifts: a net"). Compare
+//! methods by their ranges over draws.
+
+use super::config::GOAL_FRAME;
+use super::method::Method;
+use super::result::{HistoryMetric, Metric, StudyResult};
+use crate::metrics::regions::Region;
+use gpu_tracer::filter::FilterChain;
+
+/// One headline figure of a row (white = 1), read off one draw's result.
+#[derive(Clone, Copy, Debug)]
+pub struct DrawFigure {
+    /// Column title.
+    pub name: &'static str,
+    /// The figure of `method` in a draw; `None` where that draw cannot give
+    /// it (too few frames, no filters, a missing row).
+    pub read: fn(&StudyResult, Method) -> Option<f64>,
+}
+
+/// First frame the per-frame and filtered figures pool over (as the study's
+/// own tables: frame [`GOAL_FRAME`], or the last frame of a shorter run).
+fn from(r: &StudyResult) -> usize {
+    GOAL_FRAME.min(r.config.frames - 1) as usize
+}
+
+/// The flat insets' low-frequency ratio, mean over frames `8..` (the study's
+/// "LF mean 8..").
+fn lf_mean(r: &StudyResult, m: Method) -> Option<f64> {
+    let frames = r.run(m)?.rmse.len();
+    let ratios: Vec<f64> = (from(r)..frames)
+        .map(|i| r.relative(m, Metric::LowFrequency, i))
+        .collect::<Option<_>>()?;
+    (!ratios.is_empty()).then(|| ratios.iter().sum::<f64>() / ratios.len() as f64)
+}
+
+/// The figures of the draws table, in column order: the raw frame, the
+/// flat insets, the history alone and blurred, the running mean of 32
+/// frames, TAA and TAA + a-trous with its noise part.
+pub const DRAW_FIGURES: [DrawFigure; 13] = [
+    DrawFigure {
+        name: "raw blur σ1 whole",
+        read: |r, m| r.pooled(m, Metric::Blur1, from(r)),
+    },
+    DrawFigure {
+        name: "raw blur σ1 interior",
+        read: |r, m| r.pooled_region(m, Some(Region::Interior), from(r)),
+    },
+    DrawFigure {
+        name: "LF mean 8..",
+        read: lf_mean,
+    },
+    DrawFigure {
+        name: "EMA whole",
+        read: |r, m| r.pooled_history(m, HistoryMetric::Ema, None),
+    },
+    DrawFigure {
+        name: "EMA interior",
+        read: |r, m| r.pooled_history(m, HistoryMetric::Ema, Some(Region::Interior)),
+    },
+    DrawFigure {
+        name: "EMA + G1 whole",
+        read: |r, m| r.pooled_history(m, HistoryMetric::EmaBlur1, None),
+    },
+    DrawFigure {
+        name: "EMA + G1 interior",
+        read: |r, m| r.pooled_history(m, HistoryMetric::EmaBlur1, Some(Region::Interior)),
+    },
+    DrawFigure {
+        name: "mean 32 whole",
+        read: |r, m| r.accumulated_region(m, 32, None),
+    },
+    DrawFigure {
+        name: "mean 32 interior",
+        read: |r, m| r.accumulated_region(m, 32, Some(Region::Interior)),
+    },
+    DrawFigure {
+        name: "taa whole",
+        read: |r, m| r.pooled_filtered(m, FilterChain::Taa, None, from(r)),
+    },
+    DrawFigure {
+        name: "taa+atrous whole",
+        read: |r, m| r.pooled_filtered(m, FilterChain::TaaAtrous, None, from(r)),
+    },
+    DrawFigure {
+        name: "taa+atrous interior",
+        read: |r, m| r.pooled_filtered(m, FilterChain::TaaAtrous, Some(Region::Interior), from(r)),
+    },
+    DrawFigure {
+        name: "its noise part interior",
+        read: |r, m| r.pooled_filtered_noise(m, FilterChain::TaaAtrous, Some(Region::Interior), from(r)),
+    },
+];
+
+/// Mean, least and greatest of one figure over the draws.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spread {
+    /// Arithmetic mean of the draws' figures.
+    pub mean: f64,
+    /// The least draw's figure.
+    pub min: f64,
+    /// The greatest draw's figure.
+    pub max: f64,
+    /// Number of draws.
+    pub draws: usize,
+}
+
+impl Spread {
+    /// The spread of `values`; `None` if any draw lacks the figure (or is
+    /// not finite), or there are none: a mean over fewer draws than the
+    /// others would not compare.
+    pub fn of(values: &[Option<f64>]) -> Option<Spread> {
+        let v: Vec<f64> = values.iter().copied().collect::<Option<_>>()?;
+        if v.is_empty() || v.iter().any(|x| !x.is_finite()) {
+            return None;
+        }
+        Some(Spread {
+            mean: v.iter().sum::<f64>() / v.len() as f64,
+            min: v.iter().copied().fold(f64::INFINITY, f64::min),
+            max: v.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            draws: v.len(),
+        })
+    }
+
+    /// `mean (min-max)`, three decimals; the value alone for one draw.
+    pub fn cell(&self) -> String {
+        if self.draws == 1 {
+            format!("{:.3}", self.mean)
+        } else {
+            format!("{:.3} ({:.3}-{:.3})", self.mean, self.min, self.max)
+        }
+    }
+}
+
+/// Markdown table of [`DRAW_FIGURES`] over `draws` (one study result per
+/// draw, the same rows in each): per row (white left out, it is 1 by
+/// definition) each figure's mean and range.
+pub fn draws_markdown(draws: &[StudyResult]) -> String {
+    let Some(first) = draws.first() else {
+        return String::new();
+    };
+    let salts: Vec<String> = draws.iter().map(|r| r.config.salt.to_string()).collect();
+    let mut s = format!(
+        "Over {} draws (salts {}): mean (least-greatest), white = 1 in each draw:\n\n| method",
+        draws.len(),
+        salts.join(", ")
+    );
+    for f in &DRAW_FIGURES {
+        s += &format!(" | {}", f.name);
+    }
+    s += " |\n|---";
+    s += &"|---".repeat(DRAW_FIGURES.len());
+    s += "|\n";
+    for run in first.runs.iter().filter(|r| r.method != Method::White) {
+        s += &format!("| {}", run.method.name());
+        for f in &DRAW_FIGURES {
+            let values: Vec<Option<f64>> = draws.iter().map(|r| (f.read)(r, run.method)).collect();
+            s += &format!(" | {}", Spread::of(&values).map_or("-".to_string(), |v| v.cell()));
+        }
+        s += " |\n";
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_spread_is_the_mean_and_range_of_every_draw() {
+        let s = Spread::of(&[Some(0.6), Some(0.62), Some(0.59)]).expect("three draws");
+        assert!((s.mean - 0.603_333).abs() < 1e-6);
+        assert_eq!((s.min, s.max, s.draws), (0.59, 0.62, 3));
+        assert_eq!(s.cell(), "0.603 (0.590-0.620)");
+        assert_eq!(Spread::of(&[Some(0.5)]).expect("one").cell(), "0.500");
+    }
+
+    #[test]
+    fn a_draw_without_the_figure_gives_no_spread() {
+        assert_eq!(Spread::of(&[Some(0.6), None]), None);
+        assert_eq!(Spread::of(&[Some(0.6), Some(f64::NAN)]), None);
+        assert_eq!(Spread::of(&[]), None);
+    }
+
+    #[test]
+    fn no_draws_give_no_table() {
+        assert!(draws_markdown(&[]).is_empty());
+    }
+}
