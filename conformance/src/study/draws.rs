@@ -138,32 +138,105 @@ impl Spread {
             format!("{:.3} ({:.3}-{:.3})", self.mean, self.min, self.max)
         }
     }
+
+    /// [`Self::cell`] for differences: every number signed, the range as
+    /// `min..max`.
+    pub fn signed_cell(&self) -> String {
+        if self.draws == 1 {
+            format!("{:+.3}", self.mean)
+        } else {
+            format!("{:+.3} ({:+.3}..{:+.3})", self.mean, self.min, self.max)
+        }
+    }
 }
 
-/// Markdown table of [`DRAW_FIGURES`] over `draws` (one study result per
+/// Markdown tables of [`DRAW_FIGURES`] over `draws` (one study result per
 /// draw, the same rows in each): per row (white left out, it is 1 by
-/// definition) each figure's mean and range.
+/// definition) each figure's mean and range; then, with two rows or more,
+/// each later row's figures minus the first row's in the same draw, mean and
+/// range. A draw moves every row alike (the same white, reference and
+/// geometry), so a difference of one sign in every draw says more than two
+/// overlapping ranges.
 pub fn draws_markdown(draws: &[StudyResult]) -> String {
-    let Some(first) = draws.first() else {
-        return String::new();
-    };
-    let salts: Vec<String> = draws.iter().map(|r| r.config.salt.to_string()).collect();
-    let mut s = format!(
-        "Over {} draws (salts {}): mean (least-greatest), white = 1 in each draw:\n\n| method",
-        draws.len(),
-        salts.join(", ")
-    );
+    let mut s = spread_markdown(draws);
+    s += &paired_markdown(draws);
+    s
+}
+
+/// The rows of the draws' tables: the first draw's, white left out.
+fn rows(draws: &[StudyResult]) -> Vec<Method> {
+    draws.first().map_or(Vec::new(), |r| {
+        r.runs
+            .iter()
+            .map(|run| run.method)
+            .filter(|&m| m != Method::White)
+            .collect()
+    })
+}
+
+/// The table header: `first` column, then every figure.
+fn header(first: &str) -> String {
+    let mut s = format!("| {first}");
     for f in &DRAW_FIGURES {
         s += &format!(" | {}", f.name);
     }
     s += " |\n|---";
     s += &"|---".repeat(DRAW_FIGURES.len());
     s += "|\n";
-    for run in first.runs.iter().filter(|r| r.method != Method::White) {
-        s += &format!("| {}", run.method.name());
+    s
+}
+
+/// Each row's figures over the draws: mean (least-greatest).
+fn spread_markdown(draws: &[StudyResult]) -> String {
+    let Some(first) = draws.first() else {
+        return String::new();
+    };
+    let salts: Vec<String> = draws.iter().map(|r| r.config.salt.to_string()).collect();
+    let mut s = format!(
+        "Over {} draws (salts {}) of {}: mean (least-greatest), white = 1 in each draw:\n\n",
+        draws.len(),
+        salts.join(", "),
+        first.config.scene.name()
+    );
+    s += &header("method");
+    for m in rows(draws) {
+        s += &format!("| {}", m.name());
         for f in &DRAW_FIGURES {
-            let values: Vec<Option<f64>> = draws.iter().map(|r| (f.read)(r, run.method)).collect();
+            let values: Vec<Option<f64>> = draws.iter().map(|r| (f.read)(r, m)).collect();
             s += &format!(" | {}", Spread::of(&values).map_or("-".to_string(), |v| v.cell()));
+        }
+        s += " |\n";
+    }
+    s
+}
+
+/// Each later row's figures minus the first row's, draw by draw: mean
+/// (least-greatest); empty with fewer than two rows.
+fn paired_markdown(draws: &[StudyResult]) -> String {
+    let rows = rows(draws);
+    let Some((&base, others)) = rows.split_first() else {
+        return String::new();
+    };
+    if others.is_empty() {
+        return String::new();
+    }
+    let mut s = format!(
+        "\nPaired by draw: each row's figure minus {}'s in the same draw, mean (least-greatest); one sign \
+         in every draw is a difference the draws do not explain:\n\n",
+        base.name()
+    );
+    s += &header("method");
+    for &m in others {
+        s += &format!("| {} - {}", m.name(), base.name());
+        for f in &DRAW_FIGURES {
+            let values: Vec<Option<f64>> = draws
+                .iter()
+                .map(|r| Some((f.read)(r, m)? - (f.read)(r, base)?))
+                .collect();
+            s += &format!(
+                " | {}",
+                Spread::of(&values).map_or("-".to_string(), |v| v.signed_cell())
+            );
         }
         s += " |\n";
     }
@@ -181,6 +254,8 @@ mod tests {
         assert_eq!((s.min, s.max, s.draws), (0.59, 0.62, 3));
         assert_eq!(s.cell(), "0.603 (0.590-0.620)");
         assert_eq!(Spread::of(&[Some(0.5)]).expect("one").cell(), "0.500");
+        let d = Spread::of(&[Some(-0.007), Some(-0.005), Some(0.001)]).expect("three");
+        assert_eq!(d.signed_cell(), "-0.004 (-0.007..+0.001)");
     }
 
     #[test]
