@@ -155,10 +155,17 @@ enum Command {
         /// Also write the tables to this file.
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Salt of the white-noise seeds every row starts from (the scatter
-        /// between salts shows how far single runs can be trusted).
+        /// The draw: salt of the white-noise seeds every row starts from and of
+        /// where the a-priori samplers' per-pixel data sits on the screen (1: as
+        /// baked; the scatter between salts shows how far single runs can be
+        /// trusted).
         #[arg(long, default_value_t = 1)]
         salt: u32,
+        /// Run the study at this many consecutive salts from --salt (draws) and end
+        /// with every figure's mean and range over the draws and the rows' paired
+        /// differences against the first row.
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=16))]
+        draws: u32,
         /// Do not read or write the reference cache under target/quality-cache.
         #[arg(long)]
         no_cache: bool,
@@ -302,6 +309,7 @@ fn main() -> Result<()> {
             sway_period,
             history_fetch,
             salt,
+            draws,
             out,
             no_cache,
         } => {
@@ -329,15 +337,37 @@ fn main() -> Result<()> {
             }
             let cache = default_cache_dir();
             let start = std::time::Instant::now();
-            let results = run_study(
-                config,
-                &cases,
-                &rows,
-                (!no_cache).then_some(cache.as_path()),
-                |msg| eprintln!("[{:7.1} s] {msg}", start.elapsed().as_secs_f64()),
-            )?;
-            let tables = markdown(&results);
-            println!("{tables}");
+            let mut tables = String::new();
+            let mut per_draw = Vec::new();
+            for draw in 0..draws {
+                let config = MotionConfig {
+                    salt: salt.wrapping_add(draw),
+                    ..config
+                };
+                let results = run_study(
+                    config,
+                    &cases,
+                    &rows,
+                    (!no_cache).then_some(cache.as_path()),
+                    |msg| {
+                        eprintln!(
+                            "[{:7.1} s] salt {}: {msg}",
+                            start.elapsed().as_secs_f64(),
+                            config.salt
+                        )
+                    },
+                )?;
+                let draw_tables = markdown(&results);
+                println!("{draw_tables}");
+                tables += &draw_tables;
+                per_draw.push(results);
+            }
+            if draws > 1 {
+                let table = conformance::motion::draws_markdown(&per_draw);
+                println!("{table}");
+                tables += "\n";
+                tables += &table;
+            }
             println!("total {:.1} s", start.elapsed().as_secs_f64());
             if let Some(path) = out {
                 std::fs::write(&path, &tables)?;

@@ -2,7 +2,9 @@
 //! draws the a-priori samplers' placement as well as the white seeds, and
 //! the draws' table reads every draw.
 
-use conformance::study::{draws_markdown, Method, Metric, Spread, Study, StudyConfig, StudyResult, GOAL_FRAME};
+use conformance::study::{
+    draws_markdown, Method, Metric, Spread, Study, StudyConfig, StudyResult, GOAL_FRAME,
+};
 
 /// A tiny study of `rows` at `salt` (no reference cache: 32x32, 16 spp).
 fn tiny(salt: u32, rows: &[Method]) -> StudyResult {
@@ -35,6 +37,9 @@ fn a_salt_draws_the_a_priori_samplers_and_the_table_reads_every_draw() {
     let table = draws_markdown(&draws);
     assert!(table.contains("Over 2 draws (salts 1, 2)"), "{table}");
     assert!(table.contains("| spatiotemporal-kronecker | "), "{table}");
-    assert!(table.contains("| zsobol - spatiotemporal-kronecker | "), "{table}");
+    assert!(
+        table.contains("| zsobol - spatiotemporal-kronecker | "),
+        "{table}"
+    );
     assert!(!table.contains("| white |"), "{table}");
 }

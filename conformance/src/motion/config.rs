@@ -20,7 +20,9 @@ pub struct MotionConfig {
     pub block: u32,
     /// Dither tile.
     pub tile: TileChoice,
-    /// Salt of the initial white-noise seeds.
+    /// The draw: salt of the initial white-noise seeds, and where the
+    /// a-priori samplers' per-pixel data sits on the screen
+    /// (`gpu_tracer::scene::sampler_origin_of_salt`; salt 1: as baked).
     pub salt: u32,
     /// Sway period in frames (a multiple of 4), `None` for
     /// [`sway_period`](super::case::sway_period) (`size / 4`).

@@ -13,6 +13,8 @@
 //! - [`insets`]: the flat insets following their surface ([`fit_insets`]).
 //! - [`result`]: a measured sequence and its figures ([`CaseResult`], [`Figure`]).
 //! - [`tables`]: the markdown tables.
+//! - [`draws`]: the study over several draws (salts): each figure's mean and range, and
+//!   the rows' paired differences.
 //! - [`sequence`]: the posed sequences and the runs over them.
 //!
 //! Each module uses only those listed above it, the still study ([`crate::study`]:
@@ -77,6 +79,7 @@
 
 pub mod case;
 pub mod config;
+pub mod draws;
 pub mod history;
 pub mod insets;
 pub mod method;
@@ -86,6 +89,7 @@ pub mod tables;
 
 pub use case::MotionCase;
 pub use config::MotionConfig;
+pub use draws::draws_markdown;
 pub use history::HistoryFetch;
 pub use insets::{fit_insets, InsetAnchor, MIN_INSET_SIDE};
 pub use method::MotionMethod;
