@@ -43,9 +43,10 @@ fn lf_mean(r: &StudyResult, m: Method) -> Option<f64> {
 }
 
 /// The figures of the draws table, in column order: the raw frame, the
-/// flat insets, the history alone and blurred, the running mean of 32
-/// frames, TAA and TAA + a-trous with its noise part.
-pub const DRAW_FIGURES: [DrawFigure; 13] = [
+/// flat insets, the history alone and blurred, the running means of 8, 32
+/// and 128 frames (issue 29: every shipped sampler at most white's), TAA
+/// and TAA + a-trous with its noise part.
+pub const DRAW_FIGURES: [DrawFigure; 15] = [
     DrawFigure {
         name: "raw blur σ1 whole",
         read: |r, m| r.pooled(m, Metric::Blur1, from(r)),
@@ -75,12 +76,20 @@ pub const DRAW_FIGURES: [DrawFigure; 13] = [
         read: |r, m| r.pooled_history(m, HistoryMetric::EmaBlur1, Some(Region::Interior)),
     },
     DrawFigure {
+        name: "mean 8 whole",
+        read: |r, m| r.accumulated_region(m, 8, None),
+    },
+    DrawFigure {
         name: "mean 32 whole",
         read: |r, m| r.accumulated_region(m, 32, None),
     },
     DrawFigure {
         name: "mean 32 interior",
         read: |r, m| r.accumulated_region(m, 32, Some(Region::Interior)),
+    },
+    DrawFigure {
+        name: "mean 128 whole",
+        read: |r, m| r.accumulated_region(m, 128, None),
     },
     DrawFigure {
         name: "taa whole",
