@@ -8,6 +8,7 @@
 
 use super::method::MotionMethod;
 use super::result::{CaseResult, Figure};
+use super::tables::table_header;
 use crate::study::Spread;
 
 /// Markdown tables of `draws` (one [`run_study`](super::sequence::run_study)
@@ -28,15 +29,7 @@ pub fn draws_markdown(draws: &[Vec<CaseResult>]) -> String {
         .iter()
         .filter_map(|d| d.first().map(|c| c.config.salt.to_string()))
         .collect();
-    let header = |first: &str| {
-        let mut h = format!("| {first} | method |");
-        let mut sep = "|---|---|".to_string();
-        for f in Figure::COLUMNS {
-            h += &format!(" {} |", f.header());
-            sep += "---|";
-        }
-        format!("{h}\n{sep}\n")
-    };
+    let header = table_header;
     let figure = |case: usize, m: MotionMethod, f: Figure| -> Vec<Option<f64>> {
         draws
             .iter()

@@ -42,6 +42,18 @@ impl Figure {
     }
 }
 
+/// The header of a table with one row per sequence and method: the `first`
+/// column, the method, then [`Figure::COLUMNS`].
+pub(crate) fn table_header(first: &str) -> String {
+    let mut h = format!("| {first} | method |");
+    let mut sep = "|---|---|".to_string();
+    for f in Figure::COLUMNS {
+        h += &format!(" {} |", f.header());
+        sep += "---|";
+    }
+    format!("{h}\n{sep}\n")
+}
+
 /// The study's markdown tables: figures relative to white per sequence, the moving
 /// sequences relative to the same method's static figures, and the diagnostics. The
 /// first result must be the still sequence (as
@@ -74,15 +86,7 @@ pub fn markdown(results: &[CaseResult]) -> String {
         s += "\n";
     }
     s += "\n";
-    let header = |first: &str| {
-        let mut h = format!("| {first} | method |");
-        let mut sep = "|---|---|".to_string();
-        for f in Figure::COLUMNS {
-            h += &format!(" {} |", f.header());
-            sep += "---|";
-        }
-        format!("{h}\n{sep}\n")
-    };
+    let header = table_header;
     let cell = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
     s += "White = 1:\n\n";
     s += &header("sequence");
