@@ -256,23 +256,27 @@ fn main() -> Result<()> {
             }
             let cache = default_cache_dir();
             let start = std::time::Instant::now();
+            let config = StudyConfig {
+                max_depth,
+                salt,
+                scene,
+                modulate_by,
+                glossy_regularization,
+                taa_clamp: taa_clamp == "on",
+                ..StudyConfig::new(size, 1, frames, ref_spp)
+            };
+            // The scene, reference, insets and regions do not depend on the
+            // salt: set up once, then render each draw.
+            let mut study = Study::new(config, (!no_cache).then_some(cache.as_path()), |_, _| {})?;
+            eprintln!("[{:7.1} s] reference ready", start.elapsed().as_secs_f64());
             let mut tables = String::new();
             let mut results = Vec::new();
             for draw in 0..draws {
-                let config = StudyConfig {
-                    max_depth,
-                    salt: salt.wrapping_add(draw),
-                    scene,
-                    modulate_by,
-                    glossy_regularization,
-                    taa_clamp: taa_clamp == "on",
-                    ..StudyConfig::new(size, 1, frames, ref_spp)
-                };
-                let study = Study::new(config, (!no_cache).then_some(cache.as_path()), |_, _| {})?;
+                study.config.salt = salt.wrapping_add(draw);
                 eprintln!(
-                    "[{:7.1} s] salt {}: reference ready",
+                    "[{:7.1} s] salt {}",
                     start.elapsed().as_secs_f64(),
-                    config.salt
+                    study.config.salt
                 );
                 let result = study.run(&rows, |m, t| {
                     if t + 1 == frames {

@@ -40,7 +40,9 @@ pub struct StudyConfig {
     /// The draw: salt of the initial white-noise seeds, and where the
     /// a-priori samplers' per-pixel data sits on the screen
     /// (`gpu_tracer::scene::sampler_origin_of_salt`; salt 1: as baked), so
-    /// that two salts are two independent draws of every row.
+    /// that two salts are two independent draws of every row. Only the
+    /// renders read it: a [`Study`](super::Study) set up at one salt renders
+    /// another once its `config.salt` is changed (`conformance study --draws`).
     pub salt: u32,
     /// Also measure every method after the real-time filters
     /// ([`STUDY_FILTERS`](super::filtered::STUDY_FILTERS)); on by default.
