@@ -13,8 +13,9 @@ use crate::study::Spread;
 
 /// Markdown tables of `draws` (one [`run_study`](super::sequence::run_study)
 /// result per draw, the same sequences and rows in each): white = 1 in each
-/// draw, mean (least-greatest); then, with two rows or more besides white,
-/// each later row minus the first, draw by draw.
+/// draw, mean (least-greatest); then, with two rows or more besides white
+/// and the null row ([`MotionMethod::WhiteControl`]), each later row minus
+/// the first, draw by draw.
 pub fn draws_markdown(draws: &[Vec<CaseResult>]) -> String {
     let Some(first) = draws.first() else {
         return String::new();
@@ -52,7 +53,14 @@ pub fn draws_markdown(draws: &[Vec<CaseResult>]) -> String {
             s += "\n";
         }
     }
-    let Some((&base, others)) = rows.split_first() else {
+    // The null row (another draw of white) is read in the first table, not
+    // paired: its figures say how far from 1 chance alone moves a row.
+    let paired: Vec<MotionMethod> = rows
+        .iter()
+        .copied()
+        .filter(|&m| m != MotionMethod::WhiteControl)
+        .collect();
+    let Some((&base, others)) = paired.split_first() else {
         return s;
     };
     if others.is_empty() {

@@ -9,6 +9,11 @@ use gpu_tracer::{PermuteMode, RenderJob};
 pub enum MotionMethod {
     /// Fresh white-noise seeds every frame.
     White,
+    /// [`MotionMethod::White`] from an independent draw of seeds
+    /// ([`crate::study::white_control_salt`]): the null row, equal to white
+    /// in expectation, whose figures show how far from 1 (and its in motion /
+    /// still ratios how far from 1) one run reads by chance.
+    WhiteControl,
     /// The permutation, seeds left at their pixels when things move.
     Permute,
     /// The permutation with the seeds reprojected along the motion vectors.
@@ -61,8 +66,9 @@ pub enum MotionMethod {
 
 impl MotionMethod {
     /// Every row, white first.
-    pub const ALL: [MotionMethod; 16] = [
+    pub const ALL: [MotionMethod; 17] = [
         MotionMethod::White,
+        MotionMethod::WhiteControl,
         MotionMethod::Permute,
         MotionMethod::PermuteReproject,
         MotionMethod::PermuteJitterReproject,
@@ -86,6 +92,7 @@ impl MotionMethod {
     pub fn key(self) -> &'static str {
         match self {
             MotionMethod::White => "white",
+            MotionMethod::WhiteControl => "white-control",
             MotionMethod::Permute => "permute",
             MotionMethod::PermuteReproject => "permute-reproject",
             MotionMethod::PermuteJitterReproject => "permute-jitter-reproject",
@@ -137,6 +144,7 @@ impl MotionMethod {
     pub fn name(self) -> &'static str {
         match self {
             MotionMethod::White => "white",
+            MotionMethod::WhiteControl => "white, another draw (the null row)",
             MotionMethod::Permute => "permute, no reprojection",
             MotionMethod::PermuteReproject => "permute + reprojection",
             MotionMethod::PermuteJitterReproject => "permute-jitter + reprojection",
@@ -170,7 +178,7 @@ impl MotionMethod {
             MotionMethod::FeaturePermuteReproject | MotionMethod::FeatureTemporalPermuteJitterReproject
         );
         let (mode, reproject) = match self {
-            MotionMethod::White => (PermuteMode::White, false),
+            MotionMethod::White | MotionMethod::WhiteControl => (PermuteMode::White, false),
             MotionMethod::FeaturePermuteReproject => (PermuteMode::Permute, true),
             MotionMethod::Permute => (PermuteMode::Permute, false),
             MotionMethod::PermuteReproject => (PermuteMode::Permute, true),
@@ -225,7 +233,10 @@ impl MotionMethod {
             mode,
             block: config.block,
             tile,
-            salt: config.salt,
+            salt: match self {
+                MotionMethod::WhiteControl => crate::study::white_control_salt(config.salt),
+                _ => config.salt,
+            },
         };
         let fast = matches!(
             self,
@@ -265,6 +276,18 @@ mod tests {
         for m in MotionMethod::ALL {
             assert_eq!(MotionMethod::rows_named(&[m.key()]).unwrap().last(), Some(&m));
         }
+    }
+
+    #[test]
+    fn the_null_row_draws_other_seeds_and_nothing_else() {
+        let config = super::MotionConfig::new(32, 8, 4);
+        let (white, white_options) = MotionMethod::White.job(&config);
+        let (control, control_options) = MotionMethod::WhiteControl.job(&config);
+        assert_ne!(control.salt, white.salt);
+        assert_eq!(control.salt, crate::study::white_control_salt(white.salt));
+        assert_eq!(control.mode, white.mode);
+        assert_eq!(control.settings.sampler, white.settings.sampler);
+        assert_eq!(control_options.reproject, white_options.reproject);
     }
 
     #[test]

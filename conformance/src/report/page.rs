@@ -36,6 +36,7 @@ pub struct ReportConfig {
 fn colour(m: Method) -> RGBColor {
     match m {
         Method::White => RGBColor(128, 128, 128),
+        Method::WhiteControl => RGBColor(190, 190, 190),
         Method::Sort => RGBColor(230, 159, 0),
         Method::Permute => RGBColor(0, 114, 178),
         Method::PermuteJitter => RGBColor(0, 60, 110),

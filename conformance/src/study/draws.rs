@@ -9,6 +9,13 @@
 //! draw), so a difference of that size between two single runs separates two
 //! draws, not two methods (QUALITY.md, "The jitter's shifts: a net"). Compare
 //! methods by their ranges over draws.
+//!
+//! Much of that scatter is white's own: every figure is a ratio against one
+//! white render, and a row equal to white ([`Method::WhiteControl`], the null
+//! row) reads 0.96-1.09 on the whole image behind a history at 256x256
+//! (QUALITY.md, "What chance reads: the null row"). With the null row among
+//! the rows the tables add each row against both white draws pooled, and the
+//! paired table compares the rows with the first row that is not the null row.
 
 use super::config::GOAL_FRAME;
 use super::method::Method;
@@ -24,6 +31,19 @@ pub struct DrawFigure {
     /// The figure of `method` in a draw; `None` where that draw cannot give
     /// it (too few frames, no filters, a missing row).
     pub read: fn(&StudyResult, Method) -> Option<f64>,
+    /// Whether the figure is one RMSE over white's in the same pixels and
+    /// frames, so that white's draws pool ([`pooled_with_null`]); the flat
+    /// insets' LF, a mean of per-frame ratios of self-normalised spectra,
+    /// is not.
+    pub rmse_ratio: bool,
+}
+
+/// A row's figure `r` against white's and the null row's renders pooled,
+/// from the null row's figure `c` in the same draw (both white = 1):
+/// `r / sqrt((1 + c^2) / 2)`, the row's RMSE over the RMSE of the two white
+/// draws' squared errors together. White's own chance then weighs half.
+pub fn pooled_with_null(r: f64, c: f64) -> f64 {
+    r / ((1.0 + c * c) / 2.0).sqrt()
 }
 
 /// First frame the per-frame and filtered figures pool over (as the study's
@@ -50,62 +70,77 @@ pub const DRAW_FIGURES: [DrawFigure; 15] = [
     DrawFigure {
         name: "raw blur σ1 whole",
         read: |r, m| r.pooled(m, Metric::Blur1, from(r)),
+        rmse_ratio: true,
     },
     DrawFigure {
         name: "raw blur σ1 interior",
         read: |r, m| r.pooled_region(m, Some(Region::Interior), from(r)),
+        rmse_ratio: true,
     },
     DrawFigure {
         name: "LF mean 8..",
         read: lf_mean,
+        rmse_ratio: false,
     },
     DrawFigure {
         name: "EMA whole",
         read: |r, m| r.pooled_history(m, HistoryMetric::Ema, None),
+        rmse_ratio: true,
     },
     DrawFigure {
         name: "EMA interior",
         read: |r, m| r.pooled_history(m, HistoryMetric::Ema, Some(Region::Interior)),
+        rmse_ratio: true,
     },
     DrawFigure {
         name: "EMA + G1 whole",
         read: |r, m| r.pooled_history(m, HistoryMetric::EmaBlur1, None),
+        rmse_ratio: true,
     },
     DrawFigure {
         name: "EMA + G1 interior",
         read: |r, m| r.pooled_history(m, HistoryMetric::EmaBlur1, Some(Region::Interior)),
+        rmse_ratio: true,
     },
     DrawFigure {
         name: "mean 8 whole",
         read: |r, m| r.accumulated_region(m, 8, None),
+        rmse_ratio: true,
     },
     DrawFigure {
         name: "mean 32 whole",
         read: |r, m| r.accumulated_region(m, 32, None),
+        rmse_ratio: true,
     },
     DrawFigure {
         name: "mean 32 interior",
         read: |r, m| r.accumulated_region(m, 32, Some(Region::Interior)),
+        rmse_ratio: true,
     },
     DrawFigure {
         name: "mean 128 whole",
         read: |r, m| r.accumulated_region(m, 128, None),
+        rmse_ratio: true,
     },
     DrawFigure {
         name: "taa whole",
         read: |r, m| r.pooled_filtered(m, FilterChain::Taa, None, from(r)),
+        rmse_ratio: true,
     },
     DrawFigure {
         name: "taa+atrous whole",
         read: |r, m| r.pooled_filtered(m, FilterChain::TaaAtrous, None, from(r)),
+        rmse_ratio: true,
     },
     DrawFigure {
         name: "taa+atrous interior",
         read: |r, m| r.pooled_filtered(m, FilterChain::TaaAtrous, Some(Region::Interior), from(r)),
+        rmse_ratio: true,
     },
     DrawFigure {
         name: "its noise part interior",
         read: |r, m| r.pooled_filtered_noise(m, FilterChain::TaaAtrous, Some(Region::Interior), from(r)),
+        rmse_ratio: true,
     },
 ];
 
@@ -161,13 +196,16 @@ impl Spread {
 
 /// Markdown tables of [`DRAW_FIGURES`] over `draws` (one study result per
 /// draw, the same rows in each): per row (white left out, it is 1 by
-/// definition) each figure's mean and range; then, with two rows or more,
-/// each later row's figures minus the first row's in the same draw, mean and
-/// range. A draw moves every row alike (the same white, reference and
-/// geometry), so a difference of one sign in every draw says more than two
-/// overlapping ranges.
+/// definition) each figure's mean and range; with the null row
+/// ([`Method::WhiteControl`]) and another row, each other row against both
+/// white draws pooled ([`pooled_with_null`]); then, with two rows or more
+/// besides the null row, each later row's figures minus the first row's in
+/// the same draw, mean and range. A draw moves every row alike (the same
+/// white, reference and geometry), so a difference of one sign in every draw
+/// says more than two overlapping ranges.
 pub fn draws_markdown(draws: &[StudyResult]) -> String {
     let mut s = spread_markdown(draws);
+    s += &null_markdown(draws);
     s += &paired_markdown(draws);
     s
 }
@@ -219,10 +257,47 @@ fn spread_markdown(draws: &[StudyResult]) -> String {
     s
 }
 
-/// Each later row's figures minus the first row's, draw by draw: mean
-/// (least-greatest); empty with fewer than two rows.
-fn paired_markdown(draws: &[StudyResult]) -> String {
+/// Each row but the null row against white and the null row pooled
+/// ([`pooled_with_null`]), draw by draw: mean (least-greatest); empty
+/// without the null row or without another row.
+fn null_markdown(draws: &[StudyResult]) -> String {
     let rows = rows(draws);
+    let null = Method::WhiteControl;
+    if !rows.contains(&null) || rows.len() < 2 {
+        return String::new();
+    }
+    let mut s = format!(
+        "\nAgainst both draws of white (white and {} pooled: each figure r / sqrt((1 + c^2) / 2), c the null \
+         row's figure in the same draw; white's own chance weighs half), mean (least-greatest):\n\n",
+        null.name()
+    );
+    s += &header("method");
+    for m in rows.into_iter().filter(|&m| m != null) {
+        s += &format!("| {}", m.name());
+        for f in &DRAW_FIGURES {
+            let values: Vec<Option<f64>> = draws
+                .iter()
+                .map(|r| {
+                    f.rmse_ratio
+                        .then(|| Some(pooled_with_null((f.read)(r, m)?, (f.read)(r, null)?)))
+                        .flatten()
+                })
+                .collect();
+            s += &format!(" | {}", Spread::of(&values).map_or("-".to_string(), |v| v.cell()));
+        }
+        s += " |\n";
+    }
+    s
+}
+
+/// Each later row's figures minus the first row's, draw by draw: mean
+/// (least-greatest); the null row takes no part; empty with fewer than two
+/// rows.
+fn paired_markdown(draws: &[StudyResult]) -> String {
+    let rows: Vec<Method> = rows(draws)
+        .into_iter()
+        .filter(|&m| m != Method::WhiteControl)
+        .collect();
     let Some((&base, others)) = rows.split_first() else {
         return String::new();
     };
@@ -272,6 +347,18 @@ mod tests {
         assert_eq!(Spread::of(&[Some(0.6), None]), None);
         assert_eq!(Spread::of(&[Some(0.6), Some(f64::NAN)]), None);
         assert_eq!(Spread::of(&[]), None);
+    }
+
+    #[test]
+    fn pooling_with_the_null_row_halves_whites_share() {
+        // A null row equal to white leaves the figure as it is.
+        assert!((pooled_with_null(0.6, 1.0) - 0.6).abs() < 1e-12);
+        // White drawn low (the null row reads high): every row reads high
+        // against white alone; pooled it reads against the two draws' RMSE.
+        let (w, c, m) = (0.9_f64, 1.1_f64, 0.63_f64);
+        let pooled = m / ((w * w + c * c) / 2.0).sqrt();
+        assert!((pooled_with_null(m / w, c / w) - pooled).abs() < 1e-12);
+        assert!(pooled_with_null(m / w, c / w) < m / w);
     }
 
     #[test]

@@ -6,7 +6,7 @@ use super::feature_diagnostics::SeedTracker;
 use super::filtered::{FilteredErrors, FilteredMeter};
 use super::history::HistoryMeter;
 use super::insets::crop;
-use super::method::Method;
+use super::method::{white_control_salt, Method};
 use super::result::{MethodRun, Snapshot, StudyResult};
 use super::setup::{albedo_luma, Study};
 use super::temporal_sort::{render_temporal_permute, render_temporal_sort};
@@ -87,6 +87,7 @@ impl Study {
         };
         match method {
             Method::White
+            | Method::WhiteControl
             | Method::Sort
             | Method::Permute
             | Method::PermuteJitter
@@ -97,13 +98,16 @@ impl Study {
                     settings,
                     frames: self.config.frames,
                     mode: match method {
-                        Method::White => PermuteMode::White,
+                        Method::White | Method::WhiteControl => PermuteMode::White,
                         Method::Sort => PermuteMode::Sort,
                         _ => PermuteMode::Permute,
                     },
                     block: self.config.block,
                     tile: self.config.tile,
-                    salt: self.config.salt,
+                    salt: match method {
+                        Method::WhiteControl => white_control_salt(self.config.salt),
+                        _ => self.config.salt,
+                    },
                 };
                 gpu_tracer::render_cpu(&self.scene, &job, &mut on_frame)?;
             }

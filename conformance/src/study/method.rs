@@ -6,6 +6,12 @@
 pub enum Method {
     /// Fresh white-noise seeds every frame.
     White,
+    /// [`Method::White`] from an independent draw of seeds
+    /// ([`white_control_salt`]): equal to white in expectation, so its
+    /// figures (white = 1) show how far from 1 one run reads by chance, per
+    /// figure and region, in the same run as the other rows: the study's
+    /// null row.
+    WhiteControl,
     /// Sorting pass only (R2 walk), no retargeting.
     Sort,
     /// Sorting and retargeting with the aperiodic R2 walk: the method.
@@ -79,10 +85,19 @@ pub enum Method {
     FeatureTemporalPermuteJitter,
 }
 
+/// The salt of [`Method::WhiteControl`]'s seeds at the study's `salt`: the
+/// salt with the leading 32 bits of `frac(sqrt 2)` flipped, a bijection that
+/// keeps every control draw away from the consecutive salts of `--draws`
+/// (and from the references' `0x5EED_xxxx` salts).
+pub const fn white_control_salt(salt: u32) -> u32 {
+    salt ^ 0x6A09_E667
+}
+
 impl Method {
     /// Every method, white first.
-    pub const ALL: [Method; 23] = [
+    pub const ALL: [Method; 24] = [
         Method::White,
+        Method::WhiteControl,
         Method::Sort,
         Method::Permute,
         Method::PermuteJitter,
@@ -169,6 +184,7 @@ impl Method {
     pub fn name(self) -> &'static str {
         match self {
             Method::White => "white",
+            Method::WhiteControl => "white-control",
             Method::Sort => "sort",
             Method::Permute => "permute",
             Method::PermuteJitter => "permute-jitter",
@@ -198,6 +214,9 @@ impl Method {
     pub fn describe(self) -> &'static str {
         match self {
             Method::White => "fresh white-noise seeds every frame",
+            Method::WhiteControl => {
+                "fresh white-noise seeds every frame, an independent draw: the null row (reads 1 but for chance)"
+            }
             Method::Sort => "sorting pass only (R2 walk), no retargeting",
             Method::Permute => "sorting + retargeting, aperiodic R2 offset walk",
             Method::PermuteJitter => "permute, with the pixel jitter from screen-space Sobol",

@@ -136,11 +136,11 @@ pub mod uncertainty;
 pub mod walks;
 
 pub use config::{StudyConfig, ACCUMULATION_POINTS, ACCUMULATION_SNAPSHOTS, GOAL_FRAME};
-pub use draws::{draws_markdown, DrawFigure, Spread, DRAW_FIGURES};
+pub use draws::{draws_markdown, pooled_with_null, DrawFigure, Spread, DRAW_FIGURES};
 pub use feature_diagnostics::FeatureDiagnostics;
 pub use history::{HistoryErrors, EMA_ALPHA, EMA_FROM};
 pub use insets::{crop, Inset, Surface};
-pub use method::Method;
+pub use method::{white_control_salt, Method};
 pub use reference::{default_cache_dir, Reference};
 pub use regularization::RegularizationEffect;
 pub use result::{HistoryMetric, MethodRun, Metric, Snapshot, StudyResult, TEMPORAL_MEANS};
