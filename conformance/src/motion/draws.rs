@@ -6,6 +6,7 @@
 //! reprojection settings scatter by up to 4.4% (QUALITY.md, "Slow surfaces
 //! keep their seeds"); issue 29's 2% criterion is a paired question.
 
+use super::case::MotionCase;
 use super::method::MotionMethod;
 use super::result::{CaseResult, Figure};
 use super::tables::table_header;
@@ -13,7 +14,9 @@ use crate::study::Spread;
 
 /// Markdown tables of `draws` (one [`run_study`](super::sequence::run_study)
 /// result per draw, the same sequences and rows in each): white = 1 in each
-/// draw, mean (least-greatest); then, with two rows or more besides white
+/// draw, mean (least-greatest); with the still sequence among them, each
+/// other sequence's figures over the same row's still ones; then, with two
+/// rows or more besides white
 /// and the null row ([`MotionMethod::WhiteControl`]), each later row minus
 /// the first, draw by draw.
 pub fn draws_markdown(draws: &[Vec<CaseResult>]) -> String {
@@ -53,6 +56,28 @@ pub fn draws_markdown(draws: &[Vec<CaseResult>]) -> String {
             s += "\n";
         }
     }
+    // Issue 29's motion figure: each sequence against the same row still,
+    // draw by draw (the still sequence's own draw).
+    let still = first.iter().position(|c| c.case == MotionCase::Still);
+    if let Some(still) = still {
+        s += "\nIn motion / the same row still (both white = 1 in their draw), mean (least-greatest) over the \
+              draws:\n\n";
+        s += &header("sequence");
+        for (k, case) in first.iter().enumerate().filter(|&(k, _)| k != still) {
+            for &m in &rows {
+                s += &format!("| {} | {} |", case.case.name(), m.name());
+                for f in Figure::COLUMNS {
+                    let ratios: Vec<Option<f64>> = draws
+                        .iter()
+                        .map(|d| d.get(k)?.versus_static(d.get(still)?, m, f))
+                        .collect();
+                    let cell = Spread::of(&ratios).map_or("-".to_string(), |v| v.cell());
+                    s += &format!(" {cell} |");
+                }
+                s += "\n";
+            }
+        }
+    }
     // The null row (another draw of white) is read in the first table, not
     // paired: its figures say how far from 1 chance alone moves a row.
     let paired: Vec<MotionMethod> = rows
@@ -90,4 +115,53 @@ pub fn draws_markdown(draws: &[Vec<CaseResult>]) -> String {
         }
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::motion::config::MotionConfig;
+    use crate::motion::result::{MotionRun, SequenceStats};
+    use crate::study::insets::inset_layout;
+
+    /// A case where white's mean squared error is 4 and the permutation's
+    /// `blur` (its figure `sqrt(blur / 4)`).
+    fn case(case: MotionCase, blur: f64) -> CaseResult {
+        let run = |method, b: f64| MotionRun {
+            method,
+            lf: vec![vec![1.0]; 20],
+            blur: vec![[b, b, 0.0, 0.0]; 20],
+            ema: vec![[b, 0.0, b, 0.0]; 20],
+            filtered: vec![[b, b]; 20],
+        };
+        CaseResult {
+            case,
+            description: String::new(),
+            config: MotionConfig::new(32, 20, 4),
+            stats: SequenceStats::default(),
+            insets: inset_layout(crate::study::StudyScene::Cornell, 32)[..1].to_vec(),
+            own_insets: vec![true],
+            runs: vec![run(MotionMethod::White, 4.0), run(MotionMethod::Permute, blur)],
+        }
+    }
+
+    #[test]
+    fn the_draws_read_each_sequence_against_the_same_row_still() {
+        let orbit = MotionCase::Orbit { px_per_frame: 2.0 };
+        // Still 0.5 of white in both draws; in motion 0.75 and 0.6: 1.5 and 1.2.
+        let draws = [
+            vec![case(MotionCase::Still, 1.0), case(orbit, 2.25)],
+            vec![case(MotionCase::Still, 1.0), case(orbit, 1.44)],
+        ];
+        let table = draws_markdown(&draws);
+        let (_, versus) = table
+            .split_once("In motion / the same row still")
+            .expect("the table");
+        let row = versus
+            .lines()
+            .find(|l| l.starts_with("| orbit 2 px/frame | permute, no reprojection |"))
+            .expect("the orbit's row");
+        assert!(row.contains(" 1.350 (1.200-1.500) |"), "{row}");
+        assert!(!versus.contains("| still |"), "{versus}");
+    }
 }
