@@ -16,9 +16,9 @@ use crate::study::Spread;
 /// result per draw, the same sequences and rows in each): white = 1 in each
 /// draw, mean (least-greatest); with the still sequence among them, each
 /// other sequence's figures over the same row's still ones; then, with two
-/// rows or more besides white
-/// and the null row ([`MotionMethod::WhiteControl`]), each later row minus
-/// the first, draw by draw.
+/// rows or more besides white and the null row
+/// ([`MotionMethod::WhiteControl`]), each later row minus the first, draw by
+/// draw.
 pub fn draws_markdown(draws: &[Vec<CaseResult>]) -> String {
     let Some(first) = draws.first() else {
         return String::new();

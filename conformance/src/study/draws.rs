@@ -278,9 +278,10 @@ fn null_markdown(draws: &[StudyResult]) -> String {
             let values: Vec<Option<f64>> = draws
                 .iter()
                 .map(|r| {
-                    f.rmse_ratio
-                        .then(|| Some(pooled_with_null((f.read)(r, m)?, (f.read)(r, null)?)))
-                        .flatten()
+                    if !f.rmse_ratio {
+                        return None;
+                    }
+                    Some(pooled_with_null((f.read)(r, m)?, (f.read)(r, null)?))
                 })
                 .collect();
             s += &format!(" | {}", Spread::of(&values).map_or("-".to_string(), |v| v.cell()));
