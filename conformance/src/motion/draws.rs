@@ -49,11 +49,7 @@ pub fn draws_markdown(draws: &[Vec<CaseResult>]) -> String {
     for (k, case) in first.iter().enumerate() {
         for &m in &rows {
             s += &format!("| {} | {} |", case.case.name(), m.name());
-            for f in Figure::COLUMNS {
-                let cell = Spread::of(&figure(k, m, f)).map_or("-".to_string(), |v| v.cell());
-                s += &format!(" {cell} |");
-            }
-            s += "\n";
+            s += &row_cells(|f| figure(k, m, f), Spread::cell);
         }
     }
     // Issue 29's motion figure: each sequence against the same row still,
@@ -66,15 +62,15 @@ pub fn draws_markdown(draws: &[Vec<CaseResult>]) -> String {
         for (k, case) in first.iter().enumerate().filter(|&(k, _)| k != still) {
             for &m in &rows {
                 s += &format!("| {} | {} |", case.case.name(), m.name());
-                for f in Figure::COLUMNS {
-                    let ratios: Vec<Option<f64>> = draws
-                        .iter()
-                        .map(|d| d.get(k)?.versus_static(d.get(still)?, m, f))
-                        .collect();
-                    let cell = Spread::of(&ratios).map_or("-".to_string(), |v| v.cell());
-                    s += &format!(" {cell} |");
-                }
-                s += "\n";
+                s += &row_cells(
+                    |f| {
+                        draws
+                            .iter()
+                            .map(|d| d.get(k)?.versus_static(d.get(still)?, m, f))
+                            .collect()
+                    },
+                    Spread::cell,
+                );
             }
         }
     }
@@ -102,19 +98,31 @@ pub fn draws_markdown(draws: &[Vec<CaseResult>]) -> String {
     for (k, case) in first.iter().enumerate() {
         for &m in others {
             s += &format!("| {} | {} |", case.case.name(), m.name());
-            for f in Figure::COLUMNS {
-                let rel: Vec<Option<f64>> = figure(k, m, f)
-                    .into_iter()
-                    .zip(figure(k, base, f))
-                    .map(|(a, b)| Some((a? - b?) / b?))
-                    .collect();
-                let cell = Spread::of(&rel).map_or("-".to_string(), |v| v.signed_cell());
-                s += &format!(" {cell} |");
-            }
-            s += "\n";
+            s += &row_cells(
+                |f| {
+                    figure(k, m, f)
+                        .into_iter()
+                        .zip(figure(k, base, f))
+                        .map(|(a, b)| Some((a? - b?) / b?))
+                        .collect()
+                },
+                Spread::signed_cell,
+            );
         }
     }
     s
+}
+
+/// One table row's cells: per figure of [`Figure::COLUMNS`], the spread of
+/// its draws' values written by `cell` (`-` where a draw lacks it), and the
+/// row's end.
+fn row_cells(values: impl Fn(Figure) -> Vec<Option<f64>>, cell: fn(&Spread) -> String) -> String {
+    let mut s = String::new();
+    for f in Figure::COLUMNS {
+        let v = Spread::of(&values(f)).map_or("-".to_string(), |v| cell(&v));
+        s += &format!(" {v} |");
+    }
+    s + "\n"
 }
 
 #[cfg(test)]

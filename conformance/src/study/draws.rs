@@ -248,13 +248,25 @@ fn spread_markdown(draws: &[StudyResult]) -> String {
     s += &header("method");
     for m in rows(draws) {
         s += &format!("| {}", m.name());
-        for f in &DRAW_FIGURES {
-            let values: Vec<Option<f64>> = draws.iter().map(|r| (f.read)(r, m)).collect();
-            s += &format!(" | {}", Spread::of(&values).map_or("-".to_string(), |v| v.cell()));
-        }
-        s += " |\n";
+        s += &row_cells(draws, |r, f| (f.read)(r, m), Spread::cell);
     }
     s
+}
+
+/// One table row's cells: per figure of [`DRAW_FIGURES`], the spread over
+/// `draws` of `value(draw, figure)` written by `cell` (`-` where a draw
+/// lacks it), and the row's end.
+fn row_cells(
+    draws: &[StudyResult],
+    value: impl Fn(&StudyResult, &DrawFigure) -> Option<f64>,
+    cell: fn(&Spread) -> String,
+) -> String {
+    let mut s = String::new();
+    for f in &DRAW_FIGURES {
+        let values: Vec<Option<f64>> = draws.iter().map(|r| value(r, f)).collect();
+        s += &format!(" | {}", Spread::of(&values).map_or("-".to_string(), |v| cell(&v)));
+    }
+    s + " |\n"
 }
 
 /// Each row but the null row against white and the null row pooled
@@ -274,19 +286,13 @@ fn null_markdown(draws: &[StudyResult]) -> String {
     s += &header("method");
     for m in rows.into_iter().filter(|&m| m != null) {
         s += &format!("| {}", m.name());
-        for f in &DRAW_FIGURES {
-            let values: Vec<Option<f64>> = draws
-                .iter()
-                .map(|r| {
-                    if !f.rmse_ratio {
-                        return None;
-                    }
-                    Some(pooled_with_null((f.read)(r, m)?, (f.read)(r, null)?))
-                })
-                .collect();
-            s += &format!(" | {}", Spread::of(&values).map_or("-".to_string(), |v| v.cell()));
-        }
-        s += " |\n";
+        let pooled = |r: &StudyResult, f: &DrawFigure| {
+            if !f.rmse_ratio {
+                return None;
+            }
+            Some(pooled_with_null((f.read)(r, m)?, (f.read)(r, null)?))
+        };
+        s += &row_cells(draws, pooled, Spread::cell);
     }
     s
 }
@@ -313,17 +319,8 @@ fn paired_markdown(draws: &[StudyResult]) -> String {
     s += &header("method");
     for &m in others {
         s += &format!("| {} - {}", m.name(), base.name());
-        for f in &DRAW_FIGURES {
-            let values: Vec<Option<f64>> = draws
-                .iter()
-                .map(|r| Some((f.read)(r, m)? - (f.read)(r, base)?))
-                .collect();
-            s += &format!(
-                " | {}",
-                Spread::of(&values).map_or("-".to_string(), |v| v.signed_cell())
-            );
-        }
-        s += " |\n";
+        let difference = |r: &StudyResult, f: &DrawFigure| Some((f.read)(r, m)? - (f.read)(r, base)?);
+        s += &row_cells(draws, difference, Spread::signed_cell);
     }
     s
 }
