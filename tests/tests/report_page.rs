@@ -7,6 +7,8 @@
 //! Chromium's console log (`--enable-logging=stderr`) must hold no message from the
 //! page (a failed load or a script error would be one). A screenshot of the top of
 //! the page at 1400 px width is written to `target/report_page/top.png` for the record.
+//! The null row (`white-control`, another draw of white) is in the tables, never
+//! ranked, and the summary says how far it strays from 1.
 //! Without Chromium the test prints SKIPPED, unless `BLUENOISE_REQUIRE_GPU=1` or
 //! `BLUENOISE_REQUIRE_BROWSER=1` is set (CI), then it fails.
 
@@ -78,6 +80,35 @@ fn report_page_loads_every_image() {
     assert!(
         imgs >= 20,
         "expected the frames, insets, spectra and plots, found {imgs} images"
+    );
+
+    // The null row (another draw of white): in the headline table, never
+    // marked best there, never named best by the summary, which says what it reads.
+    let headline = html
+        .split("<table class=\"headline\">")
+        .nth(1)
+        .and_then(|t| t.split("</table>").next())
+        .expect("the headline table (after the real-time filters)");
+    let null_row = headline
+        .lines()
+        .find(|l| l.contains(">white-control<"))
+        .expect("the null row in the headline table");
+    assert!(
+        !null_row.contains("<b>"),
+        "the null row is marked best: {null_row}"
+    );
+    let summary = html
+        .split("<p class=\"summary\">")
+        .nth(1)
+        .and_then(|t| t.split("</p>").next())
+        .expect("the summary");
+    assert!(
+        !summary.contains(">white-control</b>"),
+        "the summary ranks the null row: {summary}"
+    );
+    assert!(
+        summary.contains("<b>Chance</b>") && summary.contains("% of white's error"),
+        "the summary does not say what chance reads: {summary}"
     );
 
     let profile = tempfile::tempdir().expect("profile dir");

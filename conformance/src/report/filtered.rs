@@ -80,12 +80,12 @@ pub fn write_csv(r: &StudyResult, out: &Path) -> Result<String> {
 }
 
 /// The HTML table, methods coloured by `css`, the best value of each column
-/// (bias row excluded, white excluded) in bold.
+/// (bias row excluded, white and the null row excluded) in bold.
 pub fn html_table(r: &StudyResult, css: impl Fn(Method) -> String) -> String {
     let (header, rows) = rows(r);
     let mut best = vec![f64::INFINITY; header.len()];
     for (m, v) in &rows {
-        if matches!(m, Some(m) if *m != Method::White) {
+        if matches!(m, Some(m) if !m.is_white_noise()) {
             for (b, x) in best.iter_mut().zip(v) {
                 if x.is_finite() {
                     *b = b.min(*x);
@@ -108,7 +108,7 @@ pub fn html_table(r: &StudyResult, css: impl Fn(Method) -> String) -> String {
         for (x, b) in v.iter().zip(&best) {
             if x.is_nan() {
                 h += "<td>-</td>";
-            } else if m.is_some_and(|m| m != Method::White) && x == b {
+            } else if m.is_some_and(|m| !m.is_white_noise()) && x == b {
                 let _ = write!(h, "<td><b>{x:.3}</b></td>");
             } else {
                 let _ = write!(h, "<td>{x:.3}</td>");

@@ -5,6 +5,7 @@
 //! Entry point: [`write_report`] with a [`ReportConfig`] (`conformance report`).
 //!
 //! - [`plot`]: line plots with axes, ticks, legends and labelled goal lines.
+//! - [`chance`]: what the null row says about the tables (how far luck moves a row).
 //! - [`filtered`]: the headline table, the error after the real-time filters.
 //! - [`pictures`]: zoomed crops, blurred errors, accumulated means and the region map.
 //! - [`spectra`]: the error's power spectra and the temporal spectrum.
@@ -12,6 +13,7 @@
 //!
 //! Each module uses only those listed above it, the study and the metrics.
 
+pub mod chance;
 pub mod filtered;
 pub mod page;
 pub mod pictures;

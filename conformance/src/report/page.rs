@@ -444,10 +444,15 @@ fn pictures(r: &StudyResult) -> String {
 fn summary_text(r: &StudyResult) -> String {
     use crate::metrics::regions::Region;
     let t = GOAL_FRAME.min(r.config.frames.saturating_sub(1)) as usize;
+    // The null row's value of every figure ranked below, for the chance sentence.
+    let null = std::cell::RefCell::new(Vec::new());
     let best = |value: &dyn Fn(Method) -> Option<f64>| -> Option<(Method, f64)> {
+        if r.run(Method::WhiteControl).is_some() {
+            null.borrow_mut().extend(value(Method::WhiteControl));
+        }
         r.runs
             .iter()
-            .filter(|run| run.method != Method::White)
+            .filter(|run| !run.method.is_white_noise())
             .filter_map(|run| {
                 value(run.method)
                     .filter(|v| v.is_finite() && *v > 0.0)
@@ -518,7 +523,9 @@ that is near 1 the filter, not the noise, decides; without it (noise part) the l
         );
     }
     h += " The permutation's figures are in the rows <i>permute</i> and <i>permute-jitter</i>; the render \
-defaults' (the temporally blue permutation with ZSobol's pixel jitter) in <i>temporal-permute-jitter</i>.</p>\n";
+defaults' (the temporally blue permutation with ZSobol's pixel jitter) in <i>temporal-permute-jitter</i>.";
+    h += &super::chance::sentence(super::chance::range(&null.borrow()));
+    h += "</p>\n";
     h
 }
 
@@ -570,7 +577,8 @@ luma(reference) over frames {t}.., relative to white noise after the same filter
 <i>taa</i>: exponential history (&alpha; 0.1) with 3x3 colour clamping; <i>atrous</i>: SVGF's edge-avoiding a-trous \
 wavelet filter, 5 iterations, guided by depth, normal and luminance; <i>taa+atrous</i>: both, in SVGF's order (the \
 headline). Both filter the illumination demodulated by the albedo. The last row is the filter's own error on the \
-reference (its bias): where it is close to 1 the filter's blur, not the noise, dominates. The last two columns leave \
+reference (its bias): where it is close to 1 the filter's blur, not the noise, dominates. The row <i>white-control</i> \
+is another draw of white noise (the null row): its distance from 1 is what chance reads in each column. The last two columns leave \
 that bias out: luma(filtered frame) - luma(filtered reference), what the seeds control after the filter. Best per \
 column in bold.</p>\n\
 {table}<p><a href=\"table-filtered-spp{spp}.csv\">table as CSV</a> &middot; <a href=\"#command\">command</a></p>\n",

@@ -125,11 +125,13 @@ impl Method {
     /// The rows of the report ([`crate::report`]): the baselines, the
     /// permutations and samplers a user chooses between, the render defaults
     /// ([`Method::TemporalPermuteJitter`]) and the sampler for a history
-    /// ([`Method::SpatiotemporalKronecker`]); the other rows (the sort-key
-    /// variants, the temporal diagnostics) `conformance study` measures on
-    /// request.
-    pub const REPORT: [Method; 13] = [
+    /// ([`Method::SpatiotemporalKronecker`]), and the null row
+    /// ([`Method::WhiteControl`]) that shows what chance reads in each column;
+    /// the other rows (the sort-key variants, the temporal diagnostics)
+    /// `conformance study` measures on request.
+    pub const REPORT: [Method; 14] = [
         Method::White,
+        Method::WhiteControl,
         Method::Sort,
         Method::Permute,
         Method::PermuteJitter,
@@ -178,6 +180,13 @@ impl Method {
     /// The method called `name` ([`Method::name`]).
     pub fn from_name(name: &str) -> Option<Method> {
         Method::ALL.into_iter().find(|m| m.name() == name)
+    }
+
+    /// Whether the row is white noise ([`Method::White`], every figure's
+    /// denominator, or [`Method::WhiteControl`], the null row): rows that a
+    /// ranking of gains leaves out.
+    pub fn is_white_noise(self) -> bool {
+        matches!(self, Method::White | Method::WhiteControl)
     }
 
     /// Short name used in tables, files and on the command line.
