@@ -44,6 +44,11 @@ fn chromium(profile: &Path, args: &[&str]) -> std::process::Output {
         .expect("chromium starts")
 }
 
+/// The text of `html` between the first `start` and the next `end`.
+fn between<'a>(html: &'a str, start: &str, end: &str) -> Option<&'a str> {
+    html.split(start).nth(1).and_then(|t| t.split(end).next())
+}
+
 #[test]
 fn report_page_loads_every_image() {
     if !Path::new(CHROMIUM).exists() {
@@ -84,10 +89,7 @@ fn report_page_loads_every_image() {
 
     // The null row (another draw of white): in the headline table, never
     // marked best there, never named best by the summary, which says what it reads.
-    let headline = html
-        .split("<table class=\"headline\">")
-        .nth(1)
-        .and_then(|t| t.split("</table>").next())
+    let headline = between(&html, "<table class=\"headline\">", "</table>")
         .expect("the headline table (after the real-time filters)");
     let null_row = headline
         .lines()
@@ -97,11 +99,7 @@ fn report_page_loads_every_image() {
         !null_row.contains("<b>"),
         "the null row is marked best: {null_row}"
     );
-    let summary = html
-        .split("<p class=\"summary\">")
-        .nth(1)
-        .and_then(|t| t.split("</p>").next())
-        .expect("the summary");
+    let summary = between(&html, "<p class=\"summary\">", "</p>").expect("the summary");
     assert!(
         !summary.contains(">white-control</b>"),
         "the summary ranks the null row: {summary}"
