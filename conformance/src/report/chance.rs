@@ -4,18 +4,18 @@
 //! how far that figure moves by luck alone at the report's size and frame
 //! count. A lead smaller than that distance is not evidence.
 
+use crate::study::Spread;
+
 /// The lowest and highest of the finite, positive values of `values` (the null
 /// row's figures; 0 marks a figure below the reference's own noise, not ranked);
 /// `None` when there is none.
 pub fn range(values: &[f64]) -> Option<(f64, f64)> {
-    values
+    let ranked: Vec<Option<f64>> = values
         .iter()
-        .copied()
-        .filter(|v| v.is_finite() && *v > 0.0)
-        .fold(None, |acc, v| match acc {
-            None => Some((v, v)),
-            Some((lo, hi)) => Some((lo.min(v), hi.max(v))),
-        })
+        .filter(|v| v.is_finite() && **v > 0.0)
+        .map(|&v| Some(v))
+        .collect();
+    Spread::of(&ranked).map(|s| (s.min, s.max))
 }
 
 /// How far from 1 a range strays: the larger of `|1 - lowest|` and
